@@ -9,6 +9,8 @@
 //! Affine sub-problems are solved as least-squares problems by column-pivoted QR. The stopping
 //! test certifies the distance: at termination `min_j ⟨x, p_j⟩ / ‖x‖` (a lower bound on the
 //! distance) is within `1e-12` (relative to the largest `‖X_i − E‖_F`) of `‖x‖` (an upper bound).
+//! Both bounds are reported; when rounding stalls the iteration first, they bracket the
+//! distance less tightly and [`HullDistance::converged`] is `false`.
 
 use faer::linalg::solvers::SolveLstsq;
 use faer::{Mat, MatRef};
@@ -31,13 +33,18 @@ pub struct HullDistance {
 }
 
 /// Frobenius distance from `target` to `co{vertices}` (all of equal shape, at least one).
+///
+/// Wolfe's iteration runs on the points themselves; if it stalls before its optimality test
+/// is met (very flat polytopes, whose barycentric weights are ill-determined along the thin
+/// directions), it is rerun in whitened coordinates (principal axes of the vertex cloud scaled
+/// to unit length), and the better of the two convex combinations is returned.
 pub fn hull_distance(
     vertices: &[Mat<f64>],
     target: MatRef<'_, f64>,
 ) -> Result<HullDistance, EmbedError> {
-    let Some(first) = vertices.first() else {
+    if vertices.is_empty() {
         return Err(EmbedError::Empty { what: "vertex set" });
-    };
+    }
     let (r, c) = (target.nrows(), target.ncols());
     for (k, x) in vertices.iter().enumerate() {
         if x.nrows() != r || x.ncols() != c {
@@ -48,7 +55,6 @@ pub fn hull_distance(
             });
         }
     }
-    let _ = first;
     crate::interval::check_finite(target, "hull target")?;
     let points: Vec<Vec<f64>> = vertices
         .iter()
@@ -67,49 +73,145 @@ pub fn hull_distance(
             return Err(EmbedError::non_finite(format!("vertex {k}")));
         }
     }
-    Ok(min_norm_point(&points))
+    let scale = points.iter().map(|p| dot(p, p)).fold(0.0, f64::max).sqrt();
+    if scale == 0.0 {
+        let mut weights = vec![0.0; points.len()];
+        weights[0] = 1.0;
+        return Ok(HullDistance {
+            distance: 0.0,
+            lower_bound: 0.0,
+            weights,
+            converged: true,
+        });
+    }
+    // Unit-scale copies for the iteration.
+    let unit: Vec<Vec<f64>> = points
+        .iter()
+        .map(|p| p.iter().map(|v| v / scale).collect())
+        .collect();
+    let (weights, converged) = wolfe(&unit);
+    let mut best = assess(&points, weights, converged);
+    if !best.converged && best.distance > 0.0 {
+        if let Some(weights) = whitened(&unit) {
+            let alt = assess(&points, weights, false);
+            best.lower_bound = best.lower_bound.max(alt.lower_bound);
+            if alt.distance < best.distance {
+                best.distance = alt.distance;
+                best.weights = alt.weights;
+            }
+        }
+    }
+    Ok(best)
 }
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
-/// Wolfe's algorithm on the points `p_i` (target already subtracted).
-fn min_norm_point(points: &[Vec<f64>]) -> HullDistance {
-    let m = points.len();
+/// Distance of the convex combination `x = Σ w_i p_i` (an upper bound) and the separation
+/// bound `max(0, min_j ⟨x, p_j⟩ / ‖x‖)` (a lower bound: no hull point is closer).
+fn assess(points: &[Vec<f64>], weights: Vec<f64>, converged: bool) -> HullDistance {
     let d = points[0].len();
-    let norms2: Vec<f64> = points.iter().map(|p| dot(p, p)).collect();
-    let scale2 = norms2.iter().cloned().fold(0.0, f64::max);
-    let i0 = (0..m)
-        .min_by(|&a, &b| norms2[a].total_cmp(&norms2[b]))
-        .expect("nonempty");
-    let mut weights = vec![0.0; m];
-    if scale2 == 0.0 {
-        weights[i0] = 1.0;
-        return HullDistance {
-            distance: 0.0,
-            lower_bound: 0.0,
-            weights,
-            converged: true,
-        };
+    let mut x = vec![0.0; d];
+    for (w, p) in weights.iter().zip(points) {
+        if *w != 0.0 {
+            for (xi, pi) in x.iter_mut().zip(p) {
+                *xi += w * pi;
+            }
+        }
     }
-    // Work with unit-scale points so that G + 11ᵀ is balanced.
-    let inv = 1.0 / scale2.sqrt();
-    let pts: Vec<Vec<f64>> = points
-        .iter()
-        .map(|p| p.iter().map(|v| v * inv).collect())
+    let distance = dot(&x, &x).sqrt();
+    let lower_bound = if distance > 0.0 {
+        let worst = points
+            .iter()
+            .map(|p| dot(&x, p))
+            .fold(f64::INFINITY, f64::min);
+        (worst / distance).clamp(0.0, distance)
+    } else {
+        0.0
+    };
+    HullDistance {
+        distance,
+        lower_bound,
+        weights,
+        converged,
+    }
+}
+
+/// Reruns Wolfe's iteration in whitened coordinates: with the centred points
+/// `P − p̄ = U Σ Vᵀ`, the points `Σ⁻¹ Uᵀ (p_i − p̄)` and the target `Σ⁻¹ Uᵀ (−p̄)` (directions
+/// with `σ ≤ 1e-13 σ_max` dropped). Convex combinations are preserved by this affine map, so
+/// the weights found are valid for the original points.
+fn whitened(pts: &[Vec<f64>]) -> Option<Vec<f64>> {
+    let m = pts.len();
+    let d = pts[0].len();
+    let mean: Vec<f64> = (0..d)
+        .map(|i| pts.iter().map(|p| p[i]).sum::<f64>() / m as f64)
         .collect();
+    let centred = Mat::<f64>::from_fn(d, m, |i, k| pts[k][i] - mean[i]);
+    let svd = centred.thin_svd().ok()?;
+    let (u, sigma) = (svd.U(), svd.S());
+    let smax = (0..sigma.dim()).map(|i| sigma[i]).fold(0.0, f64::max);
+    let keep: Vec<usize> = (0..sigma.dim())
+        .filter(|&i| sigma[i] > 1e-13 * smax)
+        .collect();
+    if keep.is_empty() {
+        return None;
+    }
+    let project = |v: &dyn Fn(usize) -> f64| -> Vec<f64> {
+        keep.iter()
+            .map(|&k| (0..d).map(|i| u[(i, k)] * v(i)).sum::<f64>() / sigma[k])
+            .collect()
+    };
+    let target = project(&|i| -mean[i]);
+    let shifted: Vec<Vec<f64>> = pts
+        .iter()
+        .map(|p| {
+            let q = project(&|i| p[i] - mean[i]);
+            q.iter().zip(&target).map(|(a, b)| a - b).collect()
+        })
+        .collect();
+    let scale = shifted.iter().map(|p| dot(p, p)).fold(0.0, f64::max).sqrt();
+    if !(scale > 0.0 && scale.is_finite()) {
+        return None;
+    }
+    let unit: Vec<Vec<f64>> = shifted
+        .iter()
+        .map(|p| p.iter().map(|v| v / scale).collect())
+        .collect();
+    Some(wolfe(&unit).0)
+}
+
+/// Wolfe's minimum-norm-point iteration on unit-scale points; returns the weights (one per
+/// point) and whether the optimality test `‖x‖² − min_j ⟨x, p_j⟩ ≤ 1e-12 ‖x‖` was met.
+fn wolfe(pts: &[Vec<f64>]) -> (Vec<f64>, bool) {
+    let m = pts.len();
+    let d = pts[0].len();
+    let i0 = (0..m)
+        .min_by(|&a, &b| dot(&pts[a], &pts[a]).total_cmp(&dot(&pts[b], &pts[b])))
+        .expect("nonempty");
     // Certified gap between the upper bound ‖x‖ and the lower bound min_j ⟨x, p_j⟩/‖x‖.
     let gap = 1e-12;
-
     let mut active = vec![i0];
     let mut lambda = vec![1.0];
     let mut x = pts[i0].clone();
     let mut converged = false;
-    let max_major = 10 * (m + d) + 100;
     let mut dots = vec![0.0; m];
-    for _ in 0..max_major {
+    let mut stalls = 0;
+    let mut last = f64::INFINITY;
+    for _ in 0..10 * (m + d) + 100 {
         let xx = dot(&x, &x);
+        // Rounding can make a descent step useless (ill-determined weights): give up after a
+        // few major iterations without decrease.
+        if xx >= last * (1.0 - 1e-14) {
+            stalls += 1;
+            if stalls >= 3 {
+                break;
+            }
+        } else {
+            stalls = 0;
+        }
+        last = last.min(xx);
         for (k, p) in pts.iter().enumerate() {
             dots[k] = dot(&x, p);
         }
@@ -121,7 +223,7 @@ fn min_norm_point(points: &[Vec<f64>]) -> HullDistance {
             break;
         }
         if active.contains(&j) {
-            // No progress possible in floating point; the bounds below remain valid.
+            // No progress possible in floating point.
             break;
         }
         active.push(j);
@@ -129,11 +231,10 @@ fn min_norm_point(points: &[Vec<f64>]) -> HullDistance {
         // Minor cycle: move towards the affine minimiser of the active set while staying in
         // the simplex; drop points whose weight reaches zero.
         loop {
-            let Some(alpha) = affine_minimiser(&pts, &active) else {
-                // Numerically dependent active set: discard the newest point and stop.
+            let Some(alpha) = affine_minimiser(pts, &active) else {
+                // Numerically dependent active set: discard the newest point.
                 active.pop();
                 lambda.pop();
-                converged = false;
                 break;
             };
             if alpha.iter().all(|&a| a > 0.0) {
@@ -167,39 +268,18 @@ fn min_norm_point(points: &[Vec<f64>]) -> HullDistance {
             let s: f64 = lambda.iter().sum();
             lambda.iter_mut().for_each(|l| *l /= s);
         }
-        x = combine(&pts, &active, &lambda, d);
+        x = vec![0.0; d];
+        for (&i, &l) in active.iter().zip(&lambda) {
+            for (xi, pi) in x.iter_mut().zip(&pts[i]) {
+                *xi += l * pi;
+            }
+        }
     }
-    // Final point and bounds in the original scale.
+    let mut weights = vec![0.0; m];
     for (&i, &l) in active.iter().zip(&lambda) {
         weights[i] = l;
     }
-    let xs = combine(points, &active, &lambda, d);
-    let distance = dot(&xs, &xs).sqrt();
-    let lower_bound = if distance > 0.0 {
-        let worst = points
-            .iter()
-            .map(|p| dot(&xs, p))
-            .fold(f64::INFINITY, f64::min);
-        (worst / distance).clamp(0.0, distance)
-    } else {
-        0.0
-    };
-    HullDistance {
-        distance,
-        lower_bound,
-        weights,
-        converged,
-    }
-}
-
-fn combine(pts: &[Vec<f64>], active: &[usize], lambda: &[f64], d: usize) -> Vec<f64> {
-    let mut x = vec![0.0; d];
-    for (&i, &l) in active.iter().zip(lambda) {
-        for (xi, pi) in x.iter_mut().zip(&pts[i]) {
-            *xi += l * pi;
-        }
-    }
-    x
+    (weights, converged)
 }
 
 /// `argmin ‖Σ α_k p_k‖` subject to `Σ α_k = 1` over the active points. With `p_0` the first
@@ -240,7 +320,7 @@ mod tests {
         let v = [scalar(-1.0), scalar(2.0)];
         let inside = hull_distance(&v, scalar(0.5).as_ref()).unwrap();
         assert!(inside.distance < 1e-15 && inside.converged);
-        assert!((-inside.weights[0] + inside.weights[1] * 2.0 - 0.5).abs() < 1e-15);
+        assert!((inside.weights[0] * -1.0 + inside.weights[1] * 2.0 - 0.5).abs() < 1e-15);
         let outside = hull_distance(&v, scalar(3.5).as_ref()).unwrap();
         assert!((outside.distance - 1.5).abs() < 1e-14);
         assert!((outside.lower_bound - 1.5).abs() < 1e-14);

@@ -48,6 +48,19 @@ struct Kernel<D: Driver> {
     step: D::M,
     current: D::M,
     next: D::M,
+    arch: pulp::Arch,
+}
+
+/// current·step → next, run under pulp's runtime instruction-set dispatch (AVX2/FMA for the
+/// stack kernels).
+struct Advance<'a, M>(&'a mut M, &'a M, &'a M);
+
+impl<M: SquareStorage> pulp::WithSimd for Advance<'_, M> {
+    type Output = ();
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) {
+        self.0.assign_product(self.1, self.2);
+    }
 }
 
 impl<D: Driver + Send> StepKernel for Kernel<D>
@@ -66,7 +79,8 @@ where
     }
     #[inline]
     fn advance(&mut self) {
-        self.next.assign_product(&self.current, &self.step);
+        self.arch
+            .dispatch(Advance(&mut self.next, &self.current, &self.step));
         std::mem::swap(&mut self.current, &mut self.next);
     }
     fn write(&self, out: MatMut<'_, f64>) -> bool {
@@ -83,6 +97,7 @@ where
         step: D::M::zeros(n),
         current: D::M::zeros(n),
         next: D::M::zeros(n),
+        arch: pulp::Arch::new(),
     })
 }
 
@@ -98,6 +113,8 @@ pub struct ExpmStepper {
     steps: usize,
     k: usize,
     reanchor: usize,
+    /// Steps left until the next re-anchoring.
+    until_anchor: usize,
     error: Option<LinalgError>,
 }
 
@@ -129,6 +146,7 @@ pub fn expm_stepper(
         steps,
         k: 0,
         reanchor: DEFAULT_REANCHOR,
+        until_anchor: DEFAULT_REANCHOR,
         error: None,
     })
 }
@@ -145,6 +163,13 @@ impl ExpmStepper {
             ));
         }
         self.reanchor = every;
+        // Next re-anchoring at the first multiple of `every` among the grid indices still to
+        // come (index k is produced by the next call; index 0 never needs one).
+        self.until_anchor = if self.k == 0 {
+            every
+        } else {
+            self.k.div_ceil(every) * every - self.k + 1
+        };
         Ok(self)
     }
 
@@ -187,7 +212,9 @@ impl ExpmStepper {
         }
         let tau = self.tau0 + self.k as f64 * self.h;
         if self.k > 0 {
-            if self.k.is_multiple_of(self.reanchor) {
+            self.until_anchor -= 1;
+            if self.until_anchor == 0 {
+                self.until_anchor = self.reanchor;
                 if let Err(e) = self.kernel.anchor(self.a.as_ref(), tau) {
                     self.error = Some(e);
                     return None;

@@ -21,7 +21,7 @@
 mod common;
 
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 use common::{dual_ray_defect, kkt, primal_ray_defect};
@@ -78,7 +78,7 @@ fn printed_tolerance(text: &str) -> Option<(f64, f64)> {
     Some((value, 10f64.powi(exponent - decimals)))
 }
 
-fn references(dir: &Path) -> HashMap<String, Expected> {
+fn references(dir: &PathBuf) -> HashMap<String, Expected> {
     let readme = std::fs::read_to_string(dir.join("README-SDPLIB.md"))
         .expect("README-SDPLIB.md in the SDPLIB directory");
     let mut out = HashMap::new();
@@ -127,7 +127,7 @@ fn reduced_accuracy(name: &str) -> f64 {
 }
 
 /// Solves one problem and returns a description of every failed check (empty = pass).
-fn check(dir: &Path, refs: &HashMap<String, Expected>, name: &str) -> Vec<String> {
+fn check(dir: &PathBuf, refs: &HashMap<String, Expected>, name: &str) -> Vec<String> {
     let mut fails = Vec::new();
     let Some(&expected) = refs.get(name) else {
         return vec![format!("{name}: no reference value in README-SDPLIB.md")];

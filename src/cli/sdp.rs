@@ -24,6 +24,9 @@ enum SdpCommand {
         /// Print one JSON object instead of the human summary.
         #[arg(long)]
         json: bool,
+        /// Print one line per interior-point iteration (to standard error).
+        #[arg(long, short)]
+        verbose: bool,
     },
     /// Solve every `.dat-s` file in a directory and compare with the optimal values listed in
     /// the directory's `README-SDPLIB.md` (if present).
@@ -42,7 +45,11 @@ enum SdpCommand {
 /// Runs `sporadic sdp ...`.
 pub fn run(args: &Args) -> Result<(), String> {
     match &args.command {
-        SdpCommand::Solve { file, json } => solve(file, *json),
+        SdpCommand::Solve {
+            file,
+            json,
+            verbose,
+        } => solve(file, *json, *verbose),
         SdpCommand::Bench {
             dir,
             vs_csdp,
@@ -53,18 +60,38 @@ pub fn run(args: &Args) -> Result<(), String> {
 
 /// Solves a file; returns the solution, the SDPA-convention objectives and the wall time of
 /// reading plus solving.
-fn solve_file(file: &Path) -> Result<(Solution, SdpaObjectives, f64), String> {
+fn solve_file(file: &Path, settings: &Settings) -> Result<(Solution, SdpaObjectives, f64), String> {
     let start = Instant::now();
     let problem = read_sdpa_file(file).map_err(|e| format!("{}: {e}", file.display()))?;
-    let solution = sporadic_sdp::solve(&problem, &Settings::default())
-        .map_err(|e| format!("{}: {e}", file.display()))?;
+    let solution =
+        sporadic_sdp::solve(&problem, settings).map_err(|e| format!("{}: {e}", file.display()))?;
     let seconds = start.elapsed().as_secs_f64();
     let objectives = sdpa_objectives(&solution);
     Ok((solution, objectives, seconds))
 }
 
-fn solve(file: &Path, json: bool) -> Result<(), String> {
-    let (solution, objectives, seconds) = solve_file(file)?;
+fn solve(file: &Path, json: bool, verbose: bool) -> Result<(), String> {
+    let mut settings = Settings::default();
+    if verbose {
+        eprintln!(
+            "iter  primal obj         dual obj           rel gap   p.infeas  d.infeas  mu        step p    step d"
+        );
+        settings.log = Some(std::sync::Arc::new(|l: &sporadic_sdp::IterationLog| {
+            eprintln!(
+                "{:4}  {:+.10e} {:+.10e} {:.2e}  {:.2e}  {:.2e}  {:.2e}  {:.2e}  {:.2e}",
+                l.iteration,
+                l.primal_objective,
+                l.dual_objective,
+                l.rel_gap,
+                l.primal_infeas,
+                l.dual_infeas,
+                l.mu,
+                l.primal_step,
+                l.dual_step
+            );
+        }));
+    }
+    let (solution, objectives, seconds) = solve_file(file, &settings)?;
     let (sdpa_primal, sdpa_dual) = (objectives.primal, objectives.dual);
     let m = &solution.measures;
     if json {
@@ -176,7 +203,7 @@ fn bench(dir: &Path, vs_csdp: bool, filter: Option<&str>) -> Result<(), String> 
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_default();
-        let (solution, objectives, seconds) = match solve_file(file) {
+        let (solution, objectives, seconds) = match solve_file(file, &Settings::default()) {
             Ok(r) => r,
             Err(e) => {
                 println!("{name:<12} error: {e}");

@@ -40,14 +40,17 @@ pub enum Kind {
     Defective,
     /// A defective complex pair (real Jordan form [[C, I], [0, C]]) plus real Jordan blocks.
     DefectiveComplex,
+    /// Nearly repeated real eigenvalues (gaps 1e-7 … 1e-2) in an upper-triangular coupling.
+    Clustered,
 }
 
-pub const KINDS: [Kind; 5] = [
+pub const KINDS: [Kind; 6] = [
     Kind::Generic,
     Kind::Complex,
     Kind::RepeatedDiagonalizable,
     Kind::Defective,
     Kind::DefectiveComplex,
+    Kind::Clustered,
 ];
 
 fn similarity(rng: &mut Rng, d: &Mat<f64>) -> Mat<f64> {
@@ -88,6 +91,16 @@ pub fn random_matrix(kind: Kind, n: usize, seed: u64) -> Mat<f64> {
             let values = [rng.uniform(-2.0, 0.3), rng.uniform(-2.0, 0.3)];
             for i in 0..n {
                 d[(i, i)] = values[usize::from(i % 3 == 2)];
+            }
+        }
+        Kind::Clustered => {
+            let base = rng.uniform(-2.0, 0.3);
+            let gap = 10f64.powf(rng.uniform(-7.0, -2.0));
+            for i in 0..n {
+                d[(i, i)] = base + gap * i as f64;
+                for j in i + 1..n {
+                    d[(i, j)] = rng.uniform(-1.0, 1.0);
+                }
             }
         }
         Kind::Defective | Kind::DefectiveComplex => {

@@ -11,7 +11,8 @@
 //!   estimated by the Higham–Tisseur block estimator (t = 2) above.
 //! * Triangular and quasi-triangular input: Code Fragment 2.1 (diagonal and first superdiagonal
 //!   recomputed exactly during the squaring phase); diagonal input: e^{a_ii}.
-//! * Orders 2…8 run on stack-allocated const-generic kernels (`storage::SmallMat`), larger
+//! * Orders 2…16 run on stack-allocated const-generic kernels (`storage::SmallMat`, orders 9…16
+//!   padded to 16), larger
 //!   orders on faer's GEMM and LU; the algorithm code is shared.
 //!
 //! The result is never silently non-finite: a singular Padé denominator q_m(2^{−s}A) gives
@@ -59,10 +60,15 @@ pub(crate) trait Driver: Sized {
     fn result(&self) -> &Self::M;
 }
 
+/// dst ← t·A, padded with zeros when the workspace order exceeds n: e^{diag(A, 0)} =
+/// diag(e^A, I), and every quantity Algorithm 6.1 computes (‖A^k‖₁, ‖ |A|^p ‖₁, the pivot
+/// order of the LU, every rounded operation on the A block) is the same for the padded matrix,
+/// so padding changes neither the chosen (m, s) nor a single bit of e^A.
 fn load<M: SquareStorage>(dst: &mut M, a: MatRef<'_, f64>, t: f64) -> Result<(), LinalgError> {
-    for j in 0..a.ncols() {
-        for i in 0..a.nrows() {
-            dst.set(i, j, a[(i, j)] * t);
+    let n = a.nrows();
+    for j in 0..dst.order() {
+        for i in 0..dst.order() {
+            dst.set(i, j, if i < n && j < n { a[(i, j)] * t } else { 0.0 });
         }
     }
     if dst.all_finite() {
@@ -83,7 +89,8 @@ fn failure(f: Failure) -> LinalgError {
     }
 }
 
-/// Stack-allocated driver for orders 2…8.
+/// Stack-allocated driver: order N exactly for N = 2…8, and N = 16 for orders 9…16 (the input
+/// is padded to diag(A, 0); see [`load`]).
 pub(crate) struct SmallDriver<const N: usize>(PadeWorkspace<SmallMat<N>>);
 
 impl<const N: usize> Driver for SmallDriver<N> {
@@ -203,7 +210,7 @@ macro_rules! with_driver {
             6 => $f::<$crate::expm::SmallDriver<6>>($($args),*),
             7 => $f::<$crate::expm::SmallDriver<7>>($($args),*),
             8 => $f::<$crate::expm::SmallDriver<8>>($($args),*),
-            16 => $f::<$crate::expm::SmallDriver<16>>($($args),*),
+            9..=16 => $f::<$crate::expm::SmallDriver<16>>($($args),*),
             _ => $f::<$crate::expm::DenseDriver>($($args),*),
         }
     };
@@ -253,7 +260,8 @@ fn expm_checked(a: MatRef<'_, f64>, t: f64) -> Result<(Mat<f64>, Choice), Linalg
 ///   superdiagonal recomputed from exact formulas at every squaring; 2×2 diagonal blocks with
 ///   complex eigenvalues recomputed in closed form); lower-triangular input via the transpose;
 ///   diagonal input: e^{a_ii}.
-/// * Orders 2…8 run on stack-allocated kernels, larger orders on faer's GEMM and LU; both use
+/// * Orders 2…16 run on stack-allocated kernels compiled for the best instruction set found at
+///   run time (AVX2/FMA via `pulp`), larger orders on faer's GEMM and LU; both use
 ///   the same algorithm code. (V − U)X = V + U is solved by LU with partial pivoting.
 ///
 /// # Errors
@@ -289,4 +297,56 @@ pub fn expm_parameters(a: MatRef<'_, f64>) -> Result<PadeParameters, LinalgError
         degree: c.degree,
         squarings: c.squarings,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Padding to diag(A, 0) reproduces the unpadded computation bit for bit.
+    #[test]
+    fn padding_is_exact() {
+        let rows = [
+            [0.3, -1.2, 0.5, 2.0],
+            [1.1, 0.4, -0.7, 0.2],
+            [-0.6, 0.9, 1.5, -1.0],
+            [0.8, 0.1, -0.3, -2.2],
+        ];
+        for (t, triangular) in [
+            (0.01, false),
+            (0.3, false),
+            (1.0, false),
+            (7.0, false),
+            (2.0, true),
+        ] {
+            let a = Mat::from_fn(
+                4,
+                4,
+                |i, j| if triangular && i > j { 0.0 } else { rows[i][j] },
+            );
+            let mut d4 = SmallDriver::<4>::new(4);
+            let mut d16 = SmallDriver::<16>::new(16);
+            let c4 = d4.exp_of(a.as_ref(), t).unwrap();
+            let c16 = d16.exp_of(a.as_ref(), t).unwrap();
+            assert_eq!(c4, c16);
+            for j in 0..16 {
+                for i in 0..16 {
+                    let got = d16.result().get(i, j);
+                    if i < 4 && j < 4 {
+                        assert_eq!(
+                            got.to_bits(),
+                            d4.result().get(i, j).to_bits(),
+                            "({i},{j}) t={t}"
+                        );
+                    } else if i < 4 || j < 4 {
+                        assert_eq!(got, 0.0);
+                    } else {
+                        // The padding block is r_m(0)^(2^s) = I up to the rounding of b₀·(1/b₀).
+                        let want = if i == j { 1.0 } else { 0.0 };
+                        assert!((got - want).abs() <= 4.0 * f64::EPSILON, "({i},{j}) t={t}");
+                    }
+                }
+            }
+        }
+    }
 }

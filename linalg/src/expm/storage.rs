@@ -7,7 +7,9 @@
 //!   loops and an in-register LU with partial pivoting. faer's per-call overhead (≈ 0.7–1.6 µs
 //!   for `partial_piv_lu` at n = 2…8, ≈ 70–140 ns per matmul, plus ≈ 0.2 µs per `Mat`
 //!   allocation, measured on the project machine) dominates the arithmetic for such orders,
-//!   so `expm` dispatches orders 2…8 here.
+//!   so `expm` dispatches orders 2…8 here, and orders 9…16 padded to 16 (see `expm::load`).
+//!   The kernels are plain loops over fixed-size arrays; the drivers run them under
+//!   `pulp::Arch::dispatch`, so they are auto-vectorised for AVX2/FMA when available.
 //! * [`faer::Mat<f64>`]: faer's GEMM (`Par::Seq` below [`PARALLEL_MIN_ORDER`]) and faer's
 //!   in-place partial-pivoting LU with preallocated permutations and scratch memory, so a
 //!   reused workspace does not allocate.

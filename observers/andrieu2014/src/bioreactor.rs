@@ -402,12 +402,6 @@ pub fn printed_tuning() -> Tuning {
     Tuning::new(vec![-2.0, 1.0], 0.9, 1.0, 0.1, 0.1).expect("constant, valid tuning")
 }
 
-/// The printed parameters with the sign of `K2` restored (`K = [−2, −1]'`, double pole at −1) and a
-/// chosen `α` (the spec's settings use `α = 0.5`; `α = 0.9` gives `ρ(Q(0.9)) = 1.25`).
-pub fn corrected_tuning(alpha: f64) -> Result<Tuning, Error> {
-    Tuning::new(vec![-2.0, -1.0], alpha, 1.0, 0.1, 0.1)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

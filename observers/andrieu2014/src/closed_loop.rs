@@ -24,7 +24,7 @@ use sporadic_sim::{
 };
 
 use crate::error::{Error, check_finite, check_len};
-use crate::observer::{Tuning, high_gain, jump};
+use crate::observer::{Tuning, high_gain, jump, sampling_function};
 use crate::system::{Plant, TriangularSystem, vector_field};
 
 /// Number of extra observer states after `x̂`: `I, L_k, L, M`.
@@ -276,7 +276,7 @@ impl SamplingRule for UpdatedSampling<'_> {
     }
     fn guard(&self, elapsed: f64, _plant: &[f64], o: &[f64]) -> f64 {
         let (l, _) = high_gain(self.tuning, o[self.n + 1], o[self.n]);
-        elapsed * l - self.tuning.alpha()
+        sampling_function(self.tuning, elapsed, l)
     }
 }
 

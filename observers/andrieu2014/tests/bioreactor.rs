@@ -72,6 +72,14 @@ fn d2_noise_free_convergence_and_invariants() {
         fin < 1e-8 && late < 1e-8,
         "|S − Ŝ| = {fin} at 40, {late} on [20, 40]"
     );
+    // The plant stays in the invariant domain M_z the Lipschitz function c is computed on.
+    let domain = Scenario::placeholder().domain;
+    for (_, z) in r.arc.iter() {
+        assert!(
+            domain.contains_z(&[z[0], z[1]], 0.0),
+            "plant left M_z: {z:?}"
+        );
+    }
     // The estimate really had to converge: the initial substrate error is 0.03.
     assert!(errs[0].1 > 1e-3);
 }

@@ -41,7 +41,8 @@ pub struct DesignSettings {
     pub validation: ValidationSettings,
     /// Step 1 search settings.
     pub bound: BoundSettings,
-    /// Use these β, γ instead of running Step 1.
+    /// Use these β, γ instead of running Step 1 (taken as given: not certified, the reported
+    /// `lyapunov_margin` is NaN).
     pub fixed_bound: Option<crate::validation::ExponentialBound>,
     /// Options of the synthesis SDP.
     pub solve: SolveOptions,

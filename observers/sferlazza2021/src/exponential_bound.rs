@@ -266,3 +266,51 @@ pub fn sampled_growth(a: &Mat<f64>, horizon: f64, points: usize) -> Result<f64, 
     }
     Ok(worst)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use faer::mat;
+
+    /// For a normal A the best certificate is Π = I with β just above the spectral abscissa of −A:
+    /// `γ e^{βT} → e^{αT}` (here `‖e^{−Aτ}‖ = e^{2τ}` exactly).
+    #[test]
+    fn normal_matrix_reaches_the_exact_growth() {
+        let a = mat![[-1.0, 0.0], [0.0, -2.0]];
+        let b = exponential_bound(&a, 0.5, &BoundSettings::default()).unwrap();
+        let growth = b.bound.at(0.5);
+        assert!(
+            (growth / 1f64.exp() - 1.0).abs() < 1e-3,
+            "γe^(βT) = {growth}"
+        );
+        assert!(b.bound.beta > 2.0 && b.lyapunov_margin > 0.0);
+        assert!(growth >= sampled_growth(&a, 0.5, 501).unwrap() * (1.0 - 1e-12));
+    }
+
+    /// A non-normal A: the certified bound dominates the sampled growth of `‖e^{−Aτ}‖` and beats Π = I
+    /// (which needs β ≥ λ_max(−(A + Aᵀ)/2)).
+    #[test]
+    fn non_normal_bound_is_valid_and_better_than_identity() {
+        let a = mat![[-1.0, 10.0], [0.0, -2.0]];
+        let t = 0.3;
+        let b = exponential_bound(&a, t, &BoundSettings::default()).unwrap();
+        assert!(b.lyapunov_margin > 0.0);
+        let sampled = sampled_growth(&a, t, 3001).unwrap();
+        assert!(b.bound.at(t) >= sampled, "{} < {sampled}", b.bound.at(t));
+        let sym = Mat::from_fn(2, 2, |i, j| -0.5 * (a[(i, j)] + a[(j, i)]));
+        let beta_identity = sym.self_adjoint_eigenvalues(Side::Lower).unwrap()[1];
+        assert!(b.bound.at(t) < (beta_identity * t).exp());
+    }
+
+    #[test]
+    fn bad_arguments() {
+        let a = mat![[-1.0, 0.0], [0.0, -2.0]];
+        assert!(exponential_bound(&a, 0.0, &BoundSettings::default()).is_err());
+        let s = BoundSettings {
+            grid_points: 2,
+            ..BoundSettings::default()
+        };
+        assert!(exponential_bound(&a, 1.0, &s).is_err());
+        assert!(exponential_bound(&Mat::zeros(2, 3), 1.0, &BoundSettings::default()).is_err());
+    }
+}

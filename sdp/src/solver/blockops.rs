@@ -100,51 +100,117 @@ pub(crate) fn c_dense(an: &Analysis, vals: &Values) -> BlockMats {
     out
 }
 
-/// `out += 𝒜(G)`, i.e. `out_i += Σ_k ⟨A_i^k, G_k⟩` (blocks in order).
-pub(crate) fn apply_a(an: &Analysis, vals: &Values, g: &[Mat<f64>], out: &mut [f64]) {
-    for (k, b) in an.blocks.iter().enumerate() {
-        let gk = &g[k];
-        for (p, pat) in b.cons.iter().enumerate() {
-            let v = &vals.a[k][p];
+/// `⟨A_p, G⟩` for every local constraint `p` of block `k`.
+fn block_apply_a(an: &Analysis, vals: &Values, k: usize, g: &Mat<f64>) -> Vec<f64> {
+    let b = &an.blocks[k];
+    let v = &vals.a[k];
+    if let Some(d) = &vals.dense[k] {
+        let n = b.n;
+        return (0..b.cons.len())
+            .map(|p| {
+                let a = &d[p * n * n..(p + 1) * n * n];
+                let mut s = 0.0;
+                for j in 0..n {
+                    let (aj, gj) = (&a[j * n..(j + 1) * n], g.col_as_slice(j));
+                    for i in 0..n {
+                        s += aj[i] * gj[i];
+                    }
+                }
+                s
+            })
+            .collect();
+    }
+    b.cons
+        .iter()
+        .zip(v)
+        .map(|(pat, v)| {
             let mut s = 0.0;
             match b.kind {
                 BlockKind::Lp => {
+                    let g0 = g.col_as_slice(0);
                     for (e, &r) in pat.rows.iter().enumerate() {
-                        s += v[e] * gk[(r, 0)];
+                        s += v[e] * g0[r];
                     }
                 }
                 BlockKind::Psd => {
                     for e in 0..v.len() {
                         let (r, c) = (pat.rows[e], pat.cols[e]);
                         s += if r == c {
-                            v[e] * gk[(r, r)]
+                            v[e] * g.col_as_slice(r)[r]
                         } else {
-                            v[e] * (gk[(r, c)] + gk[(c, r)])
+                            v[e] * (g.col_as_slice(c)[r] + g.col_as_slice(r)[c])
                         };
                     }
                 }
             }
+            s
+        })
+        .collect()
+}
+
+/// `out += 𝒜(G)`, i.e. `out_i += Σ_k ⟨A_i^k, G_k⟩`; blocks are evaluated in parallel and added
+/// in block order.
+pub(crate) fn apply_a(an: &Analysis, vals: &Values, g: &[Mat<f64>], out: &mut [f64]) {
+    use rayon::prelude::*;
+    let parts: Vec<Vec<f64>> = (0..an.blocks.len())
+        .into_par_iter()
+        .map(|k| block_apply_a(an, vals, k, &g[k]))
+        .collect();
+    for (b, part) in an.blocks.iter().zip(parts) {
+        for (pat, s) in b.cons.iter().zip(part) {
             out[pat.con] += s;
         }
     }
 }
 
-/// `out_k = Σ_i y_i A_i^k` for every block (overwrites `out`).
+/// `out_k = Σ_i y_i A_i^k` for every block (overwrites `out`; parallel over blocks).
 pub(crate) fn apply_at(an: &Analysis, vals: &Values, y: &[f64], out: &mut [Mat<f64>]) {
-    for (k, b) in an.blocks.iter().enumerate() {
-        let o = &mut out[k];
+    use rayon::prelude::*;
+    out.par_iter_mut().enumerate().for_each(|(k, o)| {
+        let b = &an.blocks[k];
         o.fill(0.0);
+        if let Some(d) = &vals.dense[k] {
+            let n = b.n;
+            for (p, pat) in b.cons.iter().enumerate() {
+                let yi = y[pat.con];
+                if yi == 0.0 {
+                    continue;
+                }
+                let a = &d[p * n * n..(p + 1) * n * n];
+                for j in 0..n {
+                    let (aj, oj) = (&a[j * n..(j + 1) * n], o.col_as_slice_mut(j));
+                    for i in 0..n {
+                        oj[i] += yi * aj[i];
+                    }
+                }
+            }
+            return;
+        }
         for (p, pat) in b.cons.iter().enumerate() {
             let yi = y[pat.con];
             if yi == 0.0 {
                 continue;
             }
             let v = &vals.a[k][p];
-            for e in 0..v.len() {
-                add_entry(b.kind, o, pat.rows[e], pat.cols[e], yi * v[e]);
+            match b.kind {
+                BlockKind::Lp => {
+                    let o0 = o.col_as_slice_mut(0);
+                    for e in 0..v.len() {
+                        o0[pat.rows[e]] += yi * v[e];
+                    }
+                }
+                BlockKind::Psd => {
+                    for e in 0..v.len() {
+                        let (r, c) = (pat.rows[e], pat.cols[e]);
+                        o.col_as_slice_mut(c)[r] += yi * v[e];
+                        if r != c {
+                            o.col_as_slice_mut(r)[c] += yi * v[e];
+                        }
+                    }
+                }
             }
         }
-    }
+    });
 }
 
 /// Lower Cholesky factor of a symmetric matrix (only its lower triangle is read), or `None` if

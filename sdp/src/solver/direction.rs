@@ -128,7 +128,8 @@ pub(crate) fn second_order(an: &Analysis, dx: &[Mat<f64>], ds: &[Mat<f64>]) -> B
 /// computed `ΔX` can miss `r_p` by far more than the tolerance; full steps then *increase* the
 /// primal infeasibility. Since `ΔX` is affine in `Δy` with `∂ΔX/∂Δy · δ = sym(X 𝒜ᵀ(δ) S⁻¹)`,
 /// the correction `M δ = r_p − 𝒜(ΔX)` (same factorisation), `Δy += δ`, `ΔS −= 𝒜ᵀ(δ)`,
-/// `ΔX += sym(X 𝒜ᵀ(δ) S⁻¹)` restores the equation; it is repeated while the residual halves.
+/// `ΔX += sym(X 𝒜ᵀ(δ) S⁻¹)` restores the equation; it is repeated while the residual is above
+/// `threshold` and halves.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn refine(
     an: &Analysis,
@@ -136,6 +137,7 @@ pub(crate) fn refine(
     x: &[Mat<f64>],
     zinv: &[Mat<f64>],
     rp: &[f64],
+    threshold: f64,
     solve: &dyn Fn(&[f64]) -> Vec<f64>,
     dx: &mut BlockMats,
     dy: &mut [f64],
@@ -150,7 +152,7 @@ pub(crate) fn refine(
     };
     let (mut e, mut norm) = residual(dx);
     for _ in 0..3 {
-        if !(norm > 0.0) {
+        if !(norm > threshold) {
             break;
         }
         let delta = solve(&e);

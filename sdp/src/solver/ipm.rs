@@ -125,11 +125,12 @@ fn detect_infeasibility(
                 }
             }
         }
-        if sq.sqrt() / res.dobj <= prefilter
-            && let Some(cert) = InfeasibilityCertificate::primal(problem, y)
-            && cert.verify(problem).is_ok_and(|v| v <= settings.tol_infeas)
-        {
-            return Some((Status::PrimalInfeasible, cert));
+        if sq.sqrt() / res.dobj <= prefilter {
+            if let Some(cert) = InfeasibilityCertificate::primal(problem, y) {
+                if cert.verify(problem).is_ok_and(|v| v <= settings.tol_infeas) {
+                    return Some((Status::PrimalInfeasible, cert));
+                }
+            }
         }
     }
     if res.pobj < 0.0 && res.dinf > settings.tol_feas {
@@ -140,11 +141,12 @@ fn detect_infeasibility(
             .map(|(b, r)| (b - r) * (b - r))
             .sum::<f64>()
             .sqrt();
-        if ax / -res.pobj <= prefilter
-            && let Some(cert) = InfeasibilityCertificate::dual(problem, x, gram)
-            && cert.verify(problem).is_ok_and(|v| v <= settings.tol_infeas)
-        {
-            return Some((Status::DualInfeasible, cert));
+        if ax / -res.pobj <= prefilter {
+            if let Some(cert) = InfeasibilityCertificate::dual(problem, x, gram) {
+                if cert.verify(problem).is_ok_and(|v| v <= settings.tol_infeas) {
+                    return Some((Status::DualInfeasible, cert));
+                }
+            }
         }
     }
     None
@@ -275,8 +277,11 @@ pub(crate) fn run(
             let mut dy = ws.linsys.solve(&r);
             let (mut dx, mut ds) = recover(an, vals, &x, &f.zinv, &res.rd, &dy, sigma_mu, h);
             let solver = |e: &[f64]| ws.linsys.solve(e);
+            // Errors below 1% of the current residual (or of the tolerance) cannot spoil the
+            // step; only larger ones are refined.
+            let threshold = 0.01 * res.rp_norm.max(0.1 * settings.tol_feas * (1.0 + norms.b2));
             refine(
-                an, vals, &x, &f.zinv, &res.rp, &solver, &mut dx, &mut dy, &mut ds,
+                an, vals, &x, &f.zinv, &res.rp, threshold, &solver, &mut dx, &mut dy, &mut ds,
             );
             (dx, dy, ds)
         };
@@ -337,11 +342,12 @@ pub(crate) fn run(
     if !matches!(
         status,
         Status::Optimal | Status::PrimalInfeasible | Status::DualInfeasible
-    ) && let Some(b) = best
-    {
-        x = b.x;
-        y = b.y;
-        s = b.s;
+    ) {
+        if let Some(b) = best {
+            x = b.x;
+            y = b.y;
+            s = b.s;
+        }
     }
     let res = residuals(an, vals, &cd, &norms, &x, &y, &s);
     let measures = measures(an, &norms, &res, &x, &s);

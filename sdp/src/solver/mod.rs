@@ -125,12 +125,12 @@ fn check_settings(s: &Settings) -> Result<(), SdpError> {
             s.tol_gap, s.tol_feas, s.tol_infeas
         )));
     }
-    if let Some(g) = s.step_fraction
-        && !(g > 0.0 && g < 1.0)
-    {
-        return Err(SdpError::InvalidSettings(format!(
-            "step_fraction {g} outside (0, 1)"
-        )));
+    if let Some(g) = s.step_fraction {
+        if !(g > 0.0 && g < 1.0) {
+            return Err(SdpError::InvalidSettings(format!(
+                "step_fraction {g} outside (0, 1)"
+            )));
+        }
     }
     Ok(())
 }

@@ -67,7 +67,16 @@ pub(crate) fn assemble(
         }
         let locals: Vec<Local> = (k0..k1)
             .into_par_iter()
-            .map(|k| local_share(&an.blocks[k], &vals.a[k], &x[k], f, k))
+            .map(|k| {
+                local_share(
+                    &an.blocks[k],
+                    &vals.a[k],
+                    vals.dense[k].as_ref(),
+                    &x[k],
+                    f,
+                    k,
+                )
+            })
             .collect();
         for (k, local) in (k0..k1).zip(locals) {
             add_share(&an.blocks[k], &vals.a[k], &x[k], &f.zinv[k], local, out);
@@ -76,13 +85,26 @@ pub(crate) fn assemble(
     }
 }
 
-fn local_share(plan: &BlockPlan, vals: &[Vec<f64>], x: &Mat<f64>, f: &Factors, k: usize) -> Local {
+fn local_share(
+    plan: &BlockPlan,
+    vals: &[Vec<f64>],
+    dense: Option<&Vec<f64>>,
+    x: &Mat<f64>,
+    f: &Factors,
+    k: usize,
+) -> Local {
     if plan.cons.is_empty() {
         return Local::Direct;
     }
     match &plan.schur {
         SchurPlan::Lp { .. } => Local::Direct,
-        SchurPlan::Syrk => Local::Lower(syrk_share(plan, vals, &f.lx[k], &f.linv_s[k])),
+        SchurPlan::Syrk => Local::Lower(syrk_share(
+            plan,
+            vals,
+            dense.map(Vec::as_slice),
+            &f.lx[k],
+            &f.linv_s[k],
+        )),
         SchurPlan::Mixed {
             order,
             formula,
@@ -104,23 +126,35 @@ fn local_share(plan: &BlockPlan, vals: &[Vec<f64>], x: &Mat<f64>, f: &Factors, k
     }
 }
 
-/// `KᵀK` with `K_i = L_Xᵀ A_i L_S⁻ᵀ` (lower triangle, local order).
-fn syrk_share(plan: &BlockPlan, vals: &[Vec<f64>], lx: &Mat<f64>, linv_s: &Mat<f64>) -> Mat<f64> {
+/// `KᵀK` with `K_i = L_Xᵀ A_i L_S⁻ᵀ` (lower triangle, local order); `dense` is the block's dense
+/// copy of the `A_i` when it has one.
+fn syrk_share(
+    plan: &BlockPlan,
+    vals: &[Vec<f64>],
+    dense: Option<&[f64]>,
+    lx: &Mat<f64>,
+    linv_s: &Mat<f64>,
+) -> Mat<f64> {
     let n = plan.n;
     let nc = plan.cons.len();
     let nn = n * n;
     let mut kbuf = vec![0.0; nn * nc];
     kbuf.par_chunks_mut(nn).enumerate().for_each(|(p, chunk)| {
-        let pat = &plan.cons[p];
-        let v = &vals[p];
-        let mut a = Mat::<f64>::zeros(n, n);
-        for e in 0..v.len() {
-            let (r, c) = (pat.rows[e], pat.cols[e]);
-            a[(r, c)] += v[e];
-            if r != c {
-                a[(c, r)] += v[e];
+        let a = match dense {
+            Some(d) => Mat::from_fn(n, n, |r, c| d[p * nn + r + c * n]),
+            None => {
+                let (pat, v) = (&plan.cons[p], &vals[p]);
+                let mut a = Mat::<f64>::zeros(n, n);
+                for e in 0..v.len() {
+                    let (r, c) = (pat.rows[e], pat.cols[e]);
+                    a[(r, c)] += v[e];
+                    if r != c {
+                        a[(c, r)] += v[e];
+                    }
+                }
+                a
             }
-        }
+        };
         let mut t = Mat::<f64>::zeros(n, n);
         tri_matmul(
             t.as_mut(),

@@ -73,6 +73,9 @@ pub(crate) struct BlockPlan {
     pub cons: Vec<ConPattern>,
     /// Schur assembly method.
     pub schur: SchurPlan,
+    /// Whether the constraint matrices are dense enough to be kept as dense `n×n` copies
+    /// ([`Values::dense`]), which makes `𝒜` and `𝒜ᵀ` plain dot products and axpys.
+    pub dense: bool,
 }
 
 /// Analysed structure of a whole problem.
@@ -96,7 +99,15 @@ pub(crate) struct Values {
     /// Per block, per local constraint: values aligned with [`ConPattern`] (zeros where the
     /// problem has no entry).
     pub a: Vec<Vec<Vec<f64>>>,
+    /// Per block with [`BlockPlan::dense`]: the constraint matrices as full symmetric `n×n`
+    /// column-major arrays, one after the other (`n²` numbers per local constraint).
+    pub dense: Vec<Option<Vec<f64>>>,
 }
+
+/// Minimum fraction of nonzeros (over all constraints of a PSD block) for dense storage.
+const DENSE_FRACTION: f64 = 0.3;
+/// Largest dense copy of one block's constraints, in `f64`s (128 MiB).
+const DENSE_MAX: usize = 1 << 24;
 
 /// Upper bound on the number of `f64`s the dense workspaces may need (about 64 GiB): larger
 /// problems are rejected up front instead of aborting on allocation.
@@ -293,11 +304,17 @@ pub(crate) fn analyse(problem: &Problem) -> Result<Analysis, SdpError> {
             BlockKind::Lp => plan_lp(n, &cons),
             BlockKind::Psd => plan_psd(n, &cons),
         };
+        let full: usize = cons.iter().map(full_count).sum();
+        let cells = n.saturating_mul(n).saturating_mul(cons.len());
+        let dense = bd.block.kind == BlockKind::Psd
+            && cells <= DENSE_MAX
+            && full as f64 >= DENSE_FRACTION * cells as f64;
         blocks.push(BlockPlan {
             kind: bd.block.kind,
             n,
             cons,
             schur,
+            dense,
         });
     }
     Ok(Analysis {
@@ -367,10 +384,31 @@ impl Analysis {
             a_all.push(vals);
             c_all.push(bd.c.clone());
         }
+        let dense = self
+            .blocks
+            .iter()
+            .zip(&a_all)
+            .map(|(plan, vals)| {
+                plan.dense.then(|| {
+                    let n = plan.n;
+                    let mut d = vec![0.0; n * n * plan.cons.len()];
+                    for (p, (pat, v)) in plan.cons.iter().zip(vals).enumerate() {
+                        let a = &mut d[p * n * n..(p + 1) * n * n];
+                        for e in 0..v.len() {
+                            let (r, c) = (pat.rows[e], pat.cols[e]);
+                            a[r + c * n] = v[e];
+                            a[c + r * n] = v[e];
+                        }
+                    }
+                    d
+                })
+            })
+            .collect();
         Ok(Values {
             b: problem.b.clone(),
             c: c_all,
             a: a_all,
+            dense,
         })
     }
 }

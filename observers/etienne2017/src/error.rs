@@ -1,0 +1,181 @@
+//! Typed errors of `sporadic-etienne2017`. Bad input is reported with what was wrong and where;
+//! nothing in this crate panics on user data.
+
+use faer::MatRef;
+use sporadic_linalg::LinalgError;
+
+/// Everything that can go wrong while building the plant, designing or certifying a gain,
+/// searching the largest sampling interval or simulating the observer.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// The sampling interval bounds violate `0 ≤ τ_low ≤ τ̄ < ∞` with `τ̄ > 0` (the class
+    /// `S[τ_low, τ̄]` of Etienne et al. 2017, §2), or a condition needs a stricter relation
+    /// (Theorem 3: `τ_low < τ̄`; Remark 6: `τ_low = τ̄`).
+    #[error("invalid sampling interval bounds [τ_low, τ̄] = [{tau_low}, {tau_bar}]: {reason}")]
+    InvalidWindow {
+        /// Shortest inter-sample time `τ_low` as given.
+        tau_low: f64,
+        /// Longest inter-sample time `τ̄` as given.
+        tau_bar: f64,
+        /// Which condition is violated.
+        reason: &'static str,
+    },
+    /// A matrix that must be square is not (`A`).
+    #[error("{what} must be square, got {rows}×{cols}")]
+    NotSquare {
+        /// Which matrix.
+        what: &'static str,
+        /// Number of rows.
+        rows: usize,
+        /// Number of columns.
+        cols: usize,
+    },
+    /// An input has no entries (`n = 0`, `q = 0` or `m = 0`).
+    #[error("empty input: {what}")]
+    Empty {
+        /// Which input.
+        what: &'static str,
+    },
+    /// Two objects that must agree in size do not.
+    #[error("dimension mismatch in {what}: expected {expected}, found {found}")]
+    DimensionMismatch {
+        /// Which dimension was checked.
+        what: String,
+        /// The size required by the other operand(s).
+        expected: usize,
+        /// The size actually supplied.
+        found: usize,
+    },
+    /// An input (or a quantity computed from it) contains NaN or ±∞.
+    #[error("non-finite value (NaN or ±Inf) in {what}")]
+    NonFinite {
+        /// Which quantity.
+        what: String,
+    },
+    /// A Jacobian entry has a lower bound above its upper bound.
+    #[error("Jacobian bound of entry ({row},{col}): lower {lower} > upper {upper}")]
+    InvalidJacobianBounds {
+        /// Row (component of `φ`).
+        row: usize,
+        /// Column (argument of `φ`).
+        col: usize,
+        /// Lower bound given.
+        lower: f64,
+        /// Upper bound given.
+        upper: f64,
+    },
+    /// A scalar option is outside its admissible range.
+    #[error("invalid parameter {name} = {value}: {reason}")]
+    InvalidParameter {
+        /// Name of the parameter.
+        name: &'static str,
+        /// The value supplied.
+        value: f64,
+        /// The condition it violates.
+        reason: &'static str,
+    },
+    /// The LMIs (20) are not strictly feasible: the optimal common margin `t*` of formulation F
+    /// (spec §3.6) is not above the threshold, or the solver certified infeasibility. Theorem 3
+    /// and Corollary 2 are only sufficient, so this does not prove that no observer exists.
+    #[error("LMIs (20) not strictly feasible for {condition}: margin {margin:?}; {reason}")]
+    Infeasible {
+        /// Which condition was solved.
+        condition: &'static str,
+        /// Optimal common margin `t*`, when one was computed.
+        margin: Option<f64>,
+        /// The LMI layer's explanation.
+        reason: String,
+    },
+    /// The solver established neither feasibility nor infeasibility.
+    #[error("LMI solve inconclusive for {condition}: {reason}")]
+    Inconclusive {
+        /// Which condition was solved.
+        condition: &'static str,
+        /// The LMI layer's explanation.
+        reason: String,
+    },
+    /// A certificate `P1` is not positive definite, so `K = P1⁻¹L` cannot be formed.
+    #[error("singular matrix: {what}")]
+    Singular {
+        /// Which matrix.
+        what: String,
+    },
+    /// The LMI layer returned a certificate but the independent check (eigenvalues of every
+    /// block of (20), the τ-grid check of (19b)/(19c), and the contraction of `z'P1z` across
+    /// `(I − K(τ)C)e^{R_p τ}`) failed; the design is not returned as valid.
+    #[error("independent verification failed: {what} = {value:e} at τ = {tau} (vertex {vertex:?})")]
+    VerificationFailed {
+        /// Which check failed.
+        what: &'static str,
+        /// The offending value.
+        value: f64,
+        /// Where on the τ grid (NaN for τ-independent blocks).
+        tau: f64,
+        /// Which vertex `R_p`, if vertex-specific.
+        vertex: Option<usize>,
+    },
+    /// Writing an output file failed.
+    #[error("I/O error on {path}: {source}")]
+    Io {
+        /// The file or directory.
+        path: std::path::PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// An error from the dense linear-algebra kernels.
+    #[error("linear algebra: {0}")]
+    Linalg(#[from] LinalgError),
+    /// An error from the Jacobian polytope (Lemma 1).
+    #[error("polytope: {0}")]
+    Embed(#[from] sporadic_embed::EmbedError),
+    /// An error from the LMI modelling layer or the SDP solver.
+    #[error("LMI model: {0}")]
+    Lmi(#[from] sporadic_sdp::lmi::ModelError),
+    /// An error from the hybrid simulator or the figure writer.
+    #[error("simulation: {0}")]
+    Sim(#[from] sporadic_sim::SimError),
+}
+
+impl Error {
+    pub(crate) fn mismatch(what: impl Into<String>, expected: usize, found: usize) -> Self {
+        Self::DimensionMismatch {
+            what: what.into(),
+            expected,
+            found,
+        }
+    }
+}
+
+/// Checks that every entry of `a` is finite.
+pub(crate) fn check_finite(a: MatRef<'_, f64>, what: &str) -> Result<(), Error> {
+    for j in 0..a.ncols() {
+        for i in 0..a.nrows() {
+            if !a[(i, j)].is_finite() {
+                return Err(Error::NonFinite {
+                    what: format!("{what} at entry ({i},{j})"),
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Checks `rows × cols`.
+pub(crate) fn check_shape(
+    a: MatRef<'_, f64>,
+    rows: usize,
+    cols: usize,
+    what: &str,
+) -> Result<(), Error> {
+    if a.nrows() != rows {
+        return Err(Error::mismatch(format!("rows of {what}"), rows, a.nrows()));
+    }
+    if a.ncols() != cols {
+        return Err(Error::mismatch(
+            format!("columns of {what}"),
+            cols,
+            a.ncols(),
+        ));
+    }
+    Ok(())
+}

@@ -1,0 +1,295 @@
+//! The finite LMIs (20) of Theorem 3 (Etienne et al. 2017), Corollary 2 (static gain) and the
+//! periodic case of Remark 6, modelled with the LMI layer of `sporadic-sdp` and solved as the
+//! margin problem "formulation F" of the spec (§3.6):
+//!
+//! ```text
+//! maximise t   over (P1, P2, L0, L1, t)
+//! s.t.  −M¹_p ⪰ tI,  −M²_p ⪰ tI                                   p = 1..2^k    (20a), (20b)
+//!       [He(L0C) − (τ_low/τ̄)(P1 − P2), C'L0'; ⋆, P1] ⪰ tI                          (20c)
+//!       [He(L1C) − (P1 − P2),          C'L1'; ⋆, P1] ⪰ tI                          (20d)
+//!       P1 ⪰ tI,  P2 ⪰ tI,   ‖P1‖₂ ≤ 1,  ‖P2‖₂ ≤ 1   (normalisation; L0, L1 free)
+//! ```
+//!
+//! with `M^i_p = He(P_i R_p) + (P2 − P1)/τ̄`. All LMIs are positively homogeneous in
+//! `(P1, P2, L0, L1)` (spec §3.3 note 5), so the normalisation loses no generality: (20) is
+//! strictly feasible iff `t* > 0`. Since `P ⪰ tI` with `t ≥ 0` makes `−I ⪯ P` redundant, the
+//! bound `‖P‖₂ ≤ 1` of the layer is exactly the `P ⪯ I` of formulation F.
+//!
+//! * [`Condition::Corollary2`]: `L0 = L1 = L` (one variable), both (20c) and (20d) kept.
+//! * [`Condition::Remark6`] (`τ_low = τ̄ = h`): (20c) dropped, static `K = P1⁻¹L1`.
+//! * **Fixed gain** (analysis of a given schedule `K0, K1`): `L0 = P1K0`, `L1 = P1K1` are linear
+//!   in `P1`, so (20) is an LMI in `(P1, P2)` only (spec §4.5, "fixed-gain analysis").
+//!
+//! `1/τ̄` and `τ_low/τ̄` enter as parameters, so a compiled model is re-solved for a new window
+//! without rebuilding it or re-analysing the solver structure (used by the bisection of
+//! [`crate::bisection`]).
+
+use std::time::Duration;
+
+use faer::{Mat, MatRef, mat};
+use sporadic_sdp::Status;
+use sporadic_sdp::lmi::{
+    Compiled, Expr, FeasibilityOptions, Model, Normalisation, Outcome, Param, Var,
+};
+
+use crate::error::{Error, check_finite, check_shape};
+use crate::gain::GainSchedule;
+use crate::system::{Plant, Window};
+
+/// Which finite condition of the paper is solved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Condition {
+    /// Theorem 3: time-varying gain `K(τ)` from `L0`, `L1` (needs `τ_low < τ̄`).
+    Theorem3,
+    /// Corollary 2: static gain, `L0 = L1 = L`.
+    Corollary2,
+    /// Remark 6: periodic sampling `τ_low = τ̄ = h`, (20a), (20b), (20d), static gain.
+    Remark6,
+}
+
+impl Condition {
+    /// Short name used in errors and reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Condition::Theorem3 => "Theorem 3",
+            Condition::Corollary2 => "Corollary 2",
+            Condition::Remark6 => "Remark 6",
+        }
+    }
+
+    /// Checks that the window suits the condition (Theorem 3: `τ_low < τ̄`; Remark 6:
+    /// `τ_low = τ̄`).
+    pub fn check_window(self, window: &Window) -> Result<(), Error> {
+        let err = |reason| {
+            Err(Error::InvalidWindow {
+                tau_low: window.tau_low(),
+                tau_bar: window.tau_bar(),
+                reason,
+            })
+        };
+        match self {
+            Condition::Theorem3 if window.is_periodic() => err(
+                "Theorem 3 interpolates K on [τ_low, τ̄] and needs τ_low < τ̄ (use Remark 6 for periodic sampling)",
+            ),
+            Condition::Remark6 if !window.is_periodic() => {
+                err("Remark 6 is the periodic case and needs τ_low = τ̄")
+            }
+            _ => Ok(()),
+        }
+    }
+
+    fn has_low_jump(self) -> bool {
+        self != Condition::Remark6
+    }
+}
+
+/// How the gain enters the LMIs.
+#[derive(Debug, Clone)]
+pub(crate) enum GainTerm {
+    /// Synthesis: `L0`, `L1` (or the single `L`) are decision variables.
+    Free,
+    /// Analysis of a given schedule: `L0 = P1 K0`, `L1 = P1 K1`.
+    Fixed { k0: Mat<f64>, k1: Mat<f64> },
+}
+
+/// Interior-point statistics of one solve.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SolverStats {
+    /// What the LMI layer established (its own re-verification of every constraint).
+    pub outcome: Outcome,
+    /// Its explanation.
+    pub reason: String,
+    /// Interior-point status.
+    pub status: Status,
+    /// Interior-point iterations.
+    pub iterations: usize,
+    /// Wall time of the interior-point solve.
+    pub solve_time: Duration,
+    /// Relative duality gap at the returned point.
+    pub rel_gap: f64,
+    /// Largest verification tolerance of a strict constraint: a margin at or below it is not
+    /// a verified certificate.
+    pub margin_threshold: Option<f64>,
+    /// Number of scalar decision variables (the margin `t` not counted): `n(n+1) + 2nq`
+    /// (Theorem 3), `n(n+1) + nq` (Corollary 2, Remark 6), `n(n+1)` (fixed gain).
+    pub decision_scalars: usize,
+}
+
+/// A solved instance of (20).
+#[derive(Debug, Clone)]
+pub(crate) struct LmiResult {
+    /// Optimal common margin `t*` of formulation F.
+    pub margin: f64,
+    /// `P1, P2, L0, L1` at the returned point (`L0 = L1` for a static gain; `L_i = P1 K_i` for a
+    /// fixed gain).
+    pub p1: Mat<f64>,
+    pub p2: Mat<f64>,
+    pub l0: Mat<f64>,
+    pub l1: Mat<f64>,
+    pub stats: SolverStats,
+}
+
+/// A compiled instance of (20) for one plant, condition and gain term; the window is a
+/// parameter.
+pub(crate) struct Lmi20 {
+    compiled: Compiled,
+    condition: Condition,
+    inv_tau_bar: Param,
+    ratio: Option<Param>,
+    p1: Var,
+    p2: Var,
+    l0: Option<Var>,
+    l1: Option<Var>,
+    fixed: Option<(Mat<f64>, Mat<f64>)>,
+}
+
+fn scalar(x: f64) -> Mat<f64> {
+    mat![[x]]
+}
+
+impl Lmi20 {
+    /// Builds (20) for `plant` and `condition` at `window` (checked against the condition).
+    pub fn new(
+        plant: &Plant,
+        condition: Condition,
+        window: &Window,
+        gain: GainTerm,
+        options: &FeasibilityOptions,
+    ) -> Result<Self, Error> {
+        condition.check_window(window)?;
+        let (n, q) = (plant.n(), plant.q());
+        let c = plant.c().to_owned();
+        let mut m = Model::new();
+        let p1 = m.symmetric("P1", n);
+        let p2 = m.symmetric("P2", n);
+        let inv_tau_bar = m.param("1/τ̄", scalar(1.0 / window.tau_bar()).as_ref())?;
+        let ratio = if condition.has_low_jump() {
+            Some(m.param(
+                "τ_low/τ̄",
+                scalar(window.tau_low() / window.tau_bar()).as_ref(),
+            )?)
+        } else {
+            None
+        };
+        let (l0, l1, l0_expr, l1_expr, fixed) = match gain {
+            GainTerm::Free => match condition {
+                Condition::Theorem3 => {
+                    let l0 = m.full("L0", n, q);
+                    let l1 = m.full("L1", n, q);
+                    let (e0, e1) = (l0.expr(), l1.expr());
+                    (Some(l0), Some(l1), e0, e1, None)
+                }
+                Condition::Corollary2 | Condition::Remark6 => {
+                    let l = m.full("L", n, q);
+                    let e = l.expr();
+                    (None, Some(l), e.clone(), e, None)
+                }
+            },
+            GainTerm::Fixed { k0, k1 } => {
+                for (k, what) in [(&k0, "K0"), (&k1, "K1")] {
+                    check_shape(k.as_ref(), n, q, what)?;
+                    check_finite(k.as_ref(), what)?;
+                }
+                let e0 = &p1 * &k0;
+                let e1 = &p1 * &k1;
+                (None, None, e0, e1, Some((k0, k1)))
+            }
+        };
+        let derivative = (&p2 - &p1) * &inv_tau_bar;
+        for (i, r) in plant.vertices().iter().enumerate() {
+            let m1 = (&p1 * r).he() + &derivative;
+            let m2 = (&p2 * r).he() + &derivative;
+            m.constrain(m1.lt(0.0).named(format!("(20a) p={}", i + 1)))?;
+            m.constrain(m2.lt(0.0).named(format!("(20b) p={}", i + 1)))?;
+        }
+        let jump = |l: &Expr, shift: Expr| {
+            let lc = l * &c;
+            Expr::sym_blocks(&[[Some(lc.he() + shift), None], [Some(lc), Some(p1.expr())]])
+        };
+        if let Some(ratio) = &ratio {
+            let shift = -((&p1 - &p2) * ratio);
+            m.constrain(jump(&l0_expr, shift).gt(0.0).named("(20c)"))?;
+        }
+        m.constrain(jump(&l1_expr, -(&p1 - &p2)).gt(0.0).named("(20d)"))?;
+        m.constrain(p1.gt(0.0).named("P1 ≻ 0"))?;
+        m.constrain(p2.gt(0.0).named("P2 ≻ 0"))?;
+        let mut opts = options
+            .clone()
+            .normalise(&p1, Normalisation::Norm(1.0))
+            .normalise(&p2, Normalisation::Norm(1.0));
+        for l in l0.iter().chain(l1.iter()) {
+            opts = opts.normalise(l, Normalisation::Free);
+        }
+        let compiled = m.compile_feasibility(&opts)?;
+        Ok(Self {
+            compiled,
+            condition,
+            inv_tau_bar,
+            ratio,
+            p1,
+            p2,
+            l0,
+            l1,
+            fixed,
+        })
+    }
+
+    /// Moves the model to a new window (same condition) without rebuilding it.
+    pub fn set_window(&mut self, window: &Window) -> Result<(), Error> {
+        self.condition.check_window(window)?;
+        self.compiled
+            .set_param(&self.inv_tau_bar, scalar(1.0 / window.tau_bar()).as_ref())?;
+        if let Some(ratio) = &self.ratio {
+            self.compiled
+                .set_param(ratio, scalar(window.tau_low() / window.tau_bar()).as_ref())?;
+        }
+        Ok(())
+    }
+
+    /// Solves the margin problem and reads the certificate.
+    pub fn solve(&mut self) -> Result<LmiResult, Error> {
+        let sol = self.compiled.solve()?;
+        let p1 = sol.value(&self.p1)?;
+        let p2 = sol.value(&self.p2)?;
+        let (l0, l1) = match (&self.fixed, &self.l0, &self.l1) {
+            (Some((k0, k1)), _, _) => (&p1 * k0, &p1 * k1),
+            (None, Some(l0), Some(l1)) => (sol.value(l0)?, sol.value(l1)?),
+            (None, None, Some(l)) => {
+                let l = sol.value(l)?;
+                (l.clone(), l)
+            }
+            (None, _, None) => unreachable!("a free gain always has L1 (or L)"),
+        };
+        let margin = sol.margin.unwrap_or(f64::NAN);
+        let stats = SolverStats {
+            outcome: sol.outcome,
+            reason: sol.reason.clone(),
+            status: sol.sdp.status,
+            iterations: sol.sdp.iterations,
+            solve_time: sol.sdp.solve_time,
+            rel_gap: sol.sdp.measures.rel_gap,
+            margin_threshold: sol.margin_threshold,
+            decision_scalars: self.compiled.model().num_scalars(),
+        };
+        Ok(LmiResult {
+            margin,
+            p1,
+            p2,
+            l0,
+            l1,
+            stats,
+        })
+    }
+}
+
+/// The gain term for the analysis of a given schedule.
+pub(crate) fn fixed_term(plant: &Plant, gain: &GainSchedule) -> Result<GainTerm, Error> {
+    let (n, q) = (plant.n(), plant.q());
+    let check = |k: MatRef<'_, f64>, what| check_shape(k, n, q, what);
+    check(gain.k0(), "K0")?;
+    check(gain.k1(), "K1")?;
+    Ok(GainTerm::Fixed {
+        k0: gain.k0().to_owned(),
+        k1: gain.k1().to_owned(),
+    })
+}

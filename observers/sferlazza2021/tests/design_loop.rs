@@ -1,0 +1,138 @@
+//! Failure exits and options of the §5.3 loop (fast grids; the full paper-grid run is in
+//! `suspension.rs`).
+
+use faer::mat;
+use sporadic_sferlazza2021::Error;
+use sporadic_sferlazza2021::design::{DesignLoop, DesignSettings, design};
+use sporadic_sferlazza2021::example::suspension;
+use sporadic_sferlazza2021::plant::{RoundRobinPlant, Window};
+use sporadic_sferlazza2021::validation::{
+    ExponentialBound, GridPolicy, ValidationSettings, grid_spacing,
+};
+
+fn fast() -> DesignSettings {
+    DesignSettings {
+        grid: GridPolicy::Spacing(1e-4),
+        ..DesignSettings::default()
+    }
+}
+
+#[test]
+fn iteration_cap_is_reported() {
+    let plant = suspension().unwrap();
+    let s = DesignSettings {
+        max_iterations: 1,
+        ..fast()
+    };
+    assert!(matches!(
+        design(&plant, &s),
+        Err(Error::NotConverged { iterations: 1 })
+    ));
+}
+
+/// Stepping by hand: the first synthesis has p* = 65.3705 (spec 001 [repro]); every failing sensor adds
+/// exactly its worst grid point, which then belongs to T_σ; the loop ends with all sensors passing.
+#[test]
+fn loop_by_hand() {
+    let plant = suspension().unwrap();
+    let mut lp = DesignLoop::new(&plant, &fast()).unwrap();
+    assert!(lp.bound().lyapunov_margin > 0.0);
+    let mut passed = false;
+    for _ in 0..10 {
+        passed = lp.step().unwrap();
+        let r = lp.log().last().unwrap();
+        for (s, v) in r.sensors.iter().enumerate() {
+            assert_eq!(v.passed(), r.added[s].is_none());
+            if let Some(t) = r.added[s] {
+                assert_eq!(t, v.argmin_tau);
+                assert!(v.min_is_exact && v.min_eigenvalue <= 0.01);
+                assert!(plant.sensor(s).window().contains(t));
+            }
+        }
+        if passed {
+            break;
+        }
+    }
+    assert!(passed);
+    let first_p_star = lp.log()[0].p_star;
+    assert!(
+        (first_p_star / 65.3705 - 1.0).abs() < 1e-4,
+        "{first_p_star}"
+    );
+    assert_eq!(lp.log()[0].points, vec![vec![0.02, 0.07], vec![0.04, 0.09]]);
+    let d = lp.finish().unwrap();
+    assert!(d.p_star >= first_p_star - 1e-6);
+    // Each later synthesis contains every point added before it.
+    for w in d.log.windows(2) {
+        for s in 0..2 {
+            let added = w[0].added[s].map_or(0, |_| 1);
+            assert_eq!(w[1].points[s].len(), w[0].points[s].len() + added);
+        }
+    }
+}
+
+/// A window containing the aliasing period of an oscillator: the Proposition 1 screen rejects the plant;
+/// without the screen, (47) is infeasible at the window's end point.
+#[test]
+fn undetectable_window_fails_cleanly() {
+    let w = 3.0;
+    let t = std::f64::consts::PI / w;
+    let plant = RoundRobinPlant::new(
+        mat![[0.0, w], [-w, 0.0]],
+        vec![(mat![[1.0, 0.0]], Window::new(t - 0.2, t))],
+    )
+    .unwrap();
+    assert!(matches!(
+        design(&plant, &fast()),
+        Err(Error::NotDetectable { .. })
+    ));
+    let s = DesignSettings {
+        detectability: None,
+        ..fast()
+    };
+    assert!(matches!(design(&plant, &s), Err(Error::Infeasible { .. })));
+}
+
+#[test]
+fn grid_cap_and_policies() {
+    let plant = suspension().unwrap();
+    let s = DesignSettings {
+        validation: ValidationSettings {
+            max_points: 1e5,
+            ..ValidationSettings::default()
+        },
+        ..DesignSettings::default()
+    };
+    let mut lp = DesignLoop::new(&plant, &s).unwrap();
+    assert!(matches!(
+        lp.step(),
+        Err(Error::GridTooLarge { sigma: 1, .. })
+    ));
+    // The rigorous spacing is far finer than (49) for this example (spec 001 §4: ≈ 1.5·10² times).
+    let b = ExponentialBound {
+        beta: 13.2,
+        gamma: 22.5156,
+    };
+    let paper = grid_spacing(&plant, 1, GridPolicy::Paper, 0.01, 65.3705, &b).unwrap();
+    let rigorous = grid_spacing(&plant, 1, GridPolicy::Rigorous, 0.01, 65.3705, &b).unwrap();
+    assert!(
+        (paper / 2.0 / 5.71e-9 - 1.0).abs() < 2e-3,
+        "δ* = {}",
+        paper / 2.0
+    );
+    assert!(
+        (paper / rigorous / (2.0 * 73.86) - 1.0).abs() < 1e-2,
+        "{}",
+        paper / rigorous
+    );
+    let s = DesignSettings {
+        fixed_bound: Some(ExponentialBound {
+            beta: 1.0,
+            gamma: 0.5,
+        }),
+        ..fast()
+    };
+    assert!(DesignLoop::new(&plant, &s).is_err());
+    let s = DesignSettings { mu: -1.0, ..fast() };
+    assert!(DesignLoop::new(&plant, &s).is_err());
+}
