@@ -10,5 +10,8 @@
 //! The `sporadic` binary (`cargo run --release -- --help`) drives the paper reproductions and the
 //! solver from the command line.
 
+pub mod methods;
+pub mod plant_file;
+
 pub use sporadic_linalg as linalg;
 pub use sporadic_sdp as sdp;

@@ -25,6 +25,11 @@ pub enum Containment {
     /// Proven for every `τ ∈ [T1, T2]` by the construction's argument (exact coefficient
     /// extrema with outward rounding / rigorous truncation bounds), and the construction's
     /// self-check passed.
+    ///
+    /// For the residue method the argument applies to the *computed* expansion
+    /// `Σ_k c_k(τ) N_k`; that it reproduces `e^{Aτ}` is the self-check (relative error
+    /// `reconstruction_error ≤ check_tolerance`, default `1e-10`, on the check grid, see
+    /// [`Method::Residue`]), so the hull contains `e^{Aτ}` up to that relative error.
     Guaranteed,
     /// Not proven, but `e^{Aτ}` was found within `max_error` (relative Frobenius distance beyond
     /// the remainder bound, see [`Embedding::max_violation`]) of the hull at `points` grid points.

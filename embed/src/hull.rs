@@ -91,14 +91,15 @@ pub fn hull_distance(
         .collect();
     let (weights, converged) = wolfe(&unit);
     let mut best = assess(&points, weights, converged);
-    if !best.converged && best.distance > 0.0 {
-        if let Some(weights) = whitened(&unit) {
-            let alt = assess(&points, weights, false);
-            best.lower_bound = best.lower_bound.max(alt.lower_bound);
-            if alt.distance < best.distance {
-                best.distance = alt.distance;
-                best.weights = alt.weights;
-            }
+    if !best.converged
+        && best.distance > 0.0
+        && let Some(weights) = whitened(&unit)
+    {
+        let alt = assess(&points, weights, false);
+        best.lower_bound = best.lower_bound.max(alt.lower_bound);
+        if alt.distance < best.distance {
+            best.distance = alt.distance;
+            best.weights = alt.weights;
         }
     }
     Ok(best)
@@ -320,7 +321,7 @@ mod tests {
         let v = [scalar(-1.0), scalar(2.0)];
         let inside = hull_distance(&v, scalar(0.5).as_ref()).unwrap();
         assert!(inside.distance < 1e-15 && inside.converged);
-        assert!((inside.weights[0] * -1.0 + inside.weights[1] * 2.0 - 0.5).abs() < 1e-15);
+        assert!((2.0 * inside.weights[1] - inside.weights[0] - 0.5).abs() < 1e-15);
         let outside = hull_distance(&v, scalar(3.5).as_ref()).unwrap();
         assert!((outside.distance - 1.5).abs() < 1e-14);
         assert!((outside.lower_bound - 1.5).abs() < 1e-14);

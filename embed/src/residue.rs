@@ -295,16 +295,6 @@ fn complexify(a: MatRef<'_, f64>) -> Mat<c64> {
     Mat::from_fn(a.nrows(), a.ncols(), |i, j| c64::new(a[(i, j)], 0.0))
 }
 
-fn frobenius_c(m: &Mat<c64>) -> f64 {
-    let mut s = 0.0;
-    for j in 0..m.ncols() {
-        for i in 0..m.nrows() {
-            s += m[(i, j)].norm_sqr();
-        }
-    }
-    s.sqrt()
-}
-
 /// Trapezoid sums `Σ_k ρ_k^j (s_k I − A)⁻¹`, `j = 1..count`, over `nodes` nodes at angles
 /// `2π(k + shift)/nodes`.
 fn contour_sums(
@@ -382,13 +372,13 @@ fn contour_moments(
             .iter()
             .map(|s| Mat::from_fn(s.nrows(), s.ncols(), |i, j| s[(i, j)] / nodes as f64))
             .collect();
-        let base = frobenius_c(&fine[0]);
+        let base = fine[0].norm_l2();
         let mut err: f64 = 0.0;
         for (j, (c, f)) in coarse.iter().zip(&fine).enumerate() {
-            let diff = Mat::from_fn(f.nrows(), f.ncols(), |p, q| f[(p, q)] - c[(p, q)]);
-            let scale = frobenius_c(f) + base * radius.powi(j as i32);
+            let diff = f - c;
+            let scale = f.norm_l2() + base * radius.powi(j as i32);
             if scale > 0.0 {
-                err = err.max(frobenius_c(&diff) / scale);
+                err = err.max(diff.norm_l2() / scale);
             }
         }
         if !err.is_finite() {
@@ -416,10 +406,10 @@ fn trim_nilpotent(moments: &mut Vec<Mat<c64>>, a: MatRef<'_, f64>, centre: c64, 
         let d = if i == j { centre } else { c64::new(0.0, 0.0) };
         c64::new(a[(i, j)], 0.0) - d
     });
-    let sigma = frobenius_c(&shifted);
-    let base = frobenius_c(&moments[0]);
+    let sigma = shifted.norm_l2();
+    let base = moments[0].norm_l2();
     for j in 1..moments.len() {
-        let size = frobenius_c(&moments[j]);
+        let size = moments[j].norm_l2();
         if sigma == 0.0 || size <= tol * base * sigma.powi(j as i32) {
             moments.truncate(j);
             return true;
@@ -514,7 +504,7 @@ impl ResidueExpansion {
                 let converged = cluster
                     .contour
                     .is_none_or(|c| c.error_estimate <= CONTOUR_ACCEPTANCE);
-                if !converged || frobenius_c(&cluster.moments[0]) > options.max_projector_norm {
+                if !converged || cluster.moments[0].norm_l2() > options.max_projector_norm {
                     // Nearly repeated (or numerically defective) eigenvalues: merge with the
                     // closest other eigenvalue.
                     let (_, i, j) = comp
@@ -702,12 +692,12 @@ impl ResidueExpansion {
         // (which seeds the geometric extrapolation) otherwise.
         let exact_end = if c.nilpotent { l } else { l - 1 };
         for k in keep..exact_end {
-            total += frobenius_c(&c.moments[k]) * max_of(a, k)?;
+            total += c.moments[k].norm_l2() * max_of(a, k)?;
         }
         if !c.nilpotent {
-            let norm_n = frobenius_c(&c.moments[1]);
+            let norm_n = c.moments[1].norm_l2();
             let from = keep.max(l - 1);
-            let last = frobenius_c(&c.moments[l - 1]) * norm_n.powi((from - (l - 1)) as i32);
+            let last = c.moments[l - 1].norm_l2() * norm_n.powi((from - (l - 1)) as i32);
             total += last * max_of(a + norm_n, from)?;
         }
         Ok(c.weight() * total)

@@ -122,12 +122,12 @@ pub fn taylor_embedding(
 ) -> Result<Embedding, EmbedError> {
     let n = check_square(a, "A")?;
     let iv = Interval::new(t1, t2)?;
-    if let TaylorOrder::Tolerance(tol) = options.order {
-        if !(tol.is_finite() && tol > 0.0) {
-            return Err(EmbedError::InvalidArgument(format!(
-                "Taylor remainder tolerance must be positive and finite, got {tol}"
-            )));
-        }
+    if let TaylorOrder::Tolerance(tol) = options.order
+        && !(tol.is_finite() && tol > 0.0)
+    {
+        return Err(EmbedError::InvalidArgument(format!(
+            "Taylor remainder tolerance must be positive and finite, got {tol}"
+        )));
     }
     let e0 = expm_scaled(a, iv.t1())?;
     if iv.is_point() {

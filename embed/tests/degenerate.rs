@@ -35,8 +35,12 @@ fn invalid_windows_are_rejected() {
     for (t1, t2) in [
         (0.5, 0.2),
         (-0.1, 0.3),
+        (-1e-300, 0.0),
         (f64::NAN, 1.0),
+        (0.1, f64::NAN),
+        (f64::NAN, f64::NAN),
         (0.0, f64::INFINITY),
+        (f64::NEG_INFINITY, 1.0),
     ] {
         assert!(matches!(
             residue_embedding(a.as_ref(), t1, t2),
@@ -54,7 +58,19 @@ fn invalid_windows_are_rejected() {
         }
     }
     // T1 = 0 is a valid window for the embedding itself.
-    assert!(residue_embedding(a.as_ref(), 0.0, 1.0).is_ok());
+    let e = residue_embedding(a.as_ref(), 0.0, 1.0).unwrap();
+    // Queries at a non-finite τ are errors, not panics or `false`.
+    for tau in [f64::NAN, f64::INFINITY] {
+        assert!(matches!(e.contains(tau), Err(EmbedError::NonFinite { .. })));
+        assert!(matches!(
+            e.hull_distance(tau),
+            Err(EmbedError::NonFinite { .. })
+        ));
+        assert!(matches!(
+            e.max_violation(&[0.5, tau]),
+            Err(EmbedError::NonFinite { .. })
+        ));
+    }
     for m in methods() {
         assert!(matches!(
             embed_split(a.as_ref(), 0.1, 1.0, 0, &m),

@@ -129,7 +129,7 @@ fn coefficient_ranges_and_sixteen_vertices() {
                 assert!((r.argmin - 0.720_055).abs() < 1e-6 && (r.argmax - 2.643_671).abs() < 1e-6);
                 seen += 1;
             }
-            CoefficientFunction::Real { lambda, .. } if lambda == 0.0 => {
+            CoefficientFunction::Real { lambda: 0.0, .. } => {
                 assert!(r.is_degenerate() && r.lower == 1.0);
                 seen += 1;
             }

@@ -1,5 +1,6 @@
 //! Command-line interface: argument parsing and dispatch to the subcommands.
 
+mod design;
 mod reproduce;
 mod sdp;
 
@@ -16,6 +17,12 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
+    /// Design an observer for a plant file with one method; print gains and certificate.
+    Design(design::DesignArgs),
+    /// Find the largest certified sampling window of a plant file with one method.
+    MaxInterval(design::MaxIntervalArgs),
+    /// Run every applicable method on a plant file and compare the certified windows.
+    Compare(design::CompareArgs),
     /// Reproduce the examples of the implemented papers (`all`, or one paper id).
     Reproduce(reproduce::Args),
     /// Solve SDPA sparse files with our interior-point solver, or benchmark it.
@@ -27,6 +34,9 @@ enum Command {
 pub fn run() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
+        Command::Design(args) => design::design(&args),
+        Command::MaxInterval(args) => design::max_interval(&args),
+        Command::Compare(args) => design::compare(&args),
         Command::Reproduce(args) => reproduce::run(&args),
         Command::Sdp(args) => sdp::run(&args),
     };

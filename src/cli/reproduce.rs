@@ -1,6 +1,6 @@
 //! `sporadic reproduce`: runs the paper reproductions and prints their checked claims.
 
-use sporadic_report::{Claim, ClaimStatus, Reproduction};
+use sporadic_report::Reproduction;
 use std::path::{Path, PathBuf};
 
 /// Arguments of `sporadic reproduce`.
@@ -38,66 +38,33 @@ const PAPERS: [(&str, &str, Option<Runner>); 5] = [
     (
         "etienne2017",
         "Etienne et al. 2017, impulsive observer for Lipschitz systems",
-        None,
+        Some(etienne2017),
     ),
     (
         "rabehi2021",
         "Rabehi et al. 2021, interval impulsive observer",
-        None,
+        Some(rabehi2021),
     ),
 ];
 
-/// Maps a paper crate's claim verdict onto the common one (the paper crates use the same four
-/// variants).
-macro_rules! convert_claims {
-    ($claims:expr, $status:path) => {
-        $claims
-            .into_iter()
-            .map(|c| Claim {
-                claim: c.claim.to_string(),
-                paper_value: c.paper_value,
-                ours: c.ours,
-                tolerance: c.tolerance,
-                status: {
-                    use $status as S;
-                    match c.status {
-                        S::Match => ClaimStatus::Match,
-                        S::Differs => ClaimStatus::Differs,
-                        S::Beats => ClaimStatus::Beats,
-                        S::NotInPaper => ClaimStatus::NotInPaper,
-                    }
-                },
-                note: c.note,
-            })
-            .collect()
-    };
-}
-
 fn ferrante2016(out: &Path) -> Result<Reproduction, String> {
-    let r = sporadic_ferrante2016::reproduce(out).map_err(|e| e.to_string())?;
-    Ok(Reproduction {
-        claims: convert_claims!(r.claims, sporadic_ferrante2016::ClaimStatus),
-        figures: r.figures.into_iter().map(|f| f.path).collect(),
-        notes: Vec::new(),
-    })
+    sporadic_ferrante2016::reproduce(out).map_err(|e| e.to_string())
 }
 
 fn sferlazza2021(out: &Path) -> Result<Reproduction, String> {
-    let r = sporadic_sferlazza2021::reproduce::reproduce(out).map_err(|e| e.to_string())?;
-    Ok(Reproduction {
-        claims: convert_claims!(r.claims, sporadic_sferlazza2021::reproduce::ClaimStatus),
-        figures: r.figures,
-        notes: r.notes,
-    })
+    sporadic_sferlazza2021::reproduce(out).map_err(|e| e.to_string())
 }
 
 fn andrieu2014(out: &Path) -> Result<Reproduction, String> {
-    let r = sporadic_andrieu2014::reproduce(out).map_err(|e| e.to_string())?;
-    Ok(Reproduction {
-        claims: convert_claims!(r.claims, sporadic_andrieu2014::Status),
-        figures: r.figures,
-        notes: Vec::new(),
-    })
+    sporadic_andrieu2014::reproduce(out).map_err(|e| e.to_string())
+}
+
+fn etienne2017(out: &Path) -> Result<Reproduction, String> {
+    sporadic_etienne2017::reproduce(out).map_err(|e| e.to_string())
+}
+
+fn rabehi2021(out: &Path) -> Result<Reproduction, String> {
+    sporadic_rabehi2021::reproduce(out).map_err(|e| e.to_string())
 }
 
 /// Runs the requested reproductions; fails if any reproduction fails to run (a claim that

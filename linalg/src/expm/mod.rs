@@ -18,10 +18,10 @@
 //! The result is never silently non-finite: a singular Padé denominator q_m(2^{−s}A) gives
 //! [`LinalgError::Singular`], an exponential beyond the double range [`LinalgError::Overflow`].
 
+mod lu;
 pub(crate) mod pade;
 pub(crate) mod storage;
 
-use faer::reborrow::ReborrowMut;
 use faer::{Mat, MatMut, MatRef};
 
 use crate::normest::Normest;
@@ -60,28 +60,37 @@ pub(crate) trait Driver: Sized {
     fn result(&self) -> &Self::M;
 }
 
-/// dst ← t·A, padded with zeros when the workspace order exceeds n: e^{diag(A, 0)} =
-/// diag(e^A, I), and every quantity Algorithm 6.1 computes (‖A^k‖₁, ‖ |A|^p ‖₁, the pivot
-/// order of the LU, every rounded operation on the A block) is the same for the padded matrix,
-/// so padding changes neither the chosen (m, s) nor a single bit of e^A.
-fn load<M: SquareStorage>(dst: &mut M, a: MatRef<'_, f64>, t: f64) -> Result<(), LinalgError> {
-    let n = a.nrows();
-    for j in 0..dst.order() {
-        for i in 0..dst.order() {
-            dst.set(i, j, if i < n && j < n { a[(i, j)] * t } else { 0.0 });
-        }
+/// Loads t·A into the workspace input, padded with zeros when the workspace order exceeds n
+/// (inside the dispatched kernel, see [`SquareStorage::load`]): e^{diag(A, 0)} = diag(e^A, I),
+/// and every quantity Algorithm 6.1 computes (‖A^k‖₁, ‖ |A|^p ‖₁, the pivot order of the LU,
+/// every rounded operation on the A block) is the same for the padded matrix, so padding
+/// changes neither the chosen (m, s) nor a single bit of e^A. A non-finite t·A is reported as
+/// [`Failure::NonFiniteInput`] and classified by [`input_failure`]. Inlined into the
+/// dispatched entry points, so that it is compiled with their instruction set.
+#[inline(always)]
+fn load_and_run<M: SquareStorage>(
+    ws: &mut PadeWorkspace<M>,
+    a: MatRef<'_, f64>,
+    t: f64,
+    estimator: pade::Estimator<'_, M>,
+) -> Result<Choice, Failure> {
+    if !ws.input_mut().load(a, t) {
+        return Err(Failure::NonFiniteInput);
     }
-    if dst.all_finite() {
-        Ok(())
-    } else {
-        Err(LinalgError::overflow(
-            "t·A in expm (entries beyond the double range)",
-        ))
+    ws.run(estimator)
+}
+
+/// The error for a non-finite t·A: NaN/±∞ in A itself, or an overflow of the product.
+fn input_failure(a: MatRef<'_, f64>) -> LinalgError {
+    match check::finite(a, "expm input A") {
+        Err(e) => e,
+        Ok(()) => LinalgError::overflow("t·A in expm (entries beyond the double range)"),
     }
 }
 
-fn failure(f: Failure) -> LinalgError {
+fn failure(f: Failure, a: MatRef<'_, f64>) -> LinalgError {
     match f {
+        Failure::NonFiniteInput => input_failure(a),
         Failure::Singular => LinalgError::singular("Padé denominator q_m(2^-s·A) = V − U in expm"),
         Failure::Overflow => {
             LinalgError::overflow("expm result exceeds the double-precision range")
@@ -99,10 +108,9 @@ impl<const N: usize> Driver for SmallDriver<N> {
         Self(PadeWorkspace::new(N))
     }
     fn exp_of(&mut self, a: MatRef<'_, f64>, t: f64) -> Result<Choice, LinalgError> {
-        load(self.0.input_mut(), a, t)?;
         pulp::Arch::new()
-            .dispatch(RunSmall(&mut self.0))
-            .map_err(failure)
+            .dispatch(RunSmall(&mut self.0, a, t))
+            .map_err(|f| failure(f, a))
     }
     fn result(&self) -> &SmallMat<N> {
         self.0.result()
@@ -120,28 +128,30 @@ thread_local! {
 
 /// Algorithm 6.1 on stack matrices, fully inlined into pulp's runtime-dispatched entry point so
 /// that it is compiled for the widest instruction set available (AVX2/FMA on x86-64-v3).
-struct RunSmall<'a, const N: usize>(&'a mut PadeWorkspace<SmallMat<N>>);
+struct RunSmall<'a, 'm, const N: usize>(&'a mut PadeWorkspace<SmallMat<N>>, MatRef<'m, f64>, f64);
 
-impl<const N: usize> pulp::WithSimd for RunSmall<'_, N> {
+impl<const N: usize> pulp::WithSimd for RunSmall<'_, '_, N> {
     type Output = Result<Choice, Failure>;
     #[inline(always)]
     fn with_simd<S: pulp::Simd>(self, _simd: S) -> Self::Output {
-        self.0.run(None)
+        load_and_run(self.0, self.1, self.2, None)
     }
 }
 
 /// Algorithm 6.1 on faer matrices; the element-wise work (combinations, norms, the ℓ power
 /// iteration) is inlined into pulp's dispatched entry point, GEMM and LU are faer's own kernels.
-struct RunDense<'a, 'e>(
+struct RunDense<'a, 'e, 'm>(
     &'a mut PadeWorkspace<Mat<f64>>,
     pade::Estimator<'e, Mat<f64>>,
+    MatRef<'m, f64>,
+    f64,
 );
 
-impl pulp::WithSimd for RunDense<'_, '_> {
+impl pulp::WithSimd for RunDense<'_, '_, '_> {
     type Output = Result<Choice, Failure>;
     #[inline(always)]
     fn with_simd<S: pulp::Simd>(self, _simd: S) -> Self::Output {
-        self.0.run(self.1)
+        load_and_run(self.0, self.2, self.3, self.1)
     }
 }
 
@@ -183,16 +193,15 @@ impl Driver for DenseDriver {
         r
     }
     fn exp_of(&mut self, a: MatRef<'_, f64>, t: f64) -> Result<Choice, LinalgError> {
-        load(self.ws.input_mut(), a, t)?;
         let arch = pulp::Arch::new();
         let res = match self.normest.as_mut() {
             Some(est) => {
                 let mut f = |factors: &[&Mat<f64>]| est.estimate_product(factors);
-                arch.dispatch(RunDense(&mut self.ws, Some(&mut f)))
+                arch.dispatch(RunDense(&mut self.ws, Some(&mut f), a, t))
             }
-            None => arch.dispatch(RunDense(&mut self.ws, None)),
+            None => arch.dispatch(RunDense(&mut self.ws, None, a, t)),
         };
-        res.map_err(failure)
+        res.map_err(|f| failure(f, a))
     }
     fn result(&self) -> &Mat<f64> {
         self.ws.result()
@@ -218,16 +227,8 @@ macro_rules! with_driver {
 pub(crate) use with_driver;
 
 /// Copies a workspace matrix into a faer matrix view; returns whether all entries are finite.
-pub(crate) fn store<M: SquareStorage>(src: &M, mut out: MatMut<'_, f64>) -> bool {
-    let mut finite = true;
-    for j in 0..out.ncols() {
-        for (i, x) in out.rb_mut().col_mut(j).iter_mut().enumerate() {
-            let v = src.get(i, j);
-            finite &= v.is_finite();
-            *x = v;
-        }
-    }
-    finite
+pub(crate) fn store<M: SquareStorage>(src: &M, out: MatMut<'_, f64>) -> bool {
+    src.store(out)
 }
 
 fn expm_with<D: Driver>(a: MatRef<'_, f64>, t: f64) -> Result<(Mat<f64>, Choice), LinalgError> {
@@ -235,12 +236,13 @@ fn expm_with<D: Driver>(a: MatRef<'_, f64>, t: f64) -> Result<(Mat<f64>, Choice)
     D::with_driver(n, |d| {
         let c = d.exp_of(a, t)?;
         let r = d.result();
-        Ok((Mat::from_fn(n, n, |i, j| r.get(i, j)), c))
+        Ok((r.to_mat(n), c))
     })
 }
 
 fn expm_checked(a: MatRef<'_, f64>, t: f64) -> Result<(Mat<f64>, Choice), LinalgError> {
-    let n = check::square_finite(a, "expm input A")?;
+    // The finiteness of A is checked while loading t·A (see `load_and_run`).
+    let n = check::square(a)?;
     check::finite_scalar(t, "expm time t")?;
     with_driver!(n, expm_with(a, t))
 }

@@ -112,6 +112,8 @@ pub(crate) struct Choice {
 /// Why Algorithm 6.1 could not deliver a finite result.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Failure {
+    /// t·A, loaded into the workspace, has a NaN or ±∞ entry.
+    NonFiniteInput,
     /// q_m(2^{-s}A) = V − U had a zero pivot or its solve produced non-finite values.
     Singular,
     /// The result overflows double precision.
@@ -205,6 +207,11 @@ struct PowerNorms {
     p4: Option<f64>,
     p6: Option<f64>,
     p8: Option<f64>,
+    /// Columns of largest 1-norm of A⁴ and A⁶ (valid once formed).
+    j4: usize,
+    j6: usize,
+    /// Lower bound for p8 (exact mode, see [`PadeWorkspace::lower_bound_8`]).
+    lo8: Option<f64>,
     estimates: bool,
     est4: Option<f64>,
     est6: Option<f64>,
@@ -218,6 +225,9 @@ impl PowerNorms {
             p4: None,
             p6: None,
             p8: None,
+            j4: 0,
+            j6: 0,
+            lo8: None,
             estimates,
             est4: None,
             est6: None,
@@ -430,24 +440,16 @@ impl<M: SquareStorage> PadeWorkspace<M> {
         if degree == 0 {
             // Step 4: degree 13 with s = max(⌈log₂(η5/θ13)⌉, 0) + ℓ(2^{−s}A, 13) squarings,
             // η5 = min(max(d6, d8), max(d8, d10)).
-            let p8 = if estimator.is_some() {
-                pw.value(8, &mut estimator, &self.a2, &self.a4).0
-            } else {
-                self.form(&mut pw, 8);
-                pw.p8.expect("A⁸ formed")
-            };
-            let p10 = match estimator.as_mut() {
-                Some(est) => est(&[&self.a4, &self.a6]),
-                None => {
-                    self.w.assign_product(&self.a4, &self.a6);
-                    self.w.norm1()
-                }
-            };
             let p6 = pw.p6.expect("A⁶ formed in step 3");
-            let (d6, d8, d10) = (root(p6, 6), root(p8, 8), root(p10, 10));
-            let eta5 = d6.max(d8).min(d8.max(d10));
-            let s_eta = (eta5 / THETA[4]).log2().ceil();
-            s = if s_eta > 0.0 { s_eta as u32 } else { 0 };
+            let (p8, p10) = match estimator.as_mut() {
+                Some(_) => {
+                    let p8 = pw.value(8, &mut estimator, &self.a2, &self.a4).0;
+                    let est = estimator.as_mut().expect("estimate mode");
+                    (p8, est(&[&self.a4, &self.a6]))
+                }
+                None => self.norms_8_10(&mut pw),
+            };
+            s = squarings_13(p6, p8, p10);
             s += abs.ell(
                 &self.a,
                 &mut self.abs_t,
@@ -477,8 +479,7 @@ impl<M: SquareStorage> PadeWorkspace<M> {
 
         // r_m = (V − U)⁻¹(V + U) for the chosen degree.
         self.pade_uv(degree);
-        M::difference_and_sum(&mut self.w, &mut self.a8, &self.v, &self.u);
-        M::lu_solve(&mut self.w, &mut self.a8, &mut self.lu)?;
+        M::solve_pade(&mut self.a8, &mut self.w, &self.v, &self.u, &mut self.lu)?;
         if !self.a8.all_finite() {
             return Err(Failure::Singular);
         }
@@ -508,16 +509,67 @@ impl<M: SquareStorage> PadeWorkspace<M> {
     fn form(&mut self, pw: &mut PowerNorms, k: usize) {
         if k >= 4 && pw.p4.is_none() {
             self.a4.assign_product(&self.a2, &self.a2);
-            pw.p4 = Some(self.a4.norm1());
+            let (p4, j4) = self.a4.norm1_argmax();
+            (pw.p4, pw.j4) = (Some(p4), j4);
         }
         if k == 6 && pw.p6.is_none() {
             self.a6.assign_product(&self.a2, &self.a4);
-            pw.p6 = Some(self.a6.norm1());
+            let (p6, j6) = self.a6.norm1_argmax();
+            (pw.p6, pw.j6) = (Some(p6), j6);
         }
         if k == 8 && pw.p8.is_none() {
             self.a8.assign_product(&self.a4, &self.a4);
             pw.p8 = Some(self.a8.norm1());
         }
+    }
+
+    /// Exact mode: a lower bound for p8 = ‖A⁸‖₁ from two matrix–vector products,
+    /// max(‖A⁴·(A⁴e_{j4})‖₁, ‖A²·(A⁶e_{j6})‖₁) with e_j the column of largest 1-norm (these
+    /// are 1-norms of columns of A⁸). Needs A⁴, and uses A⁶ when formed.
+    #[inline(always)]
+    fn lower_bound_8(&mut self, pw: &mut PowerNorms) -> f64 {
+        if let Some(v) = pw.lo8 {
+            return v;
+        }
+        let mut v = self.a4.column_product_norm1(&self.a4, pw.j4, &mut self.y);
+        if pw.p6.is_some() {
+            v = v.max(self.a2.column_product_norm1(&self.a6, pw.j6, &mut self.y));
+        }
+        pw.lo8 = Some(v);
+        v
+    }
+
+    /// Exact mode, step 4: (p8, p10) with p_k = ‖A^k‖₁, or values that give the same number of
+    /// squarings s as the exact ones. s is a nondecreasing function of p8 and p10
+    /// ([`squarings_13`]), so when the lower bounds (matrix–vector products, see
+    /// [`PadeWorkspace::lower_bound_8`]) and the submultiplicative upper bounds p8 ≤
+    /// min(p4², p2·p6), p10 ≤ min(p4·p6, p2·p8) give the same s, that s is exact and the
+    /// products A⁸ = A⁴A⁴ and A¹⁰ = A⁴A⁶ are not formed. Otherwise they are formed as needed.
+    #[inline(always)]
+    fn norms_8_10(&mut self, pw: &mut PowerNorms) -> (f64, f64) {
+        let (p2, p4, p6) = (pw.p2, pw.p4.expect("A⁴ formed"), pw.p6.expect("A⁶ formed"));
+        let (lo8, hi8) = match pw.p8 {
+            Some(v) => (v, v),
+            None => (self.lower_bound_8(pw), (p4 * p4).min(p2 * p6)),
+        };
+        let lo10 = self
+            .a4
+            .column_product_norm1(&self.a6, pw.j6, &mut self.y)
+            .max(self.a6.column_product_norm1(&self.a4, pw.j4, &mut self.y));
+        let hi10 = (p4 * p6).min(p2 * hi8);
+        if squarings_13(p6, lo8, lo10) == squarings_13(p6, hi8, hi10) {
+            return (hi8, hi10);
+        }
+        if pw.p8.is_none() {
+            self.form(pw, 8);
+            let p8 = pw.p8.expect("A⁸ formed");
+            let hi10 = hi10.min(p2 * p8);
+            if squarings_13(p6, p8, lo10) == squarings_13(p6, p8, hi10) {
+                return (p8, hi10);
+            }
+        }
+        self.w.assign_product(&self.a4, &self.a6);
+        (pw.p8.expect("A⁸ formed"), self.w.norm1())
     }
 
     /// Decides d_a ≤ θ ∧ d_b ≤ θ, i.e. p_a ≤ θ^a ∧ p_b ≤ θ^b with p_k = ‖A^k‖₁.
@@ -543,6 +595,11 @@ impl<M: SquareStorage> PadeWorkspace<M> {
                 if v > theta.powi(k as i32) {
                     pass = false;
                     if exact || estimator.is_some() {
+                        return false;
+                    }
+                    // The upper bound failed; a lower bound above θ^k decides without the
+                    // product.
+                    if k == 8 && self.lower_bound_8(pw) > theta.powi(8) {
                         return false;
                     }
                     to_form.get_or_insert(k);
@@ -640,7 +697,7 @@ impl AbsPowers {
             return 0;
         }
         if self.power == 0 {
-            abs_t.assign_abs_transpose(a);
+            abs_t.prepare_abs_transpose(a);
         }
         let log2_norm = norm_a.log2();
         // ℓ = 0 ⟺ log₂‖ |A|^p ‖₁ ≤ `zero_if_below`. After k steps the submultiplicative bound
@@ -660,7 +717,7 @@ impl AbsPowers {
             if self.power >= p {
                 break;
             }
-            top = abs_t.matvec_max(x, y);
+            top = abs_t.abs_transpose_matvec_max(x, y);
             std::mem::swap(x, y);
             self.power += 1;
             if top == 0.0 {
@@ -693,6 +750,15 @@ impl AbsPowers {
 /// An upper bound for log₂(x), x > 0, from the exponent bits (no transcendental call).
 fn upper_log2(x: f64) -> f64 {
     (((x.to_bits() >> 52) & 0x7ff) as i64 - 1022) as f64
+}
+
+/// Step 4 of Algorithm 6.1 before the ℓ correction: s = max(⌈log₂(η5/θ13)⌉, 0) with
+/// η5 = min(max(d6, d8), max(d8, d10)) and d_k = p_k^{1/k} (s = 0 when η5 = 0, nilpotent A).
+fn squarings_13(p6: f64, p8: f64, p10: f64) -> u32 {
+    let (d6, d8, d10) = (root(p6, 6), root(p8, 8), root(p10, 10));
+    let eta5 = d6.max(d8).min(d8.max(d10));
+    let s_eta = (eta5 / THETA[4]).log2().ceil();
+    if s_eta > 0.0 { s_eta as u32 } else { 0 }
 }
 
 /// x^{1/k} for the d_k = ‖A^k‖^{1/k} of Algorithm 6.1.
@@ -997,5 +1063,65 @@ mod tests {
         assert_eq!(Structure::detect(&g), Structure::General);
         let g2 = SmallMat([[1.0, 0.0, 1.0], [5.0, 2.0, 0.0], [1.0, 7.0, 3.0]]);
         assert_eq!(Structure::detect(&g2), Structure::General);
+    }
+}
+
+#[cfg(test)]
+mod debug_tmp {
+    use super::*;
+    use faer::Mat;
+    #[test]
+    #[ignore]
+    fn bounds() {
+        for n in [8usize, 16, 64, 128] {
+            for norm in [1.0, 10.0] {
+                let mut state =
+                    0x2545_f491_4f6c_dd1du64 ^ (n as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+                let a = Mat::from_fn(n, n, |_, _| {
+                    state = state
+                        .wrapping_mul(6364136223846793005)
+                        .wrapping_add(1442695040888963407);
+                    2.0 * ((state >> 11) as f64 / (1u64 << 53) as f64) - 1.0
+                });
+                let n1 = a.norm1();
+                let a = Mat::from_fn(n, n, |i, j| a[(i, j)] * norm / n1);
+                let mut ws = PadeWorkspace::<Mat<f64>>::new(n);
+                ws.input_mut().copy_from(&a);
+                let a2 = &a * &a;
+                let a4 = &a2 * &a2;
+                let a6 = &a4 * &a2;
+                let a8 = &a4 * &a4;
+                let a10 = &a4 * &a6;
+                let (p2, p4, p6, p8, p10) =
+                    (a2.norm1(), a4.norm1(), a6.norm1(), a8.norm1(), a10.norm1());
+                ws.a2.copy_from(&a2);
+                ws.a4.copy_from(&a4);
+                ws.a6.copy_from(&a6);
+                let mut pw = PowerNorms::new(p2, false);
+                let (q4, j4) = ws.a4.norm1_argmax();
+                let (q6, j6) = ws.a6.norm1_argmax();
+                pw.p4 = Some(q4);
+                pw.j4 = j4;
+                pw.p6 = Some(q6);
+                pw.j6 = j6;
+                let lo8 = ws.lower_bound_8(&mut pw);
+                let hi8 = (p4 * p4).min(p2 * p6);
+                let lo10 = ws
+                    .a4
+                    .column_product_norm1(&ws.a6, j6, &mut ws.y)
+                    .max(ws.a6.column_product_norm1(&ws.a4, j4, &mut ws.y));
+                let hi10 = (p4 * p6).min(p2 * hi8);
+                println!(
+                    "n={n} norm={norm}: p8 {lo8:.4e} <= {p8:.4e} <= {hi8:.4e}; p10 {lo10:.4e} <= {p10:.4e} <= {hi10:.4e}; s lo {} exact {} hi {}; d8 {:.3} d10 {:.3} d6 {:.3} theta7^8 {:.3e}",
+                    squarings_13(p6, lo8, lo10),
+                    squarings_13(p6, p8, p10),
+                    squarings_13(p6, hi8, hi10),
+                    root(p8, 8),
+                    root(p10, 10),
+                    root(p6, 6),
+                    THETA[2].powi(8)
+                );
+            }
+        }
     }
 }

@@ -10,14 +10,15 @@
 //!   so `expm` dispatches orders 2…8 here, and orders 9…16 padded to 16 (see `expm::load`).
 //!   The kernels are plain loops over fixed-size arrays; the drivers run them under
 //!   `pulp::Arch::dispatch`, so they are auto-vectorised for AVX2/FMA when available.
-//! * [`faer::Mat<f64>`]: faer's GEMM (`Par::Seq` below [`PARALLEL_MIN_ORDER`]) and faer's
-//!   in-place partial-pivoting LU with preallocated permutations and scratch memory, so a
-//!   reused workspace does not allocate.
+//! * [`faer::Mat<f64>`]: faer's GEMM (`Par::Seq` below [`PARALLEL_MIN_ORDER`]); the Padé
+//!   system is solved by [`super::lu`]. The O(n²) element-wise operations work on contiguous column slices with
+//!   [`LANES`] independent partial sums, so that they vectorise under the same dispatch.
 
-use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::lu::partial_pivoting::{factor, solve};
 use faer::linalg::matmul::matmul;
-use faer::{Accum, Mat, Par};
+use faer::reborrow::ReborrowMut;
+use faer::{Accum, Mat, MatMut, MatRef, Par};
+
+use super::lu::PadeSolver;
 
 /// Order from which faer's parallel GEMM (global parallelism setting) is used; below it the
 /// sequential kernel is faster on small machines (faer-expm.md §1.6).
@@ -27,18 +28,125 @@ pub(crate) const PARALLEL_MIN_ORDER: usize = 256;
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct SingularPivot;
 
+/// Number of independent partial sums in the element-wise reductions ([`abs_sum`],
+/// [`all_finite`], [`dots`]): two AVX2 registers, enough to hide the latency of the adds.
+const LANES: usize = 8;
+
+/// Combines the partial sums in a fixed order.
+#[inline(always)]
+fn reduce(acc: [f64; LANES]) -> f64 {
+    ((acc[0] + acc[4]) + (acc[2] + acc[6])) + ((acc[1] + acc[5]) + (acc[3] + acc[7]))
+}
+
+/// Σ|xᵢ| with [`LANES`] partial sums. Entry i always goes to partial sum i mod [`LANES`], so
+/// appending zeros (the padding of `expm::load`) never changes a bit of the result.
+#[inline(always)]
+pub(crate) fn abs_sum(x: &[f64]) -> f64 {
+    let mut acc = [0.0f64; LANES];
+    let mut chunks = x.chunks_exact(LANES);
+    for c in &mut chunks {
+        for k in 0..LANES {
+            acc[k] += c[k].abs();
+        }
+    }
+    for (a, v) in acc.iter_mut().zip(chunks.remainder()) {
+        *a += v.abs();
+    }
+    reduce(acc)
+}
+
+/// Number of columns [`dots`] processes together.
+const DOT_COLUMNS: usize = 4;
+
+/// The dot products (a_c·x) for up to [`DOT_COLUMNS`] columns a_c at once, so that every chunk
+/// of x is loaded once for all of them; [`LANES`] partial sums per column.
+#[inline(always)]
+fn dots(a: &[&[f64]], x: &[f64]) -> [f64; DOT_COLUMNS] {
+    let n = x.len();
+    let mut acc = [[0.0f64; LANES]; DOT_COLUMNS];
+    let mut o = 0;
+    while o + LANES <= n {
+        let xs = &x[o..o + LANES];
+        for (c, col) in a.iter().enumerate() {
+            let cs = &col[o..o + LANES];
+            for k in 0..LANES {
+                acc[c][k] += cs[k] * xs[k];
+            }
+        }
+        o += LANES;
+    }
+    for (c, col) in a.iter().enumerate() {
+        for (k, i) in (o..n).enumerate() {
+            acc[c][k] += col[i] * x[i];
+        }
+    }
+    let mut out = [0.0; DOT_COLUMNS];
+    for c in 0..DOT_COLUMNS {
+        out[c] = reduce(acc[c]);
+    }
+    out
+}
+
+/// Whether every entry is finite, without an early exit so that the loop vectorises: x·0 is
+/// ±0 for finite x and NaN for ±∞ and NaN.
+#[inline(always)]
+pub(crate) fn all_finite(x: &[f64]) -> bool {
+    let mut acc = [0.0f64; LANES];
+    let mut chunks = x.chunks_exact(LANES);
+    for c in &mut chunks {
+        for k in 0..LANES {
+            acc[k] += c[k] * 0.0;
+        }
+    }
+    for (a, v) in acc.iter_mut().zip(chunks.remainder()) {
+        *a += v * 0.0;
+    }
+    reduce(acc) == 0.0
+}
+
+/// Records column sum `s` of column `j` in the running (1-norm, first argmax); a NaN column
+/// sum is kept rather than dropped.
+///
+/// The kernels of this module use plain loops rather than iterator adaptors with closures:
+/// a closure that is not inlined into the dispatched entry point would be compiled without
+/// its instruction set.
+#[inline(always)]
+fn update_max(best: &mut (f64, usize), s: f64, j: usize) {
+    if s > best.0 || s.is_nan() {
+        *best = (s, j);
+    }
+}
+
+/// dst ← t·(column j of a); the column may have any stride.
+#[inline(always)]
+fn load_column(dst: &mut [f64], a: MatRef<'_, f64>, j: usize, t: f64) {
+    let col = a.col(j);
+    match col.try_as_col_major() {
+        Some(c) => {
+            for (d, x) in dst.iter_mut().zip(c.as_slice()) {
+                *d = x * t;
+            }
+        }
+        None => {
+            for (d, x) in dst.iter_mut().zip(col.iter()) {
+                *d = x * t;
+            }
+        }
+    }
+}
+
 /// The operations Algorithm 6.1 of Al-Mohy & Higham (2009) needs from a square matrix.
 pub(crate) trait SquareStorage: Sized {
     /// Length-n work vector (for the |A|ᵀ power iteration of ℓ(A, m)).
     type Vector: AsRef<[f64]> + AsMut<[f64]>;
-    /// Reusable scratch for the LU solve.
+    /// Reusable scratch for [`SquareStorage::solve_pade`].
     type LuScratch;
 
     /// A zero matrix of order `n` (the small backend ignores `n`).
     fn zeros(n: usize) -> Self;
     /// A zero work vector of length `n`.
     fn zero_vector(n: usize) -> Self::Vector;
-    /// Scratch memory for [`SquareStorage::lu_solve`] at order `n`.
+    /// Scratch memory for [`SquareStorage::solve_pade`] at order `n`.
     fn lu_scratch(n: usize) -> Self::LuScratch;
     /// The order n.
     fn order(&self) -> usize;
@@ -46,6 +154,13 @@ pub(crate) trait SquareStorage: Sized {
     fn get(&self, i: usize, j: usize) -> f64;
     /// Sets entry (i, j).
     fn set(&mut self, i: usize, j: usize, value: f64);
+    /// `self ← t·a`, padded with zeros to the order of `self`; returns whether every entry of
+    /// the result is finite.
+    fn load(&mut self, a: MatRef<'_, f64>, t: f64) -> bool;
+    /// The leading `out.nrows()` × `out.ncols()` block into `out`; returns whether it is finite.
+    fn store(&self, out: MatMut<'_, f64>) -> bool;
+    /// The leading n×n block as a new faer matrix.
+    fn to_mat(&self, n: usize) -> Mat<f64>;
     /// `self ← src`.
     fn assign(&mut self, src: &Self);
     /// `self ← c·self`.
@@ -54,19 +169,29 @@ pub(crate) trait SquareStorage: Sized {
     fn assign_product(&mut self, a: &Self, b: &Self);
     /// `self ← accumulate·self + c0·I + Σ cₖ·Mₖ` (`accumulate` is 0 or 1).
     fn combine(&mut self, accumulate: bool, c0: f64, terms: &[(f64, &Self)]);
-    /// `self ← a − b` and `other ← a + b` in one sweep (forms V−U and V+U).
-    fn difference_and_sum(diff: &mut Self, sum: &mut Self, a: &Self, b: &Self);
+    /// Induced 1-norm max_j Σ_i |a_ij| and the first column j attaining it.
+    fn norm1_argmax(&self) -> (f64, usize);
     /// Induced 1-norm max_j Σ_i |a_ij|.
-    fn norm1(&self) -> f64;
-    /// `self ← |src|ᵀ` (entrywise absolute value, transposed).
-    fn assign_abs_transpose(&mut self, src: &Self);
-    /// `y ← self·x` (column-oriented, so the inner loop vectorises); returns max_i y_i.
-    fn matvec_max(&self, x: &Self::Vector, y: &mut Self::Vector) -> f64;
-    /// Solves `q·X = p` by LU with partial pivoting, overwriting `p` with X and `q` with its
-    /// factors.
-    fn lu_solve(
+    #[inline(always)]
+    fn norm1(&self) -> f64 {
+        self.norm1_argmax().0
+    }
+    /// ‖self·b e_j‖₁ (a lower bound for ‖self·b‖₁ at the cost of one matrix–vector product);
+    /// `y` is scratch.
+    fn column_product_norm1(&self, b: &Self, j: usize, y: &mut Self::Vector) -> f64;
+    /// Prepares `self` from `src` for [`SquareStorage::abs_transpose_matvec_max`] (|src|ᵀ or
+    /// |src|, whichever layout the backend's product reads contiguously).
+    fn prepare_abs_transpose(&mut self, src: &Self);
+    /// `y ← |A|ᵀ·x` for the A given to [`SquareStorage::prepare_abs_transpose`]; returns
+    /// max_i y_i.
+    fn abs_transpose_matvec_max(&self, x: &Self::Vector, y: &mut Self::Vector) -> f64;
+    /// `x ← (v − u)⁻¹(v + u)` by Gaussian elimination with partial pivoting (`q` and the
+    /// scratch are overwritten).
+    fn solve_pade(
+        x: &mut Self,
         q: &mut Self,
-        p: &mut Self,
+        v: &Self,
+        u: &Self,
         scratch: &mut Self::LuScratch,
     ) -> Result<(), SingularPivot>;
     /// Whether every entry is finite.
@@ -102,6 +227,30 @@ impl<const N: usize> SquareStorage for SmallMat<N> {
     #[inline(always)]
     fn set(&mut self, i: usize, j: usize, value: f64) {
         self.0[j][i] = value;
+    }
+    #[inline(always)]
+    fn load(&mut self, a: MatRef<'_, f64>, t: f64) -> bool {
+        let n = a.nrows();
+        self.0 = [[0.0; N]; N];
+        for j in 0..n {
+            load_column(&mut self.0[j][..n], a, j, t);
+        }
+        self.all_finite()
+    }
+    #[inline(always)]
+    fn store(&self, mut out: MatMut<'_, f64>) -> bool {
+        let mut finite = true;
+        for j in 0..out.ncols() {
+            for (i, x) in out.rb_mut().col_mut(j).iter_mut().enumerate() {
+                let v = self.0[j][i];
+                finite &= v.is_finite();
+                *x = v;
+            }
+        }
+        finite
+    }
+    fn to_mat(&self, n: usize) -> Mat<f64> {
+        Mat::from_fn(n, n, |i, j| self.0[j][i])
     }
     #[inline(always)]
     fn assign(&mut self, src: &Self) {
@@ -161,28 +310,27 @@ impl<const N: usize> SquareStorage for SmallMat<N> {
         }
     }
     #[inline(always)]
-    fn difference_and_sum(diff: &mut Self, sum: &mut Self, a: &Self, b: &Self) {
+    fn norm1_argmax(&self) -> (f64, usize) {
+        let mut best = (0.0, 0);
         for j in 0..N {
-            for i in 0..N {
-                diff.0[j][i] = a.0[j][i] - b.0[j][i];
-                sum.0[j][i] = a.0[j][i] + b.0[j][i];
-            }
-        }
-    }
-    #[inline(always)]
-    fn norm1(&self) -> f64 {
-        let mut best = 0.0f64;
-        for col in &self.0 {
-            let s: f64 = col.iter().map(|x| x.abs()).sum();
-            // `max` would drop a NaN column sum; keep it visible.
-            if s > best || s.is_nan() {
-                best = s;
-            }
+            update_max(&mut best, abs_sum(&self.0[j]), j);
         }
         best
     }
     #[inline(always)]
-    fn assign_abs_transpose(&mut self, src: &Self) {
+    fn column_product_norm1(&self, b: &Self, j: usize, y: &mut [f64; N]) -> f64 {
+        let mut acc = [0.0; N];
+        for k in 0..N {
+            let bk = b.0[j][k];
+            for i in 0..N {
+                acc[i] += self.0[k][i] * bk;
+            }
+        }
+        *y = acc;
+        abs_sum(&acc)
+    }
+    #[inline(always)]
+    fn prepare_abs_transpose(&mut self, src: &Self) {
         for j in 0..N {
             for i in 0..N {
                 self.0[j][i] = src.0[i][j].abs();
@@ -190,7 +338,7 @@ impl<const N: usize> SquareStorage for SmallMat<N> {
         }
     }
     #[inline(always)]
-    fn matvec_max(&self, x: &[f64; N], y: &mut [f64; N]) -> f64 {
+    fn abs_transpose_matvec_max(&self, x: &[f64; N], y: &mut [f64; N]) -> f64 {
         let mut acc = [0.0; N];
         for k in 0..N {
             let xk = x[k];
@@ -200,10 +348,41 @@ impl<const N: usize> SquareStorage for SmallMat<N> {
             }
         }
         *y = acc;
-        acc.iter().fold(0.0, |m, &v| if v > m { v } else { m })
+        let mut top = 0.0f64;
+        for v in acc {
+            if v > top {
+                top = v;
+            }
+        }
+        top
     }
     #[inline(always)]
-    fn lu_solve(q: &mut Self, p: &mut Self, _scratch: &mut ()) -> Result<(), SingularPivot> {
+    fn solve_pade(
+        x: &mut Self,
+        q: &mut Self,
+        v: &Self,
+        u: &Self,
+        _scratch: &mut (),
+    ) -> Result<(), SingularPivot> {
+        for j in 0..N {
+            for i in 0..N {
+                q.0[j][i] = v.0[j][i] - u.0[j][i];
+                x.0[j][i] = v.0[j][i] + u.0[j][i];
+            }
+        }
+        Self::lu_solve(q, x)
+    }
+    #[inline(always)]
+    fn all_finite(&self) -> bool {
+        all_finite(self.0.as_flattened())
+    }
+}
+
+impl<const N: usize> SmallMat<N> {
+    /// Solves `q·X = p` by LU with partial pivoting, overwriting `p` with X and `q` with its
+    /// factors.
+    #[inline(always)]
+    fn lu_solve(q: &mut Self, p: &mut Self) -> Result<(), SingularPivot> {
         // Gaussian elimination with partial pivoting applied to [q | p] (Golub & Van Loan,
         // Algorithm 3.4.1), then back substitution with the reciprocal pivots.
         let mut inv_diag = [0.0; N];
@@ -258,17 +437,6 @@ impl<const N: usize> SquareStorage for SmallMat<N> {
         }
         Ok(())
     }
-    #[inline(always)]
-    fn all_finite(&self) -> bool {
-        self.0.iter().all(|c| c.iter().all(|x| x.is_finite()))
-    }
-}
-
-/// Scratch for faer's in-place partial-pivoting LU: row permutation and stack memory.
-pub(crate) struct DenseLuScratch {
-    perm: Vec<usize>,
-    perm_inv: Vec<usize>,
-    mem: MemBuffer,
 }
 
 fn par_for(n: usize) -> Par {
@@ -281,7 +449,7 @@ fn par_for(n: usize) -> Par {
 
 impl SquareStorage for Mat<f64> {
     type Vector = Vec<f64>;
-    type LuScratch = DenseLuScratch;
+    type LuScratch = PadeSolver;
 
     fn zeros(n: usize) -> Self {
         Mat::zeros(n, n)
@@ -289,15 +457,8 @@ impl SquareStorage for Mat<f64> {
     fn zero_vector(n: usize) -> Vec<f64> {
         vec![0.0; n]
     }
-    fn lu_scratch(n: usize) -> DenseLuScratch {
-        let par = par_for(n);
-        let req = factor::lu_in_place_scratch::<usize, f64>(n, n, par, Default::default())
-            .or(solve::solve_in_place_scratch::<usize, f64>(n, n, par));
-        DenseLuScratch {
-            perm: vec![0; n],
-            perm_inv: vec![0; n],
-            mem: MemBuffer::new(req),
-        }
+    fn lu_scratch(n: usize) -> PadeSolver {
+        PadeSolver::new(n)
     }
     #[inline(always)]
     fn order(&self) -> usize {
@@ -310,6 +471,26 @@ impl SquareStorage for Mat<f64> {
     #[inline(always)]
     fn set(&mut self, i: usize, j: usize, value: f64) {
         self[(i, j)] = value;
+    }
+    #[inline(always)]
+    fn load(&mut self, a: MatRef<'_, f64>, t: f64) -> bool {
+        for j in 0..self.ncols() {
+            load_column(self.col_as_slice_mut(j), a, j, t);
+        }
+        self.all_finite()
+    }
+    #[inline(always)]
+    fn store(&self, mut out: MatMut<'_, f64>) -> bool {
+        let (r, c) = (out.nrows(), out.ncols());
+        out.copy_from(self.as_ref().submatrix(0, 0, r, c));
+        let mut finite = true;
+        for j in 0..c {
+            finite &= all_finite(&self.col_as_slice(j)[..r]);
+        }
+        finite
+    }
+    fn to_mat(&self, n: usize) -> Mat<f64> {
+        self.as_ref().submatrix(0, 0, n, n).to_owned()
     }
     #[inline(always)]
     fn assign(&mut self, src: &Self) {
@@ -351,74 +532,72 @@ impl SquareStorage for Mat<f64> {
         }
     }
     #[inline(always)]
-    fn difference_and_sum(diff: &mut Self, sum: &mut Self, a: &Self, b: &Self) {
-        for j in 0..a.ncols() {
-            let (aj, bj) = (a.col_as_slice(j), b.col_as_slice(j));
-            for (d, (x, y)) in diff.col_as_slice_mut(j).iter_mut().zip(aj.iter().zip(bj)) {
-                *d = x - y;
-            }
-            for (s, (x, y)) in sum.col_as_slice_mut(j).iter_mut().zip(aj.iter().zip(bj)) {
-                *s = x + y;
-            }
-        }
-    }
-    #[inline(always)]
-    fn norm1(&self) -> f64 {
-        let mut best = 0.0f64;
+    fn norm1_argmax(&self) -> (f64, usize) {
+        let mut best = (0.0, 0);
         for j in 0..self.ncols() {
-            let s: f64 = self.col_as_slice(j).iter().map(|x| x.abs()).sum();
-            if s > best || s.is_nan() {
-                best = s;
-            }
+            update_max(&mut best, abs_sum(self.col_as_slice(j)), j);
         }
         best
     }
     #[inline(always)]
-    fn assign_abs_transpose(&mut self, src: &Self) {
-        for j in 0..self.ncols() {
-            for (i, x) in self.col_as_slice_mut(j).iter_mut().enumerate() {
-                *x = src[(j, i)].abs();
-            }
-        }
-    }
-    #[inline(always)]
-    fn matvec_max(&self, x: &Vec<f64>, y: &mut Vec<f64>) -> f64 {
+    fn column_product_norm1(&self, b: &Self, j: usize, y: &mut Vec<f64>) -> f64 {
         y.fill(0.0);
-        for (k, &xk) in x.iter().enumerate() {
+        for (k, &bk) in b.col_as_slice(j).iter().enumerate() {
             for (yi, a) in y.iter_mut().zip(self.col_as_slice(k)) {
-                *yi += a * xk;
+                *yi += a * bk;
             }
         }
-        y.iter().fold(0.0, |m, &v| if v > m { v } else { m })
+        abs_sum(y)
+    }
+    /// Stores |src| (not transposed): (|A|ᵀx)_j = Σ_i |a_ij|·x_i is then a dot product with a
+    /// contiguous column (see [`dots`]).
+    #[inline(always)]
+    fn prepare_abs_transpose(&mut self, src: &Self) {
+        for j in 0..self.ncols() {
+            for (d, x) in self.col_as_slice_mut(j).iter_mut().zip(src.col_as_slice(j)) {
+                *d = x.abs();
+            }
+        }
     }
     #[inline(always)]
-    fn lu_solve(
-        q: &mut Self,
-        p: &mut Self,
-        scratch: &mut DenseLuScratch,
-    ) -> Result<(), SingularPivot> {
-        let n = q.nrows();
-        let par = par_for(n);
-        let stack = MemStack::new(&mut scratch.mem);
-        let (_, perm) = factor::lu_in_place(
-            q.as_mut(),
-            &mut scratch.perm,
-            &mut scratch.perm_inv,
-            par,
-            stack,
-            Default::default(),
-        );
-        for k in 0..n {
-            let d = q[(k, k)];
-            if d == 0.0 || !d.is_finite() {
-                return Err(SingularPivot);
+    fn abs_transpose_matvec_max(&self, x: &Vec<f64>, y: &mut Vec<f64>) -> f64 {
+        let n = self.ncols();
+        let mut top = 0.0f64;
+        let mut j = 0;
+        while j < n {
+            let w = DOT_COLUMNS.min(n - j);
+            let mut cols: [&[f64]; DOT_COLUMNS] = [&[]; DOT_COLUMNS];
+            for c in 0..w {
+                cols[c] = self.col_as_slice(j + c);
             }
+            let d = dots(&cols[..w], x);
+            for c in 0..w {
+                y[j + c] = d[c];
+                if d[c] > top {
+                    top = d[c];
+                }
+            }
+            j += w;
         }
-        solve::solve_in_place(q.as_ref(), q.as_ref(), perm, p.as_mut(), par, stack);
-        Ok(())
+        top
+    }
+    #[inline(always)]
+    fn solve_pade(
+        x: &mut Self,
+        _q: &mut Self,
+        v: &Self,
+        u: &Self,
+        scratch: &mut PadeSolver,
+    ) -> Result<(), SingularPivot> {
+        let par = par_for(x.nrows());
+        scratch.solve(x, v, u, par)
     }
     #[inline(always)]
     fn all_finite(&self) -> bool {
-        (0..self.ncols()).all(|j| self.col_as_slice(j).iter().all(|x| x.is_finite()))
+        let mut finite = true;
+        for j in 0..self.ncols() {
+            finite &= all_finite(self.col_as_slice(j));
+        }
+        finite
     }
 }

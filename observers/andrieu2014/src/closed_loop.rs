@@ -11,9 +11,19 @@
 //! * `L' = a2 L M c`, `M' = a3 M c`: the printed ODEs (6a)–(6b), integrated alongside purely as a
 //!   cross-check of the closed form ([`SampleRecord::l_minus_integrated`]).
 //!
-//! The sampling event is `g(s) = s · L(t_k + s) − α` (rising), located by Brent's method to
-//! `1e-15 · |t|` (plus rounding) so that `δ_k L(t_{k+1}^-) = α` holds to ~1e-12 relative.
-//! No correction is applied at `t_0` (spec §2 default); the first measurement is at `t_1`.
+//! The sampling event is `g(s) = s · L(t_k + s) − α` (rising), located by Brent's method on the dense
+//! output to `1e-15` of the integrator step that brackets it, i.e. to the resolution of `t`: the step
+//! can be many times longer than `δ_k` and `g' = L(1 + s a2 M c)` is large for theorem-conforming
+//! tunings, so `sporadic-sim`'s default `1e-12` would leave `|δ_k L(t_{k+1}^-) − α|` near `1e-9 α`;
+//! with `1e-15` it is ~1e-12 relative. The input `u` is piecewise constant; every flow
+//! interval between its switches is integrated with the value valid on it (left limit at the switch,
+//! `sporadic_sim::Flow::rhs_left`).
+//!
+//! **Sampling instants.** The sampling sequence of (2), (7) starts at `t_0 = 0`. The reading `y_0` there
+//! is not used: (5) at `k = 0` would need `δ_{−1}` and `L(t_0^-)`, and the proof of Theorem 2 starts
+//! from `E_0` with no correction (spec §2 default). The first correction is at `t_1`, so a run over
+//! `[0, T]` has `samples.len()` corrections and `samples.len() + 1` sampling instants
+//! ([`Run::sampling_times`]).
 
 use std::cell::{Cell, RefCell};
 
@@ -29,6 +39,9 @@ use crate::system::{Plant, TriangularSystem, vector_field};
 
 /// Number of extra observer states after `x̂`: `I, L_k, L, M`.
 const EXTRA: usize = 4;
+
+/// Tolerance of the sampling event relative to the bracketing step (module documentation).
+const EVENT_TOL: f64 = 1e-15;
 
 /// Settings of a closed-loop run.
 #[derive(Debug, Clone, PartialEq)]
@@ -151,6 +164,14 @@ impl Run {
         )
     }
 
+    /// The sampling instants `t_0 = 0, t_1, …, t_N` of (7) in the run: `t_0` (no correction, see the
+    /// module documentation) followed by the times of the `N = samples.len()` corrections.
+    pub fn sampling_times(&self) -> Vec<f64> {
+        std::iter::once(0.0)
+            .chain(self.samples.iter().map(|s| s.t))
+            .collect()
+    }
+
     /// Component `i` of the estimate `x̂` at the recorded points.
     pub fn estimate_component(&self, i: usize) -> Vec<f64> {
         let m = self.plant_dim;
@@ -181,37 +202,11 @@ impl Run {
     }
 }
 
-/// A piecewise-constant input seen through the integrator's segments: `next_breakpoint(t)` (called by the
-/// simulator at the start of every integration segment) latches the segment, and `value` returns the
-/// latched segment's value on the whole closed segment `[s, b]`. This gives the left limit at the
-/// segment's end `b`, where Dormand–Prince evaluates its last two stages; `PiecewiseConstant::value(b)`
-/// alone would already return the next segment's value there.
-struct LatchedInput<'a> {
-    signal: &'a PiecewiseConstant,
-    segment_start: Cell<f64>,
-}
-
-impl<'a> LatchedInput<'a> {
-    fn new(signal: &'a PiecewiseConstant, t0: f64) -> Self {
-        Self {
-            signal,
-            segment_start: Cell::new(t0),
-        }
-    }
-    fn value(&self, t: f64) -> &'a [f64] {
-        let s = self.segment_start.get();
-        let inside = t >= s && self.signal.next_breakpoint(s).is_none_or(|b| t <= b);
-        self.signal.value(if inside { s } else { t })
-    }
-    fn next_breakpoint(&self, t: f64) -> Option<f64> {
-        self.segment_start.set(t);
-        self.signal.next_breakpoint(t)
-    }
-}
-
+/// The plant's flow `ż = F(z, u(t))`. The simulator integrates each interval between switches of `u`
+/// with the input valid on it (`rhs_left` at the interval's end, `sporadic_sim::integrate_flow`).
 struct PlantFlow<'a, P: ?Sized> {
     plant: &'a P,
-    input: LatchedInput<'a>,
+    input: &'a PiecewiseConstant,
 }
 
 impl<P: Plant + ?Sized> Flow for PlantFlow<'_, P> {
@@ -221,26 +216,26 @@ impl<P: Plant + ?Sized> Flow for PlantFlow<'_, P> {
     fn rhs(&self, t: f64, z: &[f64], dz: &mut [f64]) {
         self.plant.rhs(z, self.input.value(t), dz);
     }
+    fn rhs_left(&self, t: f64, z: &[f64], dz: &mut [f64]) {
+        self.plant.rhs(z, self.input.left_limit(t), dz);
+    }
     fn next_breakpoint(&self, t: f64) -> Option<f64> {
         self.input.next_breakpoint(t)
     }
 }
 
+/// The observer's flow on `[t_k, t_{k+1})`: (5) for `x̂`, `I' = c`, and (6a)–(6b) for the cross-check.
 struct ObserverFlow<'a, S: ?Sized> {
     system: &'a S,
     tuning: &'a Tuning,
-    input: LatchedInput<'a>,
+    input: &'a PiecewiseConstant,
     /// First invalid `c` seen: `(c, t)`.
     bad_c: Cell<Option<(f64, f64)>>,
 }
 
-impl<S: TriangularSystem + ?Sized> Flow for ObserverFlow<'_, S> {
-    fn dim(&self) -> usize {
-        self.system.order() + EXTRA
-    }
-    fn rhs(&self, t: f64, o: &[f64], d: &mut [f64]) {
+impl<S: TriangularSystem + ?Sized> ObserverFlow<'_, S> {
+    fn eval(&self, t: f64, u: &[f64], o: &[f64], d: &mut [f64]) {
         let n = self.system.order();
-        let u = self.input.value(t);
         vector_field(self.system, &o[..n], u, &mut d[..n]);
         let c = self.system.lipschitz(&o[..n], u);
         if !(c.is_finite() && c >= 0.0) {
@@ -255,6 +250,18 @@ impl<S: TriangularSystem + ?Sized> Flow for ObserverFlow<'_, S> {
         d[n + 1] = 0.0;
         d[n + 2] = self.tuning.a2() * l * m * c;
         d[n + 3] = self.tuning.a3() * m * c;
+    }
+}
+
+impl<S: TriangularSystem + ?Sized> Flow for ObserverFlow<'_, S> {
+    fn dim(&self) -> usize {
+        self.system.order() + EXTRA
+    }
+    fn rhs(&self, t: f64, o: &[f64], d: &mut [f64]) {
+        self.eval(t, self.input.value(t), o, d);
+    }
+    fn rhs_left(&self, t: f64, o: &[f64], d: &mut [f64]) {
+        self.eval(t, self.input.left_limit(t), o, d);
     }
     fn next_breakpoint(&self, t: f64) -> Option<f64> {
         self.input.next_breakpoint(t)
@@ -341,16 +348,13 @@ where
     let observer_flow = ObserverFlow {
         system,
         tuning,
-        input: LatchedInput::new(input, 0.0),
+        input,
         bad_c: Cell::new(None),
     };
     let jump_error: RefCell<Option<Error>> = RefCell::new(None);
     let sim = {
         let mut sampled_plant = SampledPlant {
-            flow: PlantFlow {
-                plant,
-                input: LatchedInput::new(input, 0.0),
-            },
+            flow: PlantFlow { plant, input },
             output: |ev: &SampleEvent, z: &[f64], y: &mut Vec<f64>| {
                 let mut v = [0.0];
                 noise.sample(ev.t, &mut v);
@@ -389,7 +393,7 @@ where
         });
         sim_opts.max_jumps = opts.max_samples;
         sim_opts.integrator = Dopri5Options {
-            event_tol: 1e-15,
+            event_tol: EVENT_TOL,
             ..Dopri5Options::with_tolerances(opts.rtol, opts.atol)
         };
         simulate(
@@ -416,10 +420,9 @@ where
     let arc = sim.arc;
     let jumps = arc.jumps();
     let mut samples = Vec::with_capacity(jumps.len());
-    for (k, jr) in jumps.iter().enumerate() {
-        let meas = sim.samples.get(k).ok_or_else(|| Error::NoConvergence {
-            what: "sample log shorter than the jumps".into(),
-        })?;
+    // The simulator logs one measurement per jump, in the same order.
+    let measurements = (0..sim.samples.len()).filter_map(|k| sim.samples.get(k));
+    for (jr, meas) in jumps.iter().zip(measurements) {
         let pre = arc.state(jr.before);
         let post = arc.state(jr.after);
         let (oz, op) = (&pre[m..], &post[m..]);
@@ -447,10 +450,9 @@ where
     let mut c_max = 0.0f64;
     for (ht, z) in arc.iter() {
         let xhat = &z[m..m + n];
-        c_max = c_max.max(system.lipschitz(xhat, input.value(ht.t)));
-        if ht.t > 0.0 {
-            c_max = c_max.max(system.lipschitz(xhat, input.value(ht.t.next_down())));
-        }
+        c_max = c_max
+            .max(system.lipschitz(xhat, input.value(ht.t)))
+            .max(system.lipschitz(xhat, input.left_limit(ht.t)));
     }
     Ok(Run {
         samples,

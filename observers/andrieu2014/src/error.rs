@@ -5,6 +5,10 @@ use sporadic_linalg::LinalgError;
 use sporadic_sim::SimError;
 
 /// Everything that can go wrong while designing, running or reproducing the observer.
+///
+/// The variants are this crate's own checks (inputs of the design and of a run, the conditions of
+/// Theorem 2); failures inside `sporadic-linalg` and `sporadic-sim` are wrapped as they are
+/// ([`Error::Linalg`], [`Error::Sim`]), not restated.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
     /// Two objects that must agree in size do not (e.g. `K` and the system order `n`).
@@ -84,7 +88,8 @@ pub enum Error {
         /// Time of the evaluation.
         t: f64,
     },
-    /// A scalar root finder (Lemma 1 bound, `α_m` bisection) could not bracket or converge.
+    /// A numerical step of this crate could not produce its result: the Lemma 1 root could not be
+    /// bracketed, or the Cholesky factor of `P` / the eigenvalues of `A + KC` could not be computed.
     #[error("no convergence: {what}")]
     NoConvergence {
         /// Which computation failed.

@@ -12,7 +12,8 @@
 //! * [`certificate`]: the Lyapunov decrease of the proof of Theorem 2 along a run;
 //! * [`bioreactor`]: the Contois example of Section 4 with its misprints corrected;
 //! * [`pendulum`]: the globally Lipschitz check system of the spec (C1/C2);
-//! * [`reproduce`](mod@reproduce): every checked claim of the reproduction, with SVG figures ([`reproduce()`]).
+//! * [`reproduce`](mod@reproduce): every checked claim of the reproduction as a
+//!   [`sporadic_report::Reproduction`], with SVG figures ([`reproduce()`]).
 //!
 //! Deviations from the printed paper (all documented where they apply): the index of the correction (5)
 //! (the multiplier is the period that ends at the sample, as the proof's (12) requires); `a2 ≥ 2n(N1 +
@@ -58,5 +59,5 @@ pub use design::{Design, binomial_gain, geometric_weights, q_matrix};
 pub use error::Error;
 pub use lemma1::{Lemma1Bound, lemma1_bound};
 pub use observer::{Jump, Tuning, gain_jump, high_gain, jump, sampling_function};
-pub use reproduce::{Claim, Reproduction, Status, reproduce};
+pub use reproduce::reproduce;
 pub use system::{NormalFormPlant, Plant, TriangularSystem};

@@ -5,13 +5,14 @@
 //!
 //! The paper reports no numbers for its example (figures only, with unspecified input, noise and initial
 //! conditions), so most reference values come from the implementation spec's own reference computation
-//! with its placeholder settings; every [`Claim`] names its source.
+//! with its placeholder settings; every [`Claim`]'s note names its source (`[ref: …]`), and the
+//! [`Reproduction`]'s notes list the corrections and settings.
 
-use std::fmt;
 use std::path::{Path, PathBuf};
 
 use faer::Mat;
 use sporadic_linalg::spectral_radius;
+use sporadic_report::{Claim, ClaimStatus, Reproduction};
 use sporadic_sim::{Gaussian, PlotSpec, Series, ZeroNoise, plot_components, plot_eigen_curves};
 
 use crate::bioreactor::{
@@ -27,115 +28,33 @@ use crate::observer::Tuning;
 use crate::pendulum::Pendulum;
 use crate::system::{NormalFormPlant, Plant};
 
-/// How our value compares with the reference.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Status {
-    /// Within the stated tolerance of the reference value.
-    Match,
-    /// Outside the tolerance, or contradicting a (qualitative) statement of the paper.
-    Differs,
-    /// Better than the reference (e.g. a smaller error).
-    Beats,
-    /// A check of ours with no counterpart in the paper or the spec.
-    NotInPaper,
-}
-
-impl fmt::Display for Status {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            Status::Match => "match",
-            Status::Differs => "differs",
-            Status::Beats => "beats",
-            Status::NotInPaper => "not-in-paper",
-        })
-    }
-}
-
-/// One checked claim.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Claim {
-    /// Stable identifier, e.g. `"design.alpha_m"`.
-    pub claim: &'static str,
-    /// Where the reference value comes from (paper section or spec section).
-    pub source: &'static str,
-    /// The reference value, if there is one.
-    pub paper_value: Option<f64>,
-    /// Our value.
-    pub ours: f64,
-    /// Absolute tolerance on `|ours − paper_value|` that decides [`Status::Match`].
-    pub tolerance: Option<f64>,
-    /// The verdict.
-    pub status: Status,
-    /// What the claim is and, where it differs, why.
-    pub note: String,
-}
-
-impl fmt::Display for Claim {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let reference = self
-            .paper_value
-            .map_or("-".to_owned(), |v| format!("{v:.6e}"));
-        let tol = self
-            .tolerance
-            .map_or("-".to_owned(), |v| format!("{v:.1e}"));
-        write!(
-            f,
-            "{:<48} {:<13} ref {:>13}  ours {:>13.6e}  tol {:>8}  [{}] {}",
-            self.claim, self.status, reference, self.ours, tol, self.source, self.note
-        )
-    }
-}
-
-/// The outcome of [`reproduce`].
-#[derive(Debug, Clone, PartialEq)]
-pub struct Reproduction {
-    /// The checked claims, in a fixed order.
-    pub claims: Vec<Claim>,
-    /// SVG figures written.
-    pub figures: Vec<PathBuf>,
-}
-
-impl Reproduction {
-    /// The claim with identifier `id`.
-    pub fn get(&self, id: &str) -> Option<&Claim> {
-        self.claims.iter().find(|c| c.claim == id)
-    }
-}
-
+/// [`Claim::compare`] with the reference's source appended to the note.
 fn compare(
-    claim: &'static str,
-    source: &'static str,
+    claim: &str,
+    source: &str,
     reference: f64,
     ours: f64,
     tol: f64,
-    note: impl Into<String>,
+    note: impl AsRef<str>,
 ) -> Claim {
-    let status = if (ours - reference).abs() <= tol {
-        Status::Match
-    } else {
-        Status::Differs
-    };
-    Claim {
-        claim,
-        source,
-        paper_value: Some(reference),
-        ours,
-        tolerance: Some(tol),
-        status,
-        note: note.into(),
-    }
+    Claim::compare(claim, reference, ours, tol, sourced(note, source))
 }
 
-fn ours_only(claim: &'static str, ours: f64, note: impl Into<String>) -> Claim {
+/// A claim that contradicts the paper without a tolerance test (a misprint shown by an independent
+/// check); `note` says which value is right and why.
+fn misprint(claim: &str, ours: f64, note: impl AsRef<str>) -> Claim {
     Claim {
-        claim,
-        source: "ours",
+        claim: claim.to_owned(),
         paper_value: None,
         ours,
         tolerance: None,
-        status: Status::NotInPaper,
-        note: note.into(),
+        status: ClaimStatus::Differs,
+        note: note.as_ref().to_owned(),
     }
+}
+
+fn sourced(note: impl AsRef<str>, source: &str) -> String {
+    format!("{} [ref: {source}]", note.as_ref())
 }
 
 fn min_max(v: impl Iterator<Item = f64>) -> (f64, f64) {
@@ -270,16 +189,15 @@ fn design_claims(claims: &mut Vec<Claim>) -> Result<(Design, Tuning), Error> {
         1e-3,
         "W = diag(1, 0.1, 0.01, 0.001) repairs (9b)",
     ));
-    claims.push(Claim {
-        claim: "design.printed_K_spectral_abscissa",
-        source: "paper §4 (K = [-2, 1]')",
-        paper_value: None,
-        ours: spectral_abscissa(&[-2.0, 1.0])?,
-        tolerance: None,
-        status: Status::Differs,
-        note: "the printed gain makes A + KC unstable (eigenvalues -1 -/+ sqrt2); the minus sign of K2 was probably lost. Design::new rejects it with NotHurwitz".into(),
-    });
-    claims.push(ours_only(
+    claims.push(misprint(
+        "design.printed_K_spectral_abscissa",
+        spectral_abscissa(&[-2.0, 1.0])?,
+        "largest Re(eig(A + KC)) for the printed K = [-2, 1]' (paper §4): +0.414 (eigenvalues -1 -/+ sqrt2), \
+         so no P of (9) exists and Theorem 2 does not apply; ours is right (closed form -1 + sqrt2, any sign \
+         convention of KC gives the same pair). The minus sign of K2 was probably lost; Design::new rejects \
+         the printed K with Error::NotHurwitz",
+    ));
+    claims.push(Claim::not_in_paper(
         "design.printed_K_rho_Q_at_0.9",
         spectral_radius(q_matrix(&[-2.0, 1.0], 0.9)?.as_ref())?,
         "rho(Q(0.9)) for the printed K: the scaled linear error map expands",
@@ -321,23 +239,23 @@ fn bioreactor_claims(
     let mut dz = [0.0; 2];
     Contois { s_in: sc.s_in }.rhs(&z, &[0.4], &mut dz);
     let chain_rule = (z[1] * z[1] * dz[0] + z[0] * z[0] * dz[1]) / ((z[0] + z[1]) * (z[0] + z[1]));
-    claims.push(Claim {
-        claim: "bioreactor.f2_at_X0.05_S0.03_u0.4",
-        source: "paper §4 (printed f2 evaluates to 6.25e-4 here)",
-        paper_value: Some(bioreactor::f2(F2Form::Printed, sc.s_in, &x, 0.4)),
-        ours: bioreactor::f2(F2Form::Corrected, sc.s_in, &x, 0.4),
-        tolerance: Some(1e-6),
-        status: Status::Differs,
-        note: format!(
-            "the printed (2-u)/x1 must read 2/x1: the corrected f2 equals the chain-rule derivative {chain_rule:.6e} of x2 = SX/(X+S); the printed one is off by u x2^2/x1"
+    claims.push(Claim::compare(
+        "bioreactor.f2_at_X0.05_S0.03_u0.4",
+        bioreactor::f2(F2Form::Printed, sc.s_in, &x, 0.4),
+        bioreactor::f2(F2Form::Corrected, sc.s_in, &x, 0.4),
+        1e-6,
+        format!(
+            "f2 of the normal form at x = Phi(0.05, 0.03), u = 0.4; paper value = the printed formula (paper §4). \
+             Ours is right: the printed (2-u)/x1 must read 2/x1, the corrected f2 equals the chain-rule \
+             derivative {chain_rule:.6e} of x2 = SX/(X+S) along (22); the printed one is off by u x2^2/x1"
         ),
-    });
-    claims.push(ours_only(
+    ));
+    claims.push(Claim::not_in_paper(
         "bioreactor.normal_form_deviation.corrected",
         normal_form_deviation(&sc, F2Form::Corrected, 1e-11)?,
         "max |Phi(z(t)) - x(t)| over [0, 40], normal form with the corrected f2 (spec D1; integrator tolerance level)",
     ));
-    claims.push(ours_only(
+    claims.push(Claim::not_in_paper(
         "bioreactor.normal_form_deviation.printed",
         normal_form_deviation(&sc, F2Form::Printed, 1e-11)?,
         "same with the printed f2: it is not the model's normal form (spec D1)",
@@ -427,9 +345,12 @@ fn bioreactor_claims(
             id_samples,
             SRC,
             row.samples,
-            r.samples.len() as f64,
+            r.sampling_times().len() as f64,
             1.0,
-            "number of measurements on (0, 40]; ours never counts t_0 (no measurement there), the reference apparently does",
+            format!(
+                "sampling instants t_k <= 40 of (7), t_0 = 0 included (y_0 is read but not used: no correction at t_0); {} corrections",
+                r.samples.len()
+            ),
         ));
         claims.push(compare(
             id_dmin,
@@ -489,18 +410,16 @@ fn bioreactor_claims(
             errs.iter().map(|e| e.1).collect(),
         ));
         if row.id == "printed_K_alpha_0.9" {
-            claims.push(Claim {
-                claim: "bioreactor.paper_fig3_tracking_with_printed_parameters",
-                source: "paper §4.1, Fig. 3 (qualitative: 'satisfactory')",
-                paper_value: None,
-                ours: late,
-                tolerance: None,
-                status: Status::Differs,
-                note: "max |S - S^| on [20, 40] with the printed K, alpha, a1, a2, a3 (noise-free, corrected model): the error does not converge. \
-                       Printed K = [-2, 1]' gives A + KC the eigenvalue +0.414 and rho(Q(0.9)) = 1.53; restoring K = [-2, -1]' still leaves alpha = 0.9 \
-                       outside the Schur region (rho = 1.25). The paper's u(t), noise and initial conditions are unknown."
-                    .into(),
-            });
+            claims.push(misprint(
+                "bioreactor.paper_fig3_tracking_with_printed_parameters",
+                late,
+                "max |S - S^| on [20, 40] with the printed K, alpha, a1, a2, a3 (noise-free, corrected model); the paper \
+                 (§4.1, Fig. 3, qualitative) calls the tracking 'satisfactory'. Ours is what these parameters can do: \
+                 the printed K = [-2, 1]' gives A + KC the eigenvalue +0.414 and rho(Q(0.9)) = 1.53 > 1, and even the \
+                 restored K = [-2, -1]' leaves alpha = 0.9 outside the Schur region (rho = 1.25), so the error cannot \
+                 converge; the paper's run must have used other values (its u(t), noise and initial conditions are \
+                 not given either)",
+            ));
         }
     }
     let series: Vec<Series<'_>> = error_curves
@@ -693,9 +612,9 @@ fn pendulum_claims(
         "pendulum.samples",
         SRC,
         7600.0,
-        r.samples.len() as f64,
+        r.sampling_times().len() as f64,
         100.0,
-        "about 7 600 samples on [0, 2]",
+        "about 7 600 sampling instants on [0, 2] (t_0 = 0 included, as in the bioreactor table)",
     ));
     claims.push(compare(
         "pendulum.L_minus_min",
@@ -743,7 +662,7 @@ fn pendulum_claims(
         .copied()
         .enumerate()
         .fold((0, 0.0), |a, (i, v)| if v > a.1 { (i, v) } else { a });
-    claims.push(ours_only(
+    claims.push(Claim::not_in_paper(
         "pendulum.error_peak",
         peak,
         format!(
@@ -761,7 +680,7 @@ fn pendulum_claims(
         "|e| at the last sample (machine zero)",
     ));
     let bound = lemma1_bound(tuning, r.c_max, r.l0)?;
-    claims.push(ours_only(
+    claims.push(Claim::not_in_paper(
         "pendulum.lemma1_sup_L_bound",
         bound.sup_bound,
         format!(
@@ -777,7 +696,7 @@ fn pendulum_claims(
         .iter()
         .map(|s| (s.l_minus_integrated / s.l_minus - 1.0).abs())
         .fold(0.0, f64::max);
-    claims.push(ours_only(
+    claims.push(Claim::not_in_paper(
         "pendulum.L_closed_form_vs_integrated",
         closed,
         "max relative gap between L from the closed form L_k exp((a2/a3)(e^{a3 I} - 1)) and L from integrating (6a)-(6b)",
@@ -787,7 +706,7 @@ fn pendulum_claims(
         .iter()
         .map(|s| (s.delta * s.l_minus / tuning.alpha() - 1.0).abs())
         .fold(0.0, f64::max);
-    claims.push(ours_only(
+    claims.push(Claim::not_in_paper(
         "pendulum.sampling_rule_residual",
         sample_rule,
         "max |delta_k L(t_{k+1}^-)/alpha - 1| (event location, rule (7))",
@@ -862,10 +781,38 @@ pub fn reproduce(out_dir: &Path) -> Result<Reproduction, Error> {
     let certified = design
         .tuning(printed_tuning().alpha(), printed_tuning().a2())
         .is_ok();
-    claims.push(ours_only(
+    claims.push(Claim::not_in_paper(
         "design.printed_tuning_certified",
         f64::from(u8::from(certified)),
         "1 if the printed (alpha, a2) = (0.9, 0.1) passes Design::tuning for K = [-2,-1]' (it does not: alpha >= alpha_m, a2 << a2_min; a1 = 1 and a3 = 0.1 also differ from (D2), (D4))",
     ));
-    Ok(Reproduction { claims, figures })
+    Ok(Reproduction {
+        claims,
+        figures,
+        notes: notes(),
+    })
+}
+
+/// What a reader of the claims must know: the misprints corrected, the index conventions, and the
+/// settings the paper does not give.
+fn notes() -> Vec<String> {
+    [
+        "The bioreactor example is run with the CORRECTED normal form (spec §4, §6.3): f2 uses 2/x1 where the \
+         paper prints (2-u)/x1, c11 = u (printed -u), and c21, c22 are the exact difference quotients with \
+         absolute values, maximised over M_x; f and c are evaluated at the projection of x^ onto M_x.",
+        "The paper's example gives no u(t), noise, initial conditions, L(0), u_min, u_max or eps2: the spec's \
+         placeholders are used (u = 0.5/0.2/0.8/0.4 on [0,10)/[10,20)/[20,30)/[30,40], u in [0.1, 0.9], \
+         eps2 = 0.01, (X, S)(0) = (0.06, 0.04), x^(0) = Phi(0.06, 0.01), L(0) = 1, noise N(0, 1e-6) in the \
+         noisy run), so the bioreactor comparisons are with the spec's reference run, not with the paper.",
+        "The printed K = [-2, 1]' makes A + KC unstable and alpha = 0.9 is outside Theorem 2 even for \
+         K = [-2, -1]' (alpha_m = 0.418, rho(Q(0.9)) = 1.25); both are run as printed and do not converge.",
+        "Correction (5) uses the period that ends at the sample and L(t_k^-), as the proof's (12) requires \
+         (the printed index is off by one); a2 >= 2n(N1+N2)/(p3 p1) as in Step 3 (the design paragraph drops \
+         n); Lemma 1's bound includes L(0).",
+        "Sampling instants are counted from t_0 = 0 (the sequence (t_k)_{k>=0} of (2), (7)); the reading y_0 \
+         is not used for a correction, as in the proof, so a run has one correction fewer than instants.",
+    ]
+    .into_iter()
+    .map(str::to_owned)
+    .collect()
 }

@@ -62,11 +62,16 @@ fn d2_noise_free_convergence_and_invariants() {
         .fold(0.0, f64::max);
     let fin = final_substrate_error(&r);
     println!(
-        "D2: {} samples, δ in [{dmin:.3}, {dmax:.3}], max |S−Ŝ| on [20, 40] {late:.2e}, at 40 {fin:.2e}",
+        "D2: {} corrections, δ in [{dmin:.3}, {dmax:.3}], max |S−Ŝ| on [20, 40] {late:.2e}, at 40 {fin:.2e}",
         r.samples.len()
     );
-    // Spec table: 147 samples (we count from t_1, no sample at t_0), δ in [0.22, 0.42].
-    assert!((145..=148).contains(&r.samples.len()));
+    // Spec table: 147 sampling instants (t_0 = 0 included; 146 corrections), δ in [0.22, 0.42].
+    let instants = r.sampling_times().len();
+    assert_eq!(instants, r.samples.len() + 1);
+    assert!(
+        (146..=148).contains(&instants),
+        "{instants} sampling instants"
+    );
     assert!(dmin >= 0.2 && dmax <= 0.45, "δ range [{dmin}, {dmax}]");
     assert!(
         fin < 1e-8 && late < 1e-8,

@@ -20,13 +20,51 @@
 
 use faer::linalg::solvers::Solve;
 use faer::{Mat, MatRef};
+use sporadic_linalg::he;
 
-use crate::error::{Error, check_shape};
+use crate::error::{Error, check_finite, check_shape};
 use crate::system::Window;
 
-/// `He(X) = X + X'`.
-fn he(x: MatRef<'_, f64>) -> Mat<f64> {
-    x + x.transpose()
+/// Checks that `x` is `n×n` and finite.
+fn check_square(x: MatRef<'_, f64>, n: usize, what: &str) -> Result<(), Error> {
+    check_shape(x, n, n, what)?;
+    check_finite(x, what)
+}
+
+/// Checks `τ̄ > 0` and `τ` finite.
+fn check_times(tau_bar: f64, tau: f64) -> Result<(), Error> {
+    if !(tau_bar.is_finite() && tau_bar > 0.0) {
+        return Err(Error::InvalidParameter {
+            name: "tau_bar",
+            value: tau_bar,
+            reason: "τ̄ must be finite and > 0",
+        });
+    }
+    if !tau.is_finite() {
+        return Err(Error::NonFinite { what: "τ".into() });
+    }
+    Ok(())
+}
+
+/// Checks that two Lyapunov matrices are `n×n` (`n` from the first, ≥ 1) and finite; returns
+/// `n`.
+fn check_pair(
+    p: MatRef<'_, f64>,
+    other: MatRef<'_, f64>,
+    names: (&'static str, &'static str),
+) -> Result<usize, Error> {
+    let n = p.nrows();
+    if n == 0 {
+        return Err(Error::Empty { what: names.0 });
+    }
+    check_square(p, n, names.0)?;
+    check_square(other, n, names.1)?;
+    Ok(n)
+}
+
+/// `(1 − s) X0 + s X1` (shapes already checked).
+fn affine(x0: MatRef<'_, f64>, x1: MatRef<'_, f64>, s: f64) -> Mat<f64> {
+    x0 * (1.0 - s) + x1 * s
 }
 
 /// The Lyapunov matrix of Theorem 3, `P(τ) = (1 − τ/τ̄) P1 + (τ/τ̄) P2` (so `P(0) = P1`,
@@ -36,9 +74,10 @@ pub fn lyapunov_matrix(
     p2: MatRef<'_, f64>,
     tau_bar: f64,
     tau: f64,
-) -> Mat<f64> {
-    let s = tau / tau_bar;
-    p1 * (1.0 - s) + p2 * s
+) -> Result<Mat<f64>, Error> {
+    check_pair(p1, p2, ("P1", "P2"))?;
+    check_times(tau_bar, tau)?;
+    Ok(affine(p1, p2, tau / tau_bar))
 }
 
 /// `M¹_p = He(P1 R_p) + (P2 − P1)/τ̄` and `M²_p = He(P2 R_p) + (P2 − P1)/τ̄`, (20a)–(20b).
@@ -47,22 +86,25 @@ pub fn flow_vertex_blocks(
     p2: MatRef<'_, f64>,
     r: MatRef<'_, f64>,
     tau_bar: f64,
-) -> (Mat<f64>, Mat<f64>) {
-    let d = (p2 - p1) * (1.0 / tau_bar);
-    (he((p1 * r).as_ref()) + &d, he((p2 * r).as_ref()) + &d)
+) -> Result<(Mat<f64>, Mat<f64>), Error> {
+    Ok((
+        flow_block(p1, p2, r, tau_bar, 0.0)?,
+        flow_block(p1, p2, r, tau_bar, tau_bar)?,
+    ))
 }
 
 /// The flow condition (19b) / (16b) with `∂P/∂s = 0` for the Lyapunov matrix of Theorem 3:
-/// `N_p(τ) = He(P(τ) R_p) + (P2 − P1)/τ̄`.
+/// `N_p(τ) = He(P(τ) R_p) + (P2 − P1)/τ̄` (`M¹_p` at `τ = 0`, `M²_p` at `τ = τ̄`).
 pub fn flow_block(
     p1: MatRef<'_, f64>,
     p2: MatRef<'_, f64>,
     r: MatRef<'_, f64>,
     tau_bar: f64,
     tau: f64,
-) -> Mat<f64> {
-    let p = lyapunov_matrix(p1, p2, tau_bar, tau);
-    he((&p * r).as_ref()) + (p2 - p1) * (1.0 / tau_bar)
+) -> Result<Mat<f64>, Error> {
+    let p = lyapunov_matrix(p1, p2, tau_bar, tau)?;
+    check_square(r, p.nrows(), "vertex R_p")?;
+    Ok(he((&p * r).as_ref())? + (p2 - p1) * (1.0 / tau_bar))
 }
 
 /// The jump block `J(P⁻, P⁺, L) = [He(LC) + P⁻ − P⁺, C'L'; LC, P⁺]` of (16c)/(19c) (module
@@ -72,34 +114,67 @@ pub fn jump_block(
     p_after: MatRef<'_, f64>,
     l: MatRef<'_, f64>,
     c: MatRef<'_, f64>,
-) -> Mat<f64> {
-    let n = p_after.nrows();
-    let lc = l * c;
-    let top = he(lc.as_ref()) + p_before - p_after;
-    Mat::from_fn(2 * n, 2 * n, |i, j| match (i < n, j < n) {
+) -> Result<Mat<f64>, Error> {
+    let n = check_pair(
+        p_after,
+        p_before,
+        ("P⁺ (after the jump)", "P⁻ (before the jump)"),
+    )?;
+    let lc = gain_times_output(l, c, n, "L")?;
+    let top = he(lc.as_ref())? + p_before - p_after;
+    Ok(Mat::from_fn(2 * n, 2 * n, |i, j| match (i < n, j < n) {
         (true, true) => top[(i, j)],
         (true, false) => lc[(j - n, i)],
         (false, true) => lc[(i - n, j)],
         (false, false) => p_after[(i - n, j - n)],
-    })
+    }))
+}
+
+/// `X C` for a gain-like `X` (n×q) and the output matrix `C` (q×n), both checked.
+fn gain_times_output(
+    x: MatRef<'_, f64>,
+    c: MatRef<'_, f64>,
+    n: usize,
+    what: &str,
+) -> Result<Mat<f64>, Error> {
+    if c.nrows() == 0 {
+        return Err(Error::Empty {
+            what: "C (no measured output, q = 0)",
+        });
+    }
+    check_shape(c, c.nrows(), n, "C")?;
+    check_shape(x, n, c.nrows(), what)?;
+    check_finite(c, "C")?;
+    check_finite(x, what)?;
+    Ok(x * c)
 }
 
 /// The Schur form of the jump condition: `P⁻ − (I − KC)' P⁺ (I − KC)` (positive definite iff
-/// [`jump_block`] is, given `P⁺ ≻ 0`).
+/// [`jump_block`] is with `L = P⁺K`, given `P⁺ ≻ 0`).
 pub fn jump_decrease(
     p_before: MatRef<'_, f64>,
     p_after: MatRef<'_, f64>,
     k: MatRef<'_, f64>,
     c: MatRef<'_, f64>,
-) -> Mat<f64> {
-    let reset = reset_matrix(k, c);
-    p_before - reset.transpose() * p_after * &reset
+) -> Result<Mat<f64>, Error> {
+    check_pair(
+        p_after,
+        p_before,
+        ("P⁺ (after the jump)", "P⁻ (before the jump)"),
+    )?;
+    let reset = reset_matrix(k, c)?;
+    Ok(p_before - reset.transpose() * p_after * &reset)
 }
 
-/// `I − K C`, the reset of the error at a sample.
-pub fn reset_matrix(k: MatRef<'_, f64>, c: MatRef<'_, f64>) -> Mat<f64> {
+/// `I − K C`, the reset of the error at a sample (`K` n×q, `C` q×n).
+pub fn reset_matrix(k: MatRef<'_, f64>, c: MatRef<'_, f64>) -> Result<Mat<f64>, Error> {
     let n = k.nrows();
-    Mat::<f64>::identity(n, n) - k * c
+    if n == 0 {
+        return Err(Error::Empty {
+            what: "gain K (n = 0)",
+        });
+    }
+    Ok(Mat::<f64>::identity(n, n) - gain_times_output(k, c, n, "K")?)
 }
 
 /// `(20c)`: `J(P(τ_low), P1, L0)`, i.e. `[He(L0C) − (τ_low/τ̄)(P1 − P2), C'L0'; ⋆, P1]`.
@@ -109,8 +184,8 @@ pub fn jump_block_low(
     l0: MatRef<'_, f64>,
     c: MatRef<'_, f64>,
     window: &Window,
-) -> Mat<f64> {
-    let p_low = lyapunov_matrix(p1, p2, window.tau_bar(), window.tau_low());
+) -> Result<Mat<f64>, Error> {
+    let p_low = lyapunov_matrix(p1, p2, window.tau_bar(), window.tau_low())?;
     jump_block(p_low.as_ref(), p1, l0, c)
 }
 
@@ -120,7 +195,7 @@ pub fn jump_block_high(
     p2: MatRef<'_, f64>,
     l1: MatRef<'_, f64>,
     c: MatRef<'_, f64>,
-) -> Mat<f64> {
+) -> Result<Mat<f64>, Error> {
     jump_block(p2, p1, l1, c)
 }
 
@@ -132,30 +207,46 @@ pub fn interpolate(
     x1: MatRef<'_, f64>,
     window: &Window,
     tau: f64,
+) -> Result<Mat<f64>, Error> {
+    check_shape(x1, x0.nrows(), x0.ncols(), "X1 (vs X0)")?;
+    check_finite(x0, "X0")?;
+    check_finite(x1, "X1")?;
+    if !tau.is_finite() {
+        return Err(Error::NonFinite { what: "τ".into() });
+    }
+    Ok(interpolate_checked(x0, x1, window, tau))
+}
+
+/// [`interpolate`] for operands already known to agree in shape and be finite.
+pub(crate) fn interpolate_checked(
+    x0: MatRef<'_, f64>,
+    x1: MatRef<'_, f64>,
+    window: &Window,
+    tau: f64,
 ) -> Mat<f64> {
     let width = window.tau_bar() - window.tau_low();
     if width <= 0.0 {
         return x0.to_owned();
     }
-    let s = (tau - window.tau_low()) / width;
-    x0 + (x1 - x0) * s
+    affine(x0, x1, (tau - window.tau_low()) / width)
 }
 
 /// `K = P1⁻¹ L` by a Cholesky factorisation of `P1` (the gain recovery of Theorem 3,
 /// Corollary 2 and Remark 6).
 pub fn gain_from(p1: MatRef<'_, f64>, l: MatRef<'_, f64>) -> Result<Mat<f64>, Error> {
     let n = p1.nrows();
-    check_shape(p1, n, n, "P1")?;
+    if n == 0 {
+        return Err(Error::Empty { what: "P1 (n = 0)" });
+    }
+    check_square(p1, n, "P1")?;
     check_shape(l, n, l.ncols(), "L")?;
+    check_finite(l, "L")?;
     let llt = p1.llt(faer::Side::Lower).map_err(|_| Error::Singular {
         what: "P1 is not positive definite (K = P1⁻¹L)".into(),
     })?;
     let k = llt.solve(l);
-    if (0..k.ncols()).all(|j| (0..k.nrows()).all(|i| k[(i, j)].is_finite())) {
-        Ok(k)
-    } else {
-        Err(Error::Singular {
-            what: "P1 (K = P1⁻¹L overflowed)".into(),
-        })
-    }
+    check_finite(k.as_ref(), "K = P1⁻¹L").map_err(|_| Error::Singular {
+        what: "P1 (K = P1⁻¹L overflowed)".into(),
+    })?;
+    Ok(k)
 }

@@ -103,12 +103,16 @@ pub enum Error {
     /// The LMI layer returned a certificate but the independent check (eigenvalues of every
     /// block of (20), the τ-grid check of (19b)/(19c), and the contraction of `z'P1z` across
     /// `(I − K(τ)C)e^{R_p τ}`) failed; the design is not returned as valid.
-    #[error("independent verification failed: {what} = {value:e} at τ = {tau} (vertex {vertex:?})")]
+    #[error(
+        "independent verification failed: {what} = {value:e} (rounding tolerance {tolerance:e}) at τ = {tau} (vertex {vertex:?})"
+    )]
     VerificationFailed {
         /// Which check failed.
         what: &'static str,
         /// The offending value.
         value: f64,
+        /// The rounding-error bound (with safety factor) it had to clear.
+        tolerance: f64,
         /// Where on the τ grid (NaN for τ-independent blocks).
         tau: f64,
         /// Which vertex `R_p`, if vertex-specific.

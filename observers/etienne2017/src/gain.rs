@@ -9,7 +9,7 @@
 
 use faer::{Mat, MatRef};
 
-use crate::conditions::interpolate;
+use crate::conditions::interpolate_checked;
 use crate::error::{Error, check_finite, check_shape};
 use crate::system::Window;
 
@@ -78,6 +78,6 @@ impl GainSchedule {
     /// measured interval may differ from the window ends by rounding).
     pub fn at(&self, tau: f64) -> Mat<f64> {
         let t = tau.clamp(self.window.tau_low(), self.window.tau_bar());
-        interpolate(self.k0.as_ref(), self.k1.as_ref(), &self.window, t)
+        interpolate_checked(self.k0.as_ref(), self.k1.as_ref(), &self.window, t)
     }
 }

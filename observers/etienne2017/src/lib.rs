@@ -62,7 +62,8 @@ pub use gain::GainSchedule;
 pub use lmi::{Condition, SolverStats};
 pub use reproduce::reproduce;
 pub use simulation::{
-    SimulationSetup, error_norm_after, lyapunov_at_samples, simulate_observer, worst_case_sampling,
+    SimulationSetup, error_norm_after, error_norm_after_sample, lyapunov_at_samples,
+    simulate_observer, worst_case_sampling,
 };
 pub use system::{Plant, Window};
 pub use verify::{

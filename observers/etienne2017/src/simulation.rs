@@ -13,7 +13,8 @@
 //! the resets) is strictly decreasing for a certified design: the proof of Theorem 3 bounds the
 //! decrease of `z'P(τ)z` for every vector field in the hull of Lemma 1.
 //!
-//! [`worst_case_sampling`] builds the greedy adversary of `sporadic-sim` for a design.
+//! [`worst_case_sampling`] builds the greedy adversary of `sporadic-sim` for a design (with the
+//! `τ`-dependent reset `I − K(τ)C`).
 
 use std::cell::RefCell;
 
@@ -150,7 +151,15 @@ pub fn simulate_observer<R: SamplingRule + ?Sized>(
     )?)
 }
 
-/// `V_k = z'P1z` just after every sample, and at `t = 0`: `(t_k, V_k)`.
+/// `z'Pz` (`P` n×n, `z` of length n; both checked by the callers).
+fn quadratic(p: MatRef<'_, f64>, z: &[f64]) -> f64 {
+    let n = z.len();
+    (0..n)
+        .map(|i| z[i] * (0..n).map(|k| p[(i, k)] * z[k]).sum::<f64>())
+        .sum()
+}
+
+/// `V_k = z'P1z` at `t = 0` and just after every sample: `(t_k, V_k)`.
 pub fn lyapunov_at_samples(
     error: &HybridArc,
     p1: MatRef<'_, f64>,
@@ -164,26 +173,24 @@ pub fn lyapunov_at_samples(
         ));
     }
     check_finite(p1, "P1")?;
-    let v = |z: &[f64]| -> f64 {
-        (0..n)
-            .map(|i| z[i] * (0..n).map(|k| p1[(i, k)] * z[k]).sum::<f64>())
-            .sum()
-    };
-    let (t, j) = (error.times(), error.jump_counters());
-    // The post-jump state of jump k is the first stored sample with jump counter k.
-    let out = (0..error.len())
-        .filter(|&i| i == 0 || j[i] != j[i - 1])
-        .map(|i| (t[i], v(error.state(i))))
-        .collect();
-    Ok(out)
+    let first = (!error.is_empty()).then_some(0);
+    Ok(first
+        .into_iter()
+        .chain(error.jumps().into_iter().map(|r| r.after))
+        .map(|i| (error.times()[i], quadratic(p1, error.state(i))))
+        .collect())
 }
 
 /// The greedy worst-case sampling of `sporadic-sim` ([`Adversarial`]) for a design: between
 /// samples the error follows the frozen vertex `R_vertex`, at a sample it is reset by
-/// `I − K(τ̄)C`, and each interval is chosen on `grid` points of the window to maximise
-/// `z'P1z` after the next reset. For a time-varying `K(τ)` the adversary's reset is only
-/// approximate (the adversary of `sporadic-sim` has a τ-independent reset); any sequence it
-/// produces still lies in `S[τ_low, τ̄]`.
+/// `I − K(τ)C` with the length `τ` of the interval that just ended, and each interval is chosen
+/// among `grid` points of the window to maximise `z'P1z` after the next reset.
+///
+/// The reset depends on `τ`, which the adversary's jump map does not see; it is therefore run on
+/// the augmented linear state `ζ = (z, s, c)` with `ż = R z`, `ṡ = c`, `ċ = 0`, started at
+/// `s = 0, c = 1`, so that `s = τ` at the end of the interval (exactly, by the nilpotent block of
+/// `e^{A_aug τ}`), and the reset `(z, s, c) ↦ ((I − K(s)C) z, 0, 1)`. When used as a
+/// [`SamplingRule`] the error `ζ = (x − x̂, 0, 1)` is read from the simulation.
 pub fn worst_case_sampling(
     plant: &Plant,
     gain: &GainSchedule,
@@ -204,28 +211,79 @@ pub fn worst_case_sampling(
         return Err(Error::mismatch("order of P1", n, p1.nrows()));
     }
     check_finite(p1, "P1")?;
-    let w = gain.window();
-    let jump = reset_matrix(gain.at(w.tau_bar()).as_ref(), plant.c());
+    if gain.k0().nrows() != n || gain.k0().ncols() != plant.q() {
+        return Err(Error::mismatch(
+            "rows·columns of the observer gain",
+            n * plant.q(),
+            gain.k0().nrows() * gain.k0().ncols(),
+        ));
+    }
+    let w = *gain.window();
+    let augmented = Mat::from_fn(n + 2, n + 2, |i, j| match (i < n, j < n) {
+        (true, true) => r[(i, j)],
+        _ => f64::from(i == n && j == n + 1),
+    });
+    let (schedule, c) = (gain.clone(), plant.c().to_owned());
+    let reset = move |zeta: &[f64], out: &mut [f64]| {
+        let jump = reset_matrix(schedule.at(zeta[n]).as_ref(), c.as_ref());
+        match jump {
+            Ok(m) => {
+                for (i, o) in out[..n].iter_mut().enumerate() {
+                    *o = (0..n).map(|k| m[(i, k)] * zeta[k]).sum();
+                }
+            }
+            // Unreachable for a validated schedule; a NaN makes the adversary report it.
+            Err(_) => out[..n].fill(f64::NAN),
+        }
+        out[n] = 0.0;
+        out[n + 1] = 1.0;
+    };
     let p = p1.to_owned();
-    let v = move |z: &[f64]| -> f64 {
-        (0..n)
-            .map(|i| z[i] * (0..n).map(|k| p[(i, k)] * z[k]).sum::<f64>())
-            .sum()
+    let v = move |zeta: &[f64]| quadratic(p.as_ref(), &zeta[..n]);
+    let error_map = move |x: &[f64], xhat: &[f64]| -> Vec<f64> {
+        x.iter()
+            .zip(xhat)
+            .map(|(a, b)| a - b)
+            .chain([0.0, 1.0])
+            .collect()
     };
     Ok(Adversarial::new(
-        r.as_ref(),
-        JumpMap::Matrix(jump),
+        augmented.as_ref(),
+        JumpMap::Closure(Box::new(reset)),
         Box::new(v),
         w.tau_low(),
         w.tau_bar(),
         grid,
-    )?)
+    )?
+    .with_error_map(Box::new(error_map)))
 }
 
-/// `|z(t)|` just after `t` (at a sampling instant: after the reset; `t` is nudged by `1e-9` so
-/// that a sample computed as `t ± ulp` counts as at `t`).
+/// Tolerance for "a sample at time `t`": sample times are sums of intervals and may differ from
+/// the nominal instant by a few ulp.
+const SAMPLE_TIME_SLACK: f64 = 1e-9;
+
+/// `|z(t)|` at time `t` (at a sampling instant: just after the reset; `t` is nudged by `1e-9`
+/// so that a sample computed as `t ± ulp` counts as at `t`).
 pub fn error_norm_after(error: &HybridArc, t: f64) -> Result<f64, Error> {
     let end = error.times().last().copied().unwrap_or(f64::NAN);
-    let z = error.value_at((t + 1e-9).min(end), sporadic_sim::JumpSide::After)?;
-    Ok(z.iter().map(|v| v * v).sum::<f64>().sqrt())
+    let z = error.value_at(
+        (t + SAMPLE_TIME_SLACK).min(end),
+        sporadic_sim::JumpSide::After,
+    )?;
+    Ok(norm(&z))
+}
+
+fn norm(z: &[f64]) -> f64 {
+    z.iter().map(|v| v * v).sum::<f64>().sqrt()
+}
+
+/// `(t_k, |z(t_k)|)` just after the first sample `t_k ≥ t` (within `1e-9`), or `None` if the arc
+/// has no such sample. This is the convention of the spec's reference simulations (§4.5), whose
+/// "`|z(t)|`" is the error after the first reset at or after `t`.
+pub fn error_norm_after_sample(error: &HybridArc, t: f64) -> Option<(f64, f64)> {
+    error
+        .jumps()
+        .into_iter()
+        .find(|r| r.t >= t - SAMPLE_TIME_SLACK)
+        .map(|r| (r.t, norm(error.state(r.after))))
 }

@@ -15,7 +15,7 @@
 //! ([`crate::simulation::Nonlinearity`]).
 
 use faer::{Mat, MatRef};
-use sporadic_embed::{JacobianPolytope, jacobian_polytope};
+use sporadic_embed::{JacobianPolytope, jacobian_polytope, lipschitz_box};
 
 use crate::error::{Error, check_finite, check_shape};
 
@@ -128,9 +128,7 @@ impl Plant {
                 reason: "a Lipschitz constant is nonnegative",
             });
         }
-        let m = g.ncols();
-        let lo = Mat::from_fn(m, m, |_, _| -gamma);
-        let hi = Mat::from_fn(m, m, |_, _| gamma);
+        let (lo, hi) = lipschitz_box(g.ncols(), gamma)?;
         Self::new(a, b, c, g, h, lo.as_ref(), hi.as_ref())
     }
 

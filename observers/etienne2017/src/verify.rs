@@ -13,17 +13,22 @@
 //!    vertex decreases `z'P(τ)z`, and the jump brings it below `z'P1z`. The exponentials on the
 //!    grid come from [`sporadic_linalg::expm_stepper`].
 //!
-//! Every check is strict in `f64` (no tolerance): the certified margins are orders of magnitude
-//! above rounding.
+//! **Safety factor.** A block `X = Σ_i S_i` formed in `f64` carries rounding errors of order
+//! `n·ε·Σ‖S_i‖`, and the symmetric eigensolver adds a backward error of the same order; the
+//! exponential adds a relative error growing with `‖R_pτ‖`. Each check therefore requires its
+//! eigenvalue to clear the bound by `safety · dim · ε · scale` ([`CheckOptions::safety`],
+//! default 100), `scale` being the Frobenius norms of the summands (times `1 + ‖R_pτ‖_F` for the
+//! discrete check): a check that passes holds for the exact matrices, not only for their rounded
+//! values. The margins of the example are `~1e-4`, the tolerances `~1e-11`.
 
 use faer::{Mat, MatRef};
 use sporadic_linalg::{expm_stepper, max_eigenvalue, min_eigenvalue, spectral_radius};
 
 use crate::conditions::{
-    flow_block, flow_vertex_blocks, interpolate, jump_block, jump_block_high, jump_block_low,
-    lyapunov_matrix, reset_matrix,
+    flow_block, interpolate_checked, jump_block, jump_block_high, jump_block_low, lyapunov_matrix,
+    reset_matrix,
 };
-use crate::error::{Error, check_shape};
+use crate::error::{Error, check_finite, check_shape};
 use crate::gain::GainSchedule;
 use crate::lmi::Condition;
 use crate::system::{Plant, Window};
@@ -41,14 +46,17 @@ pub struct Certificate {
     pub l1: Mat<f64>,
 }
 
-/// Grid sizes of the independent checks.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// Grid sizes and safety factor of the independent checks.
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CheckOptions {
     /// Points of the τ grids of (19b) on `[0, τ̄]` and (19c) on `[τ_low, τ̄]` (≥ 2; default 201).
     pub lmi_grid: usize,
     /// Points of the τ grid of the discrete contraction check on `[τ_low, τ̄]` (≥ 2; default
     /// 2001).
     pub discrete_grid: usize,
+    /// Safety factor on the rounding-error bound every eigenvalue must clear (≥ 1; default
+    /// 100; module docs).
+    pub safety: f64,
 }
 
 impl Default for CheckOptions {
@@ -56,6 +64,7 @@ impl Default for CheckOptions {
         Self {
             lmi_grid: 201,
             discrete_grid: 2001,
+            safety: 100.0,
         }
     }
 }
@@ -74,15 +83,36 @@ impl CheckOptions {
                 });
             }
         }
+        if !(self.safety >= 1.0 && self.safety.is_finite()) {
+            return Err(Error::InvalidParameter {
+                name: "safety",
+                value: self.safety,
+                reason: "the safety factor must be finite and ≥ 1",
+            });
+        }
         Ok(())
     }
+}
+
+/// Which side of a bound a checked quantity must lie on.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Sense {
+    /// `value < bound − tolerance`.
+    Below(f64),
+    /// `value > bound + tolerance`.
+    Above(f64),
 }
 
 /// The worst value of a check and where it occurs.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Extremum {
-    /// The worst value.
+    /// The checked quantity at the worst point (an extreme eigenvalue or a spectral radius).
     pub value: f64,
+    /// The rounding-error bound (times the safety factor) it had to clear there.
+    pub tolerance: f64,
+    /// Distance of `value` beyond its bound and tolerance: the check passes iff `slack > 0`
+    /// (NaN fails). The worst point is the one of smallest slack.
+    pub slack: f64,
     /// Where on the τ grid (NaN for τ-independent quantities).
     pub tau: f64,
     /// Which vertex `R_p` (0-based), if vertex-specific.
@@ -90,23 +120,41 @@ pub struct Extremum {
 }
 
 impl Extremum {
-    fn new(value: f64) -> Self {
+    fn empty() -> Self {
         Self {
-            value,
+            value: f64::NAN,
+            tolerance: 0.0,
+            slack: f64::INFINITY,
             tau: f64::NAN,
             vertex: None,
         }
     }
 
-    fn update_max(&mut self, value: f64, tau: f64, vertex: Option<usize>) {
-        if value > self.value || value.is_nan() {
-            *self = Self { value, tau, vertex };
-        }
+    /// Whether the check passed at every point.
+    pub fn passed(&self) -> bool {
+        self.slack > 0.0
     }
 
-    fn update_min(&mut self, value: f64, tau: f64, vertex: Option<usize>) {
-        if value < self.value || value.is_nan() {
-            *self = Self { value, tau, vertex };
+    fn update(
+        &mut self,
+        sense: Sense,
+        value: f64,
+        tolerance: f64,
+        tau: f64,
+        vertex: Option<usize>,
+    ) {
+        let slack = match sense {
+            Sense::Below(b) => b - tolerance - value,
+            Sense::Above(b) => value - b - tolerance,
+        };
+        if !(slack >= self.slack) {
+            *self = Self {
+                value,
+                tolerance,
+                slack,
+                tau,
+                vertex,
+            };
         }
     }
 }
@@ -120,6 +168,13 @@ pub struct DiscreteCheck {
     pub contraction: Option<Extremum>,
 }
 
+impl DiscreteCheck {
+    /// Whether every part of the check passed.
+    pub fn passed(&self) -> bool {
+        self.spectral_radius.passed() && self.contraction.is_none_or(|c| c.passed())
+    }
+}
+
 /// All independent checks of a certificate and its gain.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct IndependentCheck {
@@ -127,8 +182,8 @@ pub struct IndependentCheck {
     pub flow_vertices: Extremum,
     /// `min(λ_min((20c)), λ_min((20d)))`; `tau` is `τ_low` or `τ̄`.
     pub jump_vertices: Extremum,
-    /// `min(λ_min(P1), λ_min(P2))`.
-    pub positivity: f64,
+    /// `min(λ_min(P1), λ_min(P2))`; `tau` is 0 for `P1`, `τ̄` for `P2`.
+    pub positivity: Extremum,
     /// `max_{p,τ∈[0,τ̄]} λ_max(N_p(τ))` — (19b) on the grid.
     pub flow_grid: Extremum,
     /// `min_{τ∈[τ_low,τ̄]} λ_min(J(P(τ), P1, L(τ)))` — (19c) on the grid.
@@ -140,44 +195,37 @@ pub struct IndependentCheck {
 impl IndependentCheck {
     /// The first failing check, as an error.
     pub fn failure(&self) -> Option<Error> {
-        let fail = |what, e: &Extremum| Error::VerificationFailed {
-            what,
-            value: e.value,
-            tau: e.tau,
-            vertex: e.vertex,
-        };
-        let contraction = self.discrete.contraction.unwrap_or(Extremum::new(f64::NAN));
-        if !(self.flow_vertices.value < 0.0) {
-            Some(fail("max λ_max of (20a)/(20b)", &self.flow_vertices))
-        } else if !(self.jump_vertices.value > 0.0) {
-            Some(fail("min λ_min of (20c)/(20d)", &self.jump_vertices))
-        } else if !(self.positivity > 0.0) {
-            Some(fail("min λ_min of P1, P2", &Extremum::new(self.positivity)))
-        } else if !(self.flow_grid.value < 0.0) {
-            Some(fail("max λ_max of (19b) on the τ grid", &self.flow_grid))
-        } else if !(self.jump_grid.value > 0.0) {
-            Some(fail("min λ_min of (19c) on the τ grid", &self.jump_grid))
-        } else if !(contraction.value < 0.0) {
-            Some(fail("max λ_max of M'P1M − P1", &contraction))
-        } else if !(self.discrete.spectral_radius.value < 1.0) {
-            Some(fail(
+        let contraction = self.discrete.contraction.unwrap_or(Extremum {
+            slack: f64::NAN,
+            ..Extremum::empty()
+        });
+        [
+            ("max λ_max of (20a)/(20b)", &self.flow_vertices),
+            ("min λ_min of (20c)/(20d)", &self.jump_vertices),
+            ("min λ_min of P1, P2", &self.positivity),
+            ("max λ_max of (19b) on the τ grid", &self.flow_grid),
+            ("min λ_min of (19c) on the τ grid", &self.jump_grid),
+            ("max λ_max of M'P1M − P1", &contraction),
+            (
                 "max spectral radius of (I − K(τ)C)e^(R_p τ)",
                 &self.discrete.spectral_radius,
-            ))
-        } else {
-            None
-        }
+            ),
+        ]
+        .into_iter()
+        .find(|(_, e)| !e.passed())
+        .map(|(what, e)| Error::VerificationFailed {
+            what,
+            value: e.value,
+            tolerance: e.tolerance,
+            tau: e.tau,
+            vertex: e.vertex,
+        })
     }
 
     /// Whether every check passed.
     pub fn passed(&self) -> bool {
         self.failure().is_none()
     }
-}
-
-/// `(X + X')/2` (products such as `M'PM` are symmetric only up to rounding).
-fn sym(x: MatRef<'_, f64>) -> Mat<f64> {
-    (x + x.transpose()) * 0.5
 }
 
 /// `k` evenly spaced points from `a` to `b` (both included; one point when `a = b`).
@@ -196,6 +244,17 @@ fn grid(a: f64, b: f64, k: usize) -> Vec<f64> {
         .collect()
 }
 
+/// Frobenius norm.
+fn fro(x: MatRef<'_, f64>) -> f64 {
+    x.norm_l2()
+}
+
+/// `safety · dim · ε · scale`: the rounding-error bound (with safety factor) of an extreme
+/// eigenvalue of a `dim × dim` block whose summands have Frobenius norms adding up to `scale`.
+fn rounding(safety: f64, dim: usize, scale: f64) -> f64 {
+    safety * dim as f64 * f64::EPSILON * scale
+}
+
 /// `M_p(τ) = (I − KC) e^{R τ}` for one vertex, gain and `τ` (the transition of the error over
 /// an interval of length `τ` of the frozen vertex dynamics followed by the reset).
 pub fn transition(
@@ -204,30 +263,29 @@ pub fn transition(
     c: MatRef<'_, f64>,
     tau: f64,
 ) -> Result<Mat<f64>, Error> {
+    check_shape(k, r.nrows(), k.ncols(), "gain K (rows vs the order of R)")?;
+    let reset = reset_matrix(k, c)?;
     let e = sporadic_linalg::expm_scaled(r, tau)?;
-    Ok(reset_matrix(k, c) * e)
+    Ok(reset * e)
 }
 
-/// The discrete contraction check (item 3 of the module docs) of `gain` on its window, on a
-/// grid of `points` values of τ, with `P1` when given.
+/// The discrete contraction check (item 3 of the module docs) of `gain` on its window, on
+/// `options.discrete_grid` values of τ with the safety factor `options.safety`, with `P1` when
+/// given.
 pub fn discrete_check(
     plant: &Plant,
     gain: &GainSchedule,
     p1: Option<MatRef<'_, f64>>,
-    points: usize,
+    options: &CheckOptions,
 ) -> Result<DiscreteCheck, Error> {
+    options.validate()?;
     let (n, q) = (plant.n(), plant.q());
     check_shape(gain.k0(), n, q, "gain K0")?;
     if let Some(p) = p1 {
         check_shape(p, n, n, "P1")?;
+        check_finite(p, "P1")?;
     }
-    if points < 2 {
-        return Err(Error::InvalidParameter {
-            name: "points",
-            value: points as f64,
-            reason: "a τ grid needs at least 2 points",
-        });
-    }
+    let (points, safety) = (options.discrete_grid, options.safety);
     let w = gain.window();
     let (lo, hi) = (w.tau_low(), w.tau_bar());
     let steps = if w.is_periodic() { 0 } else { points - 1 };
@@ -236,20 +294,38 @@ pub fn discrete_check(
     } else {
         (hi - lo) / steps as f64
     };
-    let mut rho = Extremum::new(f64::NEG_INFINITY);
-    let mut contraction = p1.map(|_| Extremum::new(f64::NEG_INFINITY));
+    let p1_norm = p1.map_or(0.0, fro);
+    let mut rho = Extremum::empty();
+    let mut contraction = p1.map(|_| Extremum::empty());
     let mut e = Mat::<f64>::zeros(n, n);
     for (v, r) in plant.vertices().iter().enumerate() {
+        let r_norm = fro(r.as_ref());
         let mut stepper = expm_stepper(r.as_ref(), lo, h, steps)?;
         let mut k_step = 0usize;
         while let Some(tau) = stepper.next_into(e.as_mut()) {
             let tau = if k_step == steps { hi } else { tau };
             k_step += 1;
-            let m = reset_matrix(gain.at(tau).as_ref(), plant.c()) * &e;
-            rho.update_max(spectral_radius(m.as_ref())?, tau, Some(v));
+            let m = reset_matrix(gain.at(tau).as_ref(), plant.c())? * &e;
+            // Relative error of the computed exponential grows like ‖Rτ‖.
+            let growth = 1.0 + r_norm * tau;
+            let m_norm = fro(m.as_ref());
+            rho.update(
+                Sense::Below(1.0),
+                spectral_radius(m.as_ref())?,
+                rounding(safety, n, growth * m_norm),
+                tau,
+                Some(v),
+            );
             if let (Some(p), Some(ext)) = (p1, contraction.as_mut()) {
                 let d = m.transpose() * p * &m - p;
-                ext.update_max(max_eigenvalue(sym(d.as_ref()).as_ref())?, tau, Some(v));
+                let scale = growth * (m_norm * m_norm * p1_norm + p1_norm);
+                ext.update(
+                    Sense::Below(0.0),
+                    max_eigenvalue(d.as_ref())?,
+                    rounding(safety, n, scale),
+                    tau,
+                    Some(v),
+                );
             }
         }
         if let Some(err) = stepper.error() {
@@ -273,52 +349,90 @@ pub fn check_certificate(
     options: &CheckOptions,
 ) -> Result<IndependentCheck, Error> {
     options.validate()?;
+    condition.check_window(window)?;
     let (n, q) = (plant.n(), plant.q());
-    check_shape(cert.p1.as_ref(), n, n, "P1")?;
-    check_shape(cert.p2.as_ref(), n, n, "P2")?;
-    check_shape(cert.l0.as_ref(), n, q, "L0")?;
-    check_shape(cert.l1.as_ref(), n, q, "L1")?;
+    for (x, rows, cols, what) in [
+        (&cert.p1, n, n, "P1"),
+        (&cert.p2, n, n, "P2"),
+        (&cert.l0, n, q, "L0"),
+        (&cert.l1, n, q, "L1"),
+    ] {
+        check_shape(x.as_ref(), rows, cols, what)?;
+        check_finite(x.as_ref(), what)?;
+    }
     let (p1, p2) = (cert.p1.as_ref(), cert.p2.as_ref());
     let c = plant.c();
-    let tau_bar = window.tau_bar();
+    let (tau_low, tau_bar) = (window.tau_low(), window.tau_bar());
+    let safety = options.safety;
     let low_jump = condition != Condition::Remark6;
+    let (p1n, p2n, cn) = (fro(p1), fro(p2), fro(c));
 
-    let mut flow_vertices = Extremum::new(f64::NEG_INFINITY);
-    for (v, r) in plant.vertices().iter().enumerate() {
-        let (m1, m2) = flow_vertex_blocks(p1, p2, r.as_ref(), tau_bar);
-        flow_vertices.update_max(max_eigenvalue(sym(m1.as_ref()).as_ref())?, 0.0, Some(v));
-        flow_vertices.update_max(max_eigenvalue(sym(m2.as_ref()).as_ref())?, tau_bar, Some(v));
-    }
-    let mut jump_vertices = Extremum::new(f64::INFINITY);
-    let high = jump_block_high(p1, p2, cert.l1.as_ref(), c);
-    jump_vertices.update_min(min_eigenvalue(sym(high.as_ref()).as_ref())?, tau_bar, None);
-    if low_jump {
-        let low = jump_block_low(p1, p2, cert.l0.as_ref(), c, window);
-        let tau = window.tau_low();
-        jump_vertices.update_min(min_eigenvalue(sym(low.as_ref()).as_ref())?, tau, None);
-    }
-    let positivity = min_eigenvalue(sym(p1).as_ref())?.min(min_eigenvalue(sym(p2).as_ref())?);
-
-    let mut flow_grid = Extremum::new(f64::NEG_INFINITY);
-    for tau in grid(0.0, tau_bar, options.lmi_grid) {
+    // Flow: N_p(τ) = He(P(τ)R_p) + (P2 − P1)/τ̄ ≺ 0; M¹_p = N_p(0), M²_p = N_p(τ̄).
+    let flow = |tau: f64, ext: &mut Extremum| -> Result<(), Error> {
+        let s = tau / tau_bar;
+        let p_norm = (1.0 - s) * p1n + s * p2n;
         for (v, r) in plant.vertices().iter().enumerate() {
-            let nb = flow_block(p1, p2, r.as_ref(), tau_bar, tau);
-            flow_grid.update_max(max_eigenvalue(sym(nb.as_ref()).as_ref())?, tau, Some(v));
+            let nb = flow_block(p1, p2, r.as_ref(), tau_bar, tau)?;
+            let scale = 2.0 * p_norm * fro(r.as_ref()) + (p1n + p2n) / tau_bar;
+            let tol = rounding(safety, n, scale);
+            ext.update(
+                Sense::Below(0.0),
+                max_eigenvalue(nb.as_ref())?,
+                tol,
+                tau,
+                Some(v),
+            );
         }
+        Ok(())
+    };
+    // Jump: J(P(τ), P1, L) ≻ 0.
+    let jump = |b: &Mat<f64>, l: MatRef<'_, f64>, tau: f64, ext: &mut Extremum| {
+        let s = tau / tau_bar;
+        let scale = 3.0 * fro(l) * cn + (1.0 - s) * p1n + s * p2n + p1n;
+        let tol = rounding(safety, 2 * n, scale);
+        ext.update(
+            Sense::Above(0.0),
+            min_eigenvalue(b.as_ref())?,
+            tol,
+            tau,
+            None,
+        );
+        Ok::<(), Error>(())
+    };
+
+    let mut flow_vertices = Extremum::empty();
+    flow(0.0, &mut flow_vertices)?;
+    flow(tau_bar, &mut flow_vertices)?;
+    let mut jump_vertices = Extremum::empty();
+    let high = jump_block_high(p1, p2, cert.l1.as_ref(), c)?;
+    jump(&high, cert.l1.as_ref(), tau_bar, &mut jump_vertices)?;
+    if low_jump {
+        let low = jump_block_low(p1, p2, cert.l0.as_ref(), c, window)?;
+        jump(&low, cert.l0.as_ref(), tau_low, &mut jump_vertices)?;
     }
-    let mut jump_grid = Extremum::new(f64::INFINITY);
+    let mut positivity = Extremum::empty();
+    for (p, norm, tau) in [(p1, p1n, 0.0), (p2, p2n, tau_bar)] {
+        let tol = rounding(safety, n, norm);
+        positivity.update(Sense::Above(0.0), min_eigenvalue(p)?, tol, tau, None);
+    }
+
+    let mut flow_grid = Extremum::empty();
+    for tau in grid(0.0, tau_bar, options.lmi_grid) {
+        flow(tau, &mut flow_grid)?;
+    }
+    let mut jump_grid = Extremum::empty();
     let jump_taus = if low_jump {
-        grid(window.tau_low(), tau_bar, options.lmi_grid)
+        grid(tau_low, tau_bar, options.lmi_grid)
     } else {
         vec![tau_bar]
     };
     for tau in jump_taus {
-        let l = interpolate(cert.l0.as_ref(), cert.l1.as_ref(), window, tau);
-        let p = lyapunov_matrix(p1, p2, tau_bar, tau);
-        let b = jump_block(p.as_ref(), p1, l.as_ref(), c);
-        jump_grid.update_min(min_eigenvalue(sym(b.as_ref()).as_ref())?, tau, None);
+        let l = interpolate_checked(cert.l0.as_ref(), cert.l1.as_ref(), window, tau);
+        let p = lyapunov_matrix(p1, p2, tau_bar, tau)?;
+        let b = jump_block(p.as_ref(), p1, l.as_ref(), c)?;
+        jump(&b, l.as_ref(), tau, &mut jump_grid)?;
     }
-    let discrete = discrete_check(plant, gain, Some(p1), options.discrete_grid)?;
+    let discrete = discrete_check(plant, gain, Some(p1), options)?;
     Ok(IndependentCheck {
         flow_vertices,
         jump_vertices,

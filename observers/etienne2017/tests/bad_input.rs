@@ -236,3 +236,122 @@ fn gains_and_simulation() {
         Err(Error::NonFinite { .. })
     ));
 }
+
+#[test]
+fn condition_matrices_and_checks() {
+    use sporadic_etienne2017::conditions::{
+        flow_block, gain_from, interpolate, jump_block, jump_decrease, lyapunov_matrix,
+        reset_matrix,
+    };
+    use sporadic_etienne2017::verify::transition;
+    use sporadic_etienne2017::{CheckOptions, discrete_check, worst_case_sampling};
+
+    let i2 = Mat::<f64>::identity(2, 2);
+    let i3 = Mat::<f64>::identity(3, 3);
+    let c = mat![[1.0, 0.0]];
+    let l = mat![[1.0], [0.0]];
+    let mismatch = |r: Result<Mat<f64>, Error>| matches!(r, Err(Error::DimensionMismatch { .. }));
+    // P1, P2 of different orders; R of the wrong order; L, C, K of the wrong shapes.
+    assert!(mismatch(lyapunov_matrix(
+        i2.as_ref(),
+        i3.as_ref(),
+        0.2,
+        0.1
+    )));
+    assert!(mismatch(flow_block(
+        i2.as_ref(),
+        i2.as_ref(),
+        i3.as_ref(),
+        0.2,
+        0.1
+    )));
+    assert!(mismatch(jump_block(
+        i2.as_ref(),
+        i2.as_ref(),
+        mat![[1.0]].as_ref(),
+        c.as_ref()
+    )));
+    assert!(mismatch(jump_block(
+        i2.as_ref(),
+        i2.as_ref(),
+        l.as_ref(),
+        mat![[1.0, 0.0, 0.0]].as_ref()
+    )));
+    assert!(mismatch(jump_decrease(
+        i2.as_ref(),
+        i3.as_ref(),
+        l.as_ref(),
+        c.as_ref()
+    )));
+    assert!(mismatch(reset_matrix(
+        l.as_ref(),
+        mat![[1.0, 0.0], [0.0, 1.0]].as_ref()
+    )));
+    assert!(mismatch(gain_from(i2.as_ref(), i3.as_ref())));
+    let w = Window::new(0.01, 0.2).unwrap();
+    assert!(mismatch(interpolate(l.as_ref(), c.as_ref(), &w, 0.1)));
+    assert!(mismatch(transition(
+        i3.as_ref(),
+        l.as_ref(),
+        c.as_ref(),
+        0.1
+    )));
+    // Non-finite data, τ̄ ≤ 0, P1 not positive definite, empty matrices.
+    let nan = mat![[f64::NAN, 0.0], [0.0, 1.0]];
+    assert!(matches!(
+        lyapunov_matrix(nan.as_ref(), i2.as_ref(), 0.2, 0.1),
+        Err(Error::NonFinite { .. })
+    ));
+    assert!(matches!(
+        interpolate(l.as_ref(), l.as_ref(), &w, f64::NAN),
+        Err(Error::NonFinite { .. })
+    ));
+    assert!(matches!(
+        lyapunov_matrix(i2.as_ref(), i2.as_ref(), 0.0, 0.1),
+        Err(Error::InvalidParameter { .. })
+    ));
+    assert!(matches!(
+        gain_from((-&i2).as_ref(), l.as_ref()),
+        Err(Error::Singular { .. })
+    ));
+    assert!(matches!(
+        reset_matrix(Mat::<f64>::zeros(0, 1).as_ref(), c.as_ref()),
+        Err(Error::Empty { .. })
+    ));
+
+    // Check options and the adversary.
+    let plant = example::flexible_joint().unwrap();
+    let k = example::paper_static_schedule(w).unwrap();
+    let p1 = Mat::<f64>::identity(4, 4);
+    for bad in [
+        CheckOptions {
+            safety: 0.5,
+            ..CheckOptions::default()
+        },
+        CheckOptions {
+            safety: f64::NAN,
+            ..CheckOptions::default()
+        },
+        CheckOptions {
+            discrete_grid: 1,
+            ..CheckOptions::default()
+        },
+    ] {
+        assert!(matches!(
+            discrete_check(&plant, &k, Some(p1.as_ref()), &bad),
+            Err(Error::InvalidParameter { .. })
+        ));
+    }
+    assert!(matches!(
+        discrete_check(&plant, &k, Some(i2.as_ref()), &CheckOptions::default()),
+        Err(Error::DimensionMismatch { .. })
+    ));
+    assert!(matches!(
+        worst_case_sampling(&plant, &k, p1.as_ref(), 2, 10),
+        Err(Error::DimensionMismatch { .. })
+    ));
+    assert!(matches!(
+        worst_case_sampling(&plant, &k, i2.as_ref(), 0, 10),
+        Err(Error::DimensionMismatch { .. })
+    ));
+}

@@ -4,12 +4,20 @@
 
 use sporadic_etienne2017::verify::transition;
 use sporadic_etienne2017::{
-    Condition, DesignOptions, Error, Window, analyse, analyse_margin, design, discrete_check,
-    example, solve_margin,
+    CheckOptions, Condition, DesignOptions, Error, Window, analyse, analyse_margin, design,
+    discrete_check, example, solve_margin,
 };
 
 fn opts() -> DesignOptions {
     DesignOptions::default()
+}
+
+/// The spec's grid of the discrete check (§4.5: 2001 points).
+fn grid_2001() -> CheckOptions {
+    CheckOptions {
+        discrete_grid: 2001,
+        ..CheckOptions::default()
+    }
 }
 
 fn within(ours: f64, reference: f64, rel: f64) -> bool {
@@ -35,7 +43,20 @@ fn corollary2_on_paper_window() {
     // Every block strictly signed, the τ grid of (19b)/(19c) too.
     assert!(d.check.flow_vertices.value < 0.0 && d.check.jump_vertices.value > 0.0);
     assert!(d.check.flow_grid.value < 0.0 && d.check.jump_grid.value > 0.0);
-    assert!(d.check.positivity > 0.0);
+    assert!(d.check.positivity.value > 0.0);
+    // Each check cleared its rounding tolerance (safety factor 100), which is far below t*.
+    for e in [
+        d.check.flow_vertices,
+        d.check.jump_vertices,
+        d.check.positivity,
+        d.check.flow_grid,
+        d.check.jump_grid,
+    ] {
+        assert!(
+            e.passed() && e.tolerance > 0.0 && e.tolerance < 1e-3 * d.lmi.margin,
+            "{e:?}"
+        );
+    }
     assert!(d.gain.is_constant());
     // A static gain must be K = P1⁻¹L exactly: P1 K = L.
     let l = &d.lmi.certificate.p1 * d.gain.k0();
@@ -152,7 +173,7 @@ fn discrete_check_of_printed_gains() {
     let plant = example::flexible_joint().unwrap();
     let k = example::paper_static_schedule(Window::new(0.01, 0.2).unwrap()).unwrap();
     let a = analyse_margin(&plant, &k, &opts()).unwrap();
-    let d = discrete_check(&plant, &k, Some(a.certificate.p1.as_ref()), 2001).unwrap();
+    let d = discrete_check(&plant, &k, Some(a.certificate.p1.as_ref()), &grid_2001()).unwrap();
     assert!((d.spectral_radius.value - 0.9840).abs() < 1e-3);
     assert_eq!(d.spectral_radius.tau, 0.01);
     assert_eq!(d.spectral_radius.vertex, Some(1));
@@ -161,7 +182,7 @@ fn discrete_check_of_printed_gains() {
 
     let tv = example::paper_tv_schedule().unwrap();
     let a = analyse_margin(&plant, &tv, &opts()).unwrap();
-    let d = discrete_check(&plant, &tv, Some(a.certificate.p1.as_ref()), 2001).unwrap();
+    let d = discrete_check(&plant, &tv, Some(a.certificate.p1.as_ref()), &grid_2001()).unwrap();
     assert!((d.spectral_radius.value - 0.9892).abs() < 1e-3);
     assert_eq!(d.spectral_radius.tau, 0.01);
     assert_eq!(d.spectral_radius.vertex, Some(0));

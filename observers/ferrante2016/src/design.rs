@@ -8,6 +8,8 @@
 //!
 //! **Analysis** ([`analyse`]): the same LMI with `J = FL` for a given `L` (linear in `P`, `F`), i.e.
 //! (36) at the vertices; certifies e.g. the gain published for Example 2.
+//! [`min_trace_certificate`] solves the same LMI for the certificate with the smallest `tr P`
+//! (the reference certificate of the bound constants in spec 000 §5).
 
 use std::time::{Duration, Instant};
 
@@ -17,7 +19,7 @@ use sporadic_sdp::lmi::{FeasibilityOptions, Outcome};
 
 use crate::detectability::{DetectabilityOptions, DetectabilityReport, check_detectability};
 use crate::error::Error;
-use crate::lmi::{GainTerm, Lmi41, LmiForm, LmiResult, SolverStats, gain_from};
+use crate::lmi::{GainTerm, Lmi41, LmiForm, LmiResult, Objective, SolverStats, gain_from};
 use crate::system::{Plant, Window};
 use crate::verify::{Verification, VerifyOptions, verify};
 
@@ -120,7 +122,7 @@ fn check_pieces(pieces: usize) -> Result<(), Error> {
     Ok(())
 }
 
-/// Builds (or re-uses, when the vertex count fits) the LMI instance and solves it.
+/// Builds (or re-uses, when the vertex count fits) the margin-problem instance and solves it.
 fn solve_on(
     plant: &Plant,
     embedding: &Embedding,
@@ -130,20 +132,21 @@ fn solve_on(
 ) -> Result<LmiResult, Error> {
     let vertices = embedding.vertices();
     let delta = embedding.remainder_bound();
-    match cache {
-        Some(lmi) if lmi.fits(vertices.len(), delta) => lmi.set_vertices(vertices, delta)?,
-        _ => {
-            *cache = Some(Lmi41::new(
-                plant,
-                vertices,
-                delta,
-                gain,
-                options.form,
-                &options.lmi,
-            )?)
+    let lmi = match cache.take() {
+        Some(mut lmi) if lmi.fits(vertices.len(), delta) => {
+            lmi.set_vertices(vertices, delta)?;
+            lmi
         }
-    }
-    cache.as_mut().expect("built above").solve()
+        _ => Lmi41::new(
+            plant,
+            vertices,
+            delta,
+            gain,
+            options.form,
+            Objective::Margin(&options.lmi),
+        )?,
+    };
+    cache.insert(lmi).solve()
 }
 
 fn certificate_of(r: &LmiResult) -> Certificate {
@@ -208,6 +211,93 @@ pub(crate) fn design_cached(
         detectability,
         stats: r.stats,
         total_time: start.elapsed(),
+    })
+}
+
+/// The certificate of a given gain with the smallest trace (see [`min_trace_certificate`]).
+#[derive(Debug, Clone)]
+pub struct TraceCertificate {
+    /// Lyapunov matrix `P ⪰ I` of (12)/(13).
+    pub p: Mat<f64>,
+    /// Multiplier `F` of Proposition 1.
+    pub f: Mat<f64>,
+    /// `J = FL`.
+    pub j: Mat<f64>,
+    /// `tr P` at the returned point.
+    pub trace: f64,
+    /// Whether the solver reached its optimality tolerances (`false`: the point is a verified
+    /// certificate, but `tr P` may exceed the minimum, see [`TraceCertificate::stats`]).
+    pub optimal: bool,
+    /// Grid verification of (12) with this `P` (passed).
+    pub verification: Verification,
+    /// The embedding used.
+    pub embedding: Embedding,
+    /// Solver statistics.
+    pub stats: SolverStats,
+}
+
+/// Certifies a given gain `L` with LMI (41) where `J = FL`, choosing the certificate that
+/// minimises `tr P` under the normalisation `P ⪰ I`, `Φ_i ⪯ −I` (by homogeneity this is the same
+/// feasible set as the strict LMIs, scaled; spec 000 §5 reports the bound constants of Example 2
+/// for this certificate). The bound constants of Theorems 1–2 depend on `P`; this choice keeps
+/// `P` well scaled and reproducible up to the solver's accuracy.
+///
+/// Errors: bad input; [`Error::Infeasible`] on a solver infeasibility certificate;
+/// [`Error::Inconclusive`] when the solver stopped at a point that fails the LMI layer's
+/// verification; [`Error::VerificationFailed`] when the grid check of (12) fails.
+pub fn min_trace_certificate(
+    plant: &Plant,
+    window: &Window,
+    l: MatRef<'_, f64>,
+    options: &DesignOptions,
+) -> Result<TraceCertificate, Error> {
+    plant.check_gain(l)?;
+    check_pieces(options.pieces)?;
+    let embedding = embed_split(
+        plant.a(),
+        window.t1(),
+        window.t2(),
+        options.pieces,
+        &options.embedding,
+    )?;
+    let mut lmi = Lmi41::new(
+        plant,
+        embedding.vertices(),
+        embedding.remainder_bound(),
+        GainTerm::Fixed(l.to_owned()),
+        options.form,
+        Objective::MinTrace(&options.lmi.solve),
+    )?;
+    let r = lmi.solve()?;
+    if !r.feasible {
+        return Err(match r.stats.outcome {
+            Outcome::Infeasible => Error::Infeasible {
+                margin: None,
+                reason: r.stats.reason,
+            },
+            _ => Error::Inconclusive {
+                reason: r.stats.reason,
+            },
+        });
+    }
+    let verification = verify(plant, window, l, r.p.as_ref(), &options.verify)?;
+    if !verification.passed() {
+        return Err(Error::VerificationFailed {
+            max_eigenvalue: verification.max_eigenvalue,
+            at: verification.max_eigenvalue_at,
+            max_spectral_radius: verification.max_spectral_radius,
+            radius_at: verification.max_spectral_radius_at,
+        });
+    }
+    Ok(TraceCertificate {
+        trace: (0..r.p.nrows()).map(|i| r.p[(i, i)]).sum(),
+        optimal: r.stats.outcome == Outcome::Feasible,
+        p: r.p,
+        f: r.f,
+        j: r.j,
+        verification,
+        embedding,
+        stats: r.stats,
     })
 }
 

@@ -7,10 +7,10 @@
 //! occur, but it is not a rigorous global optimiser (the LMI certificate is what is rigorous).
 
 use faer::{Mat, MatRef};
+use sporadic_embed::Interval;
 use sporadic_linalg::{expm_scaled, expm_stepper};
 
 use crate::error::Error;
-use crate::system::uniform_grid;
 
 /// Whether the smallest or the largest value is sought.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -46,7 +46,7 @@ pub(crate) fn extremum<F>(
 where
     F: FnMut(f64, MatRef<'_, f64>) -> Result<f64, Error>,
 {
-    let grid = uniform_grid(lo, hi, points);
+    let grid = Interval::new(lo, hi)?.grid(points);
     let better = |x: f64, y: f64| match sense {
         Sense::Min => x < y,
         Sense::Max => x > y,

@@ -17,7 +17,8 @@
 //! * [`window`]: the largest certifiable `T2` for a given `T1` (and smallest `T1` for a given `T2`);
 //! * [`simulation`]: the observer and its error system simulated with `sporadic-sim`, and the check
 //!   of the Theorem 1 bound along a solution;
-//! * [`examples`] and [`reproduce`](mod@reproduce): Examples 1 and 2 and Figures 1 and 2.
+//! * [`examples`] and [`reproduce`](mod@reproduce): Examples 1 and 2 and Figures 1 and 2 as a
+//!   [`sporadic_report::Reproduction`].
 //!
 //! Corrections of the printed paper (each documented where it applies): `κ = √(α2/α1)e^{R/2}` in
 //! (21) (printed `e^{R/α1}`); `ρ = ‖P‖(1 + 2‖P‖/β)max‖e^{Av}‖²` in Theorem 2 (the printed
@@ -53,11 +54,14 @@ pub mod verify;
 pub mod window;
 
 pub use bounds::{BoundConstants, BoundOptions, Theorem1Bound, Theorem2Bound, bound_constants};
-pub use design::{Analysis, Certificate, Design, DesignOptions, analyse, design};
+pub use design::{
+    Analysis, Certificate, Design, DesignOptions, TraceCertificate, analyse, design,
+    min_trace_certificate,
+};
 pub use detectability::{DetectabilityOptions, DetectabilityReport, check_detectability};
 pub use error::Error;
 pub use lmi::{LmiForm, SolverStats};
-pub use reproduce::{Claim, ClaimStatus, Figure, Reproduction, reproduce};
+pub use reproduce::reproduce;
 pub use simulation::{BoundCheck, check_bound, simulate_error, simulate_observer};
 pub use system::{Plant, Window};
 pub use verify::{Verification, VerifyOptions, verify};

@@ -16,6 +16,10 @@
 //! homogeneous in `(P, F, J)`, so this normalisation loses no generality: (41) is strictly feasible
 //! iff the optimal margin is positive.
 //!
+//! The same instance can instead be solved for the certificate with the smallest `tr P` under the
+//! well-scaled non-strict normalisation `P ⪰ I`, `Φ_i ⪯ −I` (spec 000 §2 "SDP formulation advice");
+//! the bound constants of §4 are reported for that certificate.
+//!
 //! **Embeddings with a remainder** (`e^{Av} ∈ co{X_i} ⊕ {‖Δ‖ ≤ δ}`, e.g. the Taylor polytope).
 //! `Φ` depends on `E(v)` only through the `(3,1)` block `P E`, so `Φ(X + Δ) = Φ(X) + He(E₃ P Δ E₁')`
 //! with the block selectors `E₁ = [I; 0; 0]`, `E₃ = [0; 0; I]`. Young's inequality with a multiplier
@@ -46,7 +50,9 @@ use std::time::Duration;
 
 use faer::{Mat, MatRef};
 use sporadic_sdp::Status;
-use sporadic_sdp::lmi::{Compiled, Expr, FeasibilityOptions, Model, Outcome, Param, Var};
+use sporadic_sdp::lmi::{
+    Compiled, Expr, FeasibilityOptions, Model, Outcome, Param, SolveOptions, Var,
+};
 
 use crate::error::Error;
 use crate::system::Plant;
@@ -95,12 +101,31 @@ pub struct SolverStats {
     pub block_size: usize,
 }
 
+/// How `J` is read back from a solution.
+enum GainValue {
+    /// `J` is a decision variable.
+    Variable(Var),
+    /// `J = FL` for this `L`.
+    Fixed(Mat<f64>),
+}
+
+/// What is optimised over the feasible set of (41).
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Objective<'a> {
+    /// Margin maximisation of the strict LMIs (every variable normalised, see the module docs).
+    Margin(&'a FeasibilityOptions),
+    /// `min tr P` subject to the well-scaled non-strict form `P ⪰ I`, `Φ_i ⪯ −I` (equivalent to the
+    /// strict LMIs by homogeneity; spec 000 §5 uses this certificate for the bound constants).
+    MinTrace(&'a SolveOptions),
+}
+
 /// A solved instance of (41) (or (36) at the vertices for a fixed `L`).
 #[derive(Debug, Clone)]
 pub(crate) struct LmiResult {
-    /// Whether the layer certified strict feasibility (verified margin).
+    /// Whether the returned point is a certificate: strict feasibility with a verified positive
+    /// margin (margin mode), or every constraint verified at the returned point (min-trace mode).
     pub feasible: bool,
-    /// Optimal common margin `t*`.
+    /// Optimal common margin `t*` (margin mode).
     pub margin: Option<f64>,
     /// `P`, `F`, `J` at the returned point (`J = FL` for a fixed gain).
     pub p: Mat<f64>,
@@ -119,10 +144,10 @@ pub(crate) struct Lmi41 {
     delta: Option<Param>,
     p: Var,
     f: Var,
-    j: Option<Var>,
+    gain: GainValue,
     mu: Option<Var>,
-    fixed_l: Option<Mat<f64>>,
     block_size: usize,
+    min_trace: bool,
 }
 
 impl Lmi41 {
@@ -133,7 +158,7 @@ impl Lmi41 {
         delta: f64,
         gain: GainTerm,
         form: LmiForm,
-        options: &FeasibilityOptions,
+        objective: Objective<'_>,
     ) -> Result<Self, Error> {
         let n = plant.n();
         if vertices.is_empty() {
@@ -144,15 +169,15 @@ impl Lmi41 {
         let mut m = Model::new();
         let p = m.symmetric("P", n);
         let f = m.full("F", n, n);
-        let (j, fixed_l, coupling) = match gain {
+        let (gain, coupling) = match gain {
             GainTerm::Free => {
                 let j = m.full("J", n, plant.q());
                 let coupling = &f - &j * plant.m().to_owned();
-                (Some(j), None, coupling)
+                (GainValue::Variable(j), coupling)
             }
             GainTerm::Fixed(l) => {
-                let reset = plant.reset_matrix(l.as_ref())?;
-                (None, Some(l), &f * reset)
+                let coupling = &f * plant.reset_matrix(l.as_ref())?;
+                (GainValue::Fixed(l), coupling)
             }
         };
         let robust = delta > 0.0;
@@ -162,6 +187,7 @@ impl Lmi41 {
         } else {
             None
         };
+        let min_trace = matches!(objective, Objective::MinTrace(_));
         let mut params = Vec::with_capacity(vertices.len());
         for (i, x) in vertices.iter().enumerate() {
             let x = m.param(&format!("X_{}", i + 1), x.as_ref())?;
@@ -187,24 +213,32 @@ impl Lmi41 {
                     vec![Some(px), None, Some(-&p)],
                 ]),
             };
-            m.constrain(phi.lt(0.0).named(format!("Phi_{}", i + 1)))?;
+            let c = if min_trace { phi.le(-1.0) } else { phi.lt(0.0) };
+            m.constrain(c.named(format!("Phi_{}", i + 1)))?;
             params.push(x);
         }
-        let compiled = m.compile_feasibility(options)?;
+        let compiled = match objective {
+            Objective::Margin(options) => m.compile_feasibility(options)?,
+            Objective::MinTrace(options) => {
+                m.constrain(p.ge(1.0).named("P >= I"))?;
+                m.minimize(p.trace())?;
+                m.compile(options)?
+            }
+        };
         Ok(Self {
             compiled,
             vertices: params,
             delta: delta_param,
             p,
             f,
-            j,
+            gain,
             mu,
-            fixed_l,
             block_size: n * match (robust, form) {
                 (true, _) => 4,
                 (false, LmiForm::Reduced) => 2,
                 (false, LmiForm::Corollary1) => 3,
             },
+            min_trace,
         })
     }
 
@@ -232,19 +266,23 @@ impl Lmi41 {
         Ok(())
     }
 
-    /// Solves the margin problem and reads the certificate.
+    /// Solves the margin (or min-trace) problem and reads the certificate.
     pub fn solve(&mut self) -> Result<LmiResult, Error> {
         let sol = self.compiled.solve()?;
         let p = sol.value(&self.p)?;
         let f = sol.value(&self.f)?;
-        let j = match (&self.j, &self.fixed_l) {
-            (Some(j), _) => sol.value(j)?,
-            (None, Some(l)) => &f * l,
-            (None, None) => unreachable!("either J is free or L is fixed"),
+        let j = match &self.gain {
+            GainValue::Variable(j) => sol.value(j)?,
+            GainValue::Fixed(l) => &f * l,
         };
         let mu = match &self.mu {
             Some(mu) => Some(sol.scalar(mu)?),
             None => None,
+        };
+        let feasible = if self.min_trace {
+            sol.verification.passed()
+        } else {
+            sol.outcome == Outcome::Feasible && sol.margin.is_some_and(|t| t > 0.0)
         };
         let stats = SolverStats {
             outcome: sol.outcome,
@@ -258,7 +296,7 @@ impl Lmi41 {
             block_size: self.block_size,
         };
         Ok(LmiResult {
-            feasible: sol.outcome == Outcome::Feasible && sol.margin.is_some_and(|t| t > 0.0),
+            feasible,
             margin: sol.margin,
             p,
             f,

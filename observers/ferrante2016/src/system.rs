@@ -5,6 +5,7 @@
 //! `(A, M)`; simulations of the plant/observer pair take `B` separately.
 
 use faer::{Mat, MatRef};
+use sporadic_embed::Interval;
 
 use crate::error::{Error, check_finite};
 
@@ -120,8 +121,7 @@ impl Plant {
 /// The window `[T1, T2]` of inter-sample times of (2), with `0 < T1 ≤ T2 < ∞`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Window {
-    t1: f64,
-    t2: f64,
+    interval: Interval,
 }
 
 impl Window {
@@ -137,44 +137,34 @@ impl Window {
         if t1 > t2 {
             return bad("T1 must not exceed T2");
         }
-        Ok(Self { t1, t2 })
+        Ok(Self {
+            interval: Interval::new(t1, t2)?,
+        })
     }
 
     /// Minimal inter-sample time `T1`.
     pub fn t1(&self) -> f64 {
-        self.t1
+        self.interval.t1()
     }
 
     /// Maximal inter-sample time `T2`.
     pub fn t2(&self) -> f64 {
-        self.t2
+        self.interval.t2()
     }
 
     /// Whether `T1 = T2` (periodic sampling).
     pub fn is_periodic(&self) -> bool {
-        self.t1 == self.t2
+        self.interval.is_point()
     }
 
     /// `points` equally spaced inter-sample times covering `[T1, T2]` (both ends included; a single
     /// point `T1` when the window is periodic or `points ≤ 1`).
     pub fn grid(&self, points: usize) -> Vec<f64> {
-        uniform_grid(self.t1, self.t2, points)
+        self.interval.grid(points)
     }
-}
 
-/// `points` equally spaced values from `lo` to `hi` (ends exact; `[lo]` if `lo == hi` or `points ≤ 1`).
-pub(crate) fn uniform_grid(lo: f64, hi: f64, points: usize) -> Vec<f64> {
-    if lo == hi || points <= 1 {
-        return vec![lo];
+    /// The window as an [`Interval`] of `sporadic-embed`.
+    pub fn interval(&self) -> Interval {
+        self.interval
     }
-    let h = (hi - lo) / (points - 1) as f64;
-    (0..points)
-        .map(|k| {
-            if k + 1 == points {
-                hi
-            } else {
-                lo + h * k as f64
-            }
-        })
-        .collect()
 }

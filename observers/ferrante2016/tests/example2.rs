@@ -219,11 +219,6 @@ fn bound_constants_of_the_spec_certificate() {
         m.constrain(phi.le(-1.0).named(format!("Phi_{i}"))).unwrap();
     }
     m.minimize(p.trace()).unwrap();
-    if let Ok(path) = std::env::var("DUMP_SDPA") {
-        let mut c = m.compile(&SolveOptions::default()).unwrap();
-        let pr = c.problem().unwrap().clone();
-        std::fs::write(path, sporadic_sdp::write_sdpa(&pr)).unwrap();
-    }
     let sol = m.solve(&SolveOptions::default()).unwrap();
     eprintln!(
         "{:?} {} obj {:?} iters {}",

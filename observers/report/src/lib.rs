@@ -83,6 +83,39 @@ impl Claim {
         }
     }
 
+    /// A comparison where a larger value is better (e.g. a certified sampling window): within
+    /// `tolerance` of the paper's value is [`ClaimStatus::Match`], above it
+    /// [`ClaimStatus::Beats`], below it [`ClaimStatus::Differs`].
+    pub fn at_least(
+        claim: impl Into<String>,
+        paper: f64,
+        ours: f64,
+        tolerance: f64,
+        note: impl Into<String>,
+    ) -> Self {
+        let mut c = Self::compare(claim, paper, ours, tolerance, note);
+        if ours > paper + tolerance {
+            c.status = ClaimStatus::Beats;
+        }
+        c
+    }
+
+    /// A comparison where a smaller value is better (e.g. a decay-rate bound or an error):
+    /// the mirror image of [`Claim::at_least`].
+    pub fn at_most(
+        claim: impl Into<String>,
+        paper: f64,
+        ours: f64,
+        tolerance: f64,
+        note: impl Into<String>,
+    ) -> Self {
+        let mut c = Self::compare(claim, paper, ours, tolerance, note);
+        if ours < paper - tolerance {
+            c.status = ClaimStatus::Beats;
+        }
+        c
+    }
+
     /// A value of ours with no counterpart in the paper.
     pub fn not_in_paper(claim: impl Into<String>, ours: f64, note: impl Into<String>) -> Self {
         Self {
@@ -185,6 +218,22 @@ mod tests {
         assert_eq!(
             Claim::compare("a", 1.0, 1.2, 0.1, "").status,
             ClaimStatus::Differs
+        );
+        assert_eq!(
+            Claim::at_least("w", 0.5, 0.7, 0.01, "").status,
+            ClaimStatus::Beats
+        );
+        assert_eq!(
+            Claim::at_least("w", 0.5, 0.3, 0.01, "").status,
+            ClaimStatus::Differs
+        );
+        assert_eq!(
+            Claim::at_most("r", 0.5, 0.3, 0.01, "").status,
+            ClaimStatus::Beats
+        );
+        assert_eq!(
+            Claim::at_most("r", 0.5, 0.505, 0.01, "").status,
+            ClaimStatus::Match
         );
         assert_eq!(
             Claim::not_in_paper("a", 1.0, "").status,

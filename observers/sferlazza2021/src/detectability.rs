@@ -178,18 +178,8 @@ pub fn check_detectability(
     let axes: Vec<Vec<f64>> = plant
         .sensors()
         .iter()
-        .map(|s| {
-            let w = s.window();
-            if w.is_jitter_free() {
-                vec![w.t_min]
-            } else {
-                let k = settings.points_per_axis;
-                (0..k)
-                    .map(|i| w.t_min + w.width() * i as f64 / (k - 1) as f64)
-                    .collect()
-            }
-        })
-        .collect();
+        .map(|s| s.window().grid(settings.points_per_axis))
+        .collect::<Result<_, _>>()?;
     let tuples = axes
         .iter()
         .try_fold(1usize, |acc, ax| acc.checked_mul(ax.len()));

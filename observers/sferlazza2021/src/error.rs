@@ -19,6 +19,9 @@ pub enum Error {
     /// The hybrid simulator (or its figure output) failed.
     #[error("simulation: {0}")]
     Sim(#[from] SimError),
+    /// An interval helper of `sporadic-embed` rejected a window.
+    #[error("window: {0}")]
+    Interval(#[from] sporadic_embed::EmbedError),
     /// Writing a figure or a report failed.
     #[error("I/O: {0}")]
     Io(#[from] std::io::Error),
@@ -104,6 +107,15 @@ pub enum Error {
         what: String,
         /// The solver status (debug form).
         status: String,
+    },
+    /// A design returned by the SDP failed its independent a-posteriori check (e.g. `ρ(J_1) ≥ 1` or
+    /// `λ_min(Ξ_σ(T_σ)) ≤ 0` with freshly computed exponentials).
+    #[error("a-posteriori verification failed: {what} = {value:e}")]
+    VerificationFailed {
+        /// The quantity checked.
+        what: String,
+        /// Its value.
+        value: f64,
     },
     /// The §5.3 loop hit `max_iterations` without passing validation.
     #[error("design loop did not pass validation within {iterations} iterations")]

@@ -22,7 +22,7 @@ use sporadic_linalg::min_eigenvalue;
 use sporadic_sdp::lmi::{Compiled, Model, Param, SolveOptions, Var};
 
 use crate::error::Error;
-use crate::validation::ExponentialBound;
+use crate::validation::{ExponentialBound, spectral_norm};
 
 /// Settings of the β search.
 #[derive(Debug, Clone)]
@@ -156,9 +156,7 @@ pub fn exponential_bound(
         .eigenvalues()
         .map_err(|_| Error::invalid("eigenvalues of A did not converge"))?;
     let alpha = -eig.iter().map(|z| z.re).fold(f64::INFINITY, f64::min);
-    let norm = a
-        .singular_values()
-        .map_err(|_| Error::invalid("SVD of A did not converge"))?[0];
+    let norm = spectral_norm(a.as_ref())?;
     let scale = alpha.abs().max(1.0 / horizon).max(norm / 100.0);
     let mut prob = Problem::new(a, settings)?;
     let (lo, hi) = (settings.offset_range.0.ln(), settings.offset_range.1.ln());
@@ -259,10 +257,7 @@ pub fn sampled_growth(a: &Mat<f64>, horizon: f64, points: usize) -> Result<f64, 
     let h = horizon / (points.max(2) - 1) as f64;
     let mut worst = 0.0f64;
     for e in sporadic_linalg::expm_stepper(neg.as_ref(), 0.0, h, points.max(2) - 1)? {
-        let s = e
-            .singular_values()
-            .map_err(|_| Error::invalid("SVD did not converge"))?;
-        worst = worst.max(s[0]);
+        worst = worst.max(spectral_norm(e.as_ref())?);
     }
     Ok(worst)
 }

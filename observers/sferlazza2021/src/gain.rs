@@ -16,16 +16,17 @@
 
 use faer::linalg::solvers::Solve;
 use faer::{Mat, MatRef, Side};
-use sporadic_linalg::expm_scaled;
+use sporadic_linalg::{expm_scaled, sym_part};
 
 use crate::error::Error;
 use crate::plant::RoundRobinPlant;
 
-/// Symmetric part of `Eᵀ P E` (exactly symmetric output).
-pub(crate) fn congruence(e: MatRef<'_, f64>, p: MatRef<'_, f64>) -> Mat<f64> {
-    let pe = p * e;
-    let m = e.transpose() * &pe;
-    Mat::from_fn(m.nrows(), m.ncols(), |i, j| 0.5 * (m[(i, j)] + m[(j, i)]))
+/// `Eᵀ P E`, made exactly symmetric with [`sym_part`].
+///
+/// # Errors
+/// Non-finite entries.
+pub(crate) fn congruence(e: MatRef<'_, f64>, p: MatRef<'_, f64>) -> Result<Mat<f64>, Error> {
+    Ok(sym_part((e.transpose() * (p * e)).as_ref())?)
 }
 
 /// Checks that `p` is a finite, symmetric `n × n` matrix.
@@ -75,7 +76,7 @@ pub fn phi(a: MatRef<'_, f64>, p: MatRef<'_, f64>, tau: f64) -> Result<Mat<f64>,
     check_sym(p, a.nrows(), "P_σ")?;
     check_tau(tau)?;
     let e = expm_scaled(a, -tau)?;
-    Ok(congruence(e.as_ref(), p))
+    congruence(e.as_ref(), p)
 }
 
 /// Solves `X M = B` for symmetric positive definite `M` (Cholesky), i.e. `X = B M⁻¹`.
@@ -143,7 +144,7 @@ pub fn gain_closed_form(
         .map_err(|_| Error::invalid("P_σ is not positive definite"))?;
     let p_inv = llt.solve(Mat::<f64>::identity(n, n));
     let f = expm_scaled(plant.a(), tau)?; // e^{Aτ}
-    let phi_inv = congruence(f.transpose(), p_inv.as_ref()); // e^{Aτ} P⁻¹ e^{Aᵀτ}
+    let phi_inv = congruence(f.transpose(), p_inv.as_ref())?; // e^{Aτ} P⁻¹ e^{Aᵀτ}
     let c = s.c();
     let phi_inv_ct = &phi_inv * c.transpose();
     let s_mat = c * &phi_inv_ct;

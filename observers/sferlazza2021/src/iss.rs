@@ -20,11 +20,12 @@
 //! The extrema over τ are taken on uniform grids (`points_per_window` points per interval): they are
 //! sampled values of smooth functions, not rigorous bounds.
 
-use faer::{Mat, Side};
-use sporadic_linalg::expm_stepper;
+use faer::Mat;
+use sporadic_linalg::{expm_stepper, max_eigenvalue, min_eigenvalue};
 
 use crate::error::Error;
 use crate::gain::{GainSchedule, congruence, gain, jump_matrix};
+use crate::validation::spectral_norm;
 
 /// Grid resolution of the extrema.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -79,18 +80,6 @@ impl IssConstants {
     }
 }
 
-fn sym_eigs(m: &Mat<f64>) -> Result<Vec<f64>, Error> {
-    m.self_adjoint_eigenvalues(Side::Lower)
-        .map_err(|_| Error::invalid("symmetric eigenvalues did not converge"))
-}
-
-fn spectral_norm(m: &Mat<f64>) -> Result<f64, Error> {
-    let s = m
-        .singular_values()
-        .map_err(|_| Error::invalid("SVD did not converge"))?;
-    Ok(s.first().copied().unwrap_or(0.0))
-}
-
 /// Computes the constants for the observer `gains` (see the module docs).
 ///
 /// # Errors
@@ -111,9 +100,12 @@ pub fn iss_constants(gains: &GainSchedule, settings: &IssSettings) -> Result<Iss
         let tm = plant.sensor(s).window().t_max;
         let p = &gains.p()[s];
         for (i, e) in expm_stepper(neg_a.as_ref(), 0.0, tm / (k - 1) as f64, k - 1)?.enumerate() {
-            let ev = sym_eigs(&congruence(e.as_ref(), p.as_ref()))?;
-            c2 = c2.max(ev[n - 1]);
-            lam_min.push((tm * i as f64 / (k - 1) as f64, ev[0]));
+            let phi = congruence(e.as_ref(), p.as_ref())?;
+            c2 = c2.max(max_eigenvalue(phi.as_ref())?);
+            lam_min.push((
+                tm * i as f64 / (k - 1) as f64,
+                min_eigenvalue(phi.as_ref())?,
+            ));
         }
     }
     let c_f = c2;
@@ -125,22 +117,16 @@ pub fn iss_constants(gains: &GainSchedule, settings: &IssSettings) -> Result<Iss
         let p_next = &gains.p()[plant.next(s)];
         let c = plant.sensor(s).c();
         let mut worst = f64::INFINITY;
-        let pts = if w.is_jitter_free() { 1 } else { k };
-        for i in 0..pts {
-            let tau = if pts == 1 {
-                w.t_min
-            } else {
-                w.t_min + w.width() * i as f64 / (pts - 1) as f64
-            };
+        for tau in w.grid(k)? {
             let kg = gain(plant, s, p.as_ref(), tau)?;
             let jm = jump_matrix(kg.as_ref(), c);
             let phi = crate::gain::phi(plant.a(), p.as_ref(), tau)?;
-            let m = &phi - congruence(jm.as_ref(), p_next.as_ref());
-            worst = worst.min(sym_eigs(&m)?[0]);
+            let m = &phi - congruence(jm.as_ref(), p_next.as_ref())?;
+            worst = worst.min(min_eigenvalue(m.as_ref())?);
             let kp = kg.transpose() * p_next;
             c_j = c_j
-                .max(spectral_norm(&(&kp * &jm))?)
-                .max(spectral_norm(&(&kp * &kg))?);
+                .max(spectral_norm((&kp * &jm).as_ref())?)
+                .max(spectral_norm((&kp * &kg).as_ref())?);
         }
         min_m.push(worst);
     }

@@ -15,6 +15,7 @@ use crate::error::Error;
 use crate::gain::{gain, jump_matrix};
 use crate::plant::RoundRobinPlant;
 use crate::synthesis::{Synthesis, design_margin};
+use crate::validation::XiFamily;
 
 /// The constant intervals `T_σ` of a jitter-free plant.
 ///
@@ -70,15 +71,23 @@ pub struct JitterFreeDesign {
     pub p_star: f64,
     /// Gains `K̄_σ` of (24).
     pub gains: Vec<Mat<f64>>,
-    /// `ρ(J_1)` with these gains (< 1 by Theorem 2).
+    /// `ρ(J_1)` with these gains (< 1 by Theorem 2; checked).
     pub spectral_radius: f64,
+    /// `λ_min(Ξ_σ(T_σ))` of (23) at the returned `P_σ`, recomputed with fresh exponentials
+    /// (checked `> μ`, half the margin `2μ` imposed in the SDP).
+    pub min_xi_eigenvalue: Vec<f64>,
 }
 
 /// Jitter-free design: solve (23) in the form (47) with margin `mu` and select the gains (24).
 ///
+/// The result is re-verified independently of the SDP: `λ_min(Ξ_σ(T_σ)) > μ` with freshly computed
+/// exponentials (a safety factor 2 on the imposed margin `2μ`) and `ρ(J_1) < 1` for the gains (24)
+/// (Theorem 2 / Proposition 3).
+///
 /// # Errors
 /// A plant with jitter, `μ ≤ 0`, [`Error::Infeasible`] when (23) has no solution (then by
-/// Proposition 4 no observer achieves Goal 1), or a solver failure.
+/// Proposition 4 no observer achieves Goal 1), a solver failure, or
+/// [`Error::VerificationFailed`] when an a-posteriori check fails.
 pub fn design(
     plant: &RoundRobinPlant,
     mu: f64,
@@ -90,12 +99,34 @@ pub fn design(
     let gains = (0..plant.num_sensors())
         .map(|s| gain(plant, s, res.p[s].as_ref(), t[s]))
         .collect::<Result<Vec<_>, _>>()?;
+    let min_xi_eigenvalue = (0..plant.num_sensors())
+        .map(|s| XiFamily::new(plant, &res.p, s)?.min_eigenvalue(t[s]))
+        .collect::<Result<Vec<_>, _>>()?;
+    for (s, &l) in min_xi_eigenvalue.iter().enumerate() {
+        if !(l > mu) {
+            return Err(Error::VerificationFailed {
+                what: format!(
+                    "λ_min(Ξ_{}(T_{})) of (23) (must exceed μ = {mu})",
+                    s + 1,
+                    s + 1
+                ),
+                value: l,
+            });
+        }
+    }
     let rho = spectral_radius(monodromy(plant, &gains, &t)?.as_ref())?;
+    if !(rho < 1.0) {
+        return Err(Error::VerificationFailed {
+            what: "ρ(J_1) of the monodromy (19) with the gains (24) (must be < 1)".into(),
+            value: rho,
+        });
+    }
     Ok(JitterFreeDesign {
         p: res.p,
         p_star: res.p_star,
         gains,
         spectral_radius: rho,
+        min_xi_eigenvalue,
     })
 }
 

@@ -12,6 +12,7 @@
 //! `τ ∈ [T_mσ, T_Mσ]`**. The window of sensor σ therefore bounds the interval *before* its sample.
 
 use faer::{Mat, MatRef};
+use sporadic_embed::Interval;
 use sporadic_linalg::null_space;
 
 use crate::error::Error;
@@ -50,6 +51,15 @@ impl Window {
     /// Whether `tau` lies in the window.
     pub fn contains(&self, tau: f64) -> bool {
         self.t_min <= tau && tau <= self.t_max
+    }
+
+    /// `points` equally spaced values from `T_mσ` to `T_Mσ` (both included; the single point `T_mσ`
+    /// for a jitter-free window or `points < 2`), by [`sporadic_embed::Interval::grid`].
+    ///
+    /// # Errors
+    /// A window that is not `0 ≤ T_mσ ≤ T_Mσ < ∞`.
+    pub fn grid(&self, points: usize) -> Result<Vec<f64>, Error> {
+        Ok(Interval::new(self.t_min, self.t_max)?.grid(points))
     }
 }
 

@@ -77,6 +77,20 @@ impl ExponentialBound {
     }
 }
 
+/// Spectral norm `‖M‖₂` (largest singular value; 0 for an empty matrix).
+///
+/// # Errors
+/// The singular value iteration did not converge.
+pub(crate) fn spectral_norm(m: MatRef<'_, f64>) -> Result<f64, Error> {
+    if m.nrows() == 0 || m.ncols() == 0 {
+        return Ok(0.0);
+    }
+    let sv = m
+        .singular_values()
+        .map_err(|_| Error::invalid("SVD did not converge"))?;
+    Ok(sv[0])
+}
+
 /// Grid spacing (largest allowed `τ_{k+1} − τ_k`) for sensor `sigma` under `policy`, given the margin μ,
 /// `p_norm` (an upper bound of `‖P_σ‖₂` over all σ, i.e. p* of (47)) and the exponential bound.
 ///
@@ -98,21 +112,12 @@ pub fn grid_spacing(
     if sigma >= plant.num_sensors() {
         return Err(Error::invalid(format!("sensor index {sigma} out of range")));
     }
-    let spec_norm = |m: MatRef<'_, f64>| -> Result<f64, Error> {
-        if m.nrows() == 0 || m.ncols() == 0 {
-            return Ok(0.0);
-        }
-        let sv = m
-            .singular_values()
-            .map_err(|_| Error::invalid("SVD did not converge"))?;
-        Ok(sv[0])
-    };
     let growth = bound.at(plant.t_max());
     let spacing = match policy {
-        GridPolicy::Paper => 2.0 * mu / (p_norm * spec_norm(plant.a())? * growth),
+        GridPolicy::Paper => 2.0 * mu / (p_norm * spectral_norm(plant.a())? * growth),
         GridPolicy::Rigorous => {
-            let cp = spec_norm(plant.sensor(sigma).c_perp())?;
-            2.0 * mu / (2.0 * p_norm * spec_norm(plant.a())? * growth * growth * cp * cp)
+            let cp = spectral_norm(plant.sensor(sigma).c_perp())?;
+            2.0 * mu / (2.0 * p_norm * spectral_norm(plant.a())? * growth * growth * cp * cp)
         }
         GridPolicy::Spacing(s) => s,
     };
@@ -973,5 +978,58 @@ mod tests {
             1e-3
         );
         assert!(grid_spacing(&plant, 0, GridPolicy::Paper, -1.0, 10.0, &b).is_err());
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(16))]
+        /// The fast validation (stepper, Schur complement + Cholesky pass/fail, eigenvalues only at
+        /// candidate minimisers, parallel chunks) gives the naive per-point answer on random plants,
+        /// Lyapunov matrices and levels: same failure count, and the same minimum and minimiser
+        /// whenever some point fails.
+        #[test]
+        fn fast_validation_equals_naive(
+            n in 2usize..5,
+            av in proptest::collection::vec(-2.0f64..2.0, 16),
+            gv in proptest::collection::vec(-1.0f64..1.0, 32),
+            t_min in 0.05f64..0.3,
+            width in 0.05f64..0.5,
+            level in 0.0f64..1.0,
+            chunk in 5usize..60,
+        ) {
+            let a = Mat::from_fn(n, n, |i, j| av[i * n + j]);
+            let c = Mat::from_fn(1, n, |_, j| if j == 0 { 1.0 } else { 0.3 * av[j] });
+            let plant =
+                RoundRobinPlant::new(a, vec![(c, Window::new(t_min, t_min + width))]).unwrap();
+            let spd = |off: usize| {
+                let g = Mat::from_fn(n, n, |i, j| gv[off + i * n + j]);
+                &g * g.transpose() + Mat::<f64>::identity(n, n) * 0.2
+            };
+            let p = vec![spd(0)];
+            let fam = XiFamily::new(&plant, &p, 0).unwrap();
+            let grid = UniformGrid::covering(plant.sensor(0).window(), width / 300.0, 1e9).unwrap();
+            let (_, lmin, _) = validate_naive(&fam, grid, 0.0).unwrap();
+            // Levels from "every point fails" to "no point fails".
+            let mu = lmin + level * (max_on_grid(&fam, grid) - lmin) * 1.2 - 1e-3;
+            let (nf, l, t) = validate_naive(&fam, grid, mu).unwrap();
+            let s = ValidationSettings { chunk_points: chunk, sample_stride: 3, ..Default::default() };
+            let v = fam.validate_grid(grid, mu, &s).unwrap();
+            proptest::prop_assert_eq!(v.failures, nf);
+            if nf > 0 {
+                proptest::prop_assert!((v.min_eigenvalue - l).abs() <= 1e-10 * l.abs().max(1.0));
+                // Ties (up to rounding) may pick another minimiser; it must be optimal to rounding.
+                let at = fam.min_eigenvalue(v.argmin_tau).unwrap();
+                proptest::prop_assert!(
+                    (v.argmin_tau - t).abs() <= 1e-12 || (at - l).abs() <= 1e-10 * l.abs().max(1.0)
+                );
+            } else {
+                proptest::prop_assert!(v.min_eigenvalue > mu);
+            }
+        }
+    }
+
+    fn max_on_grid(fam: &XiFamily, grid: UniformGrid) -> f64 {
+        (0..grid.points)
+            .map(|k| fam.min_eigenvalue(grid.tau(k)).unwrap())
+            .fold(f64::NEG_INFINITY, f64::max)
     }
 }

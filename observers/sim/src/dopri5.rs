@@ -8,11 +8,20 @@
 //! §II.4–II.6 and their code DOPRI5 (dense-output coefficients `d1…d7` of Shampine 1986 as used there).
 //!
 //! Events `g(t, x) = 0` are detected by a sign change of `g` between the ends of an accepted step and
-//! located on the dense output with Brent's method ([`crate::event::brent`]) to a relative tolerance
-//! `event_tol` in time (`event_tol · min(|t_n|, |t_{n+1}|)` absolute, plus rounding); the integration
-//! then stops exactly at the event. The time is as accurate as the dense output (≈ the integration
-//! tolerance) allows. Two crossings inside one step cancel and go unseen: bound the step with `h_max`
-//! when `g` can oscillate faster than the solution.
+//! located on the dense output with Brent's method ([`crate::event::brent`]) to `event_tol` relative to
+//! the bracket, i.e. to `event_tol · (t_{n+1} − t_n)` absolute (plus the rounding `2ε|t|` of the time
+//! itself), so that the accuracy does not degrade when `|t|` is large; the integration then stops
+//! exactly at the event. The time is as accurate as the dense output (≈ the integration tolerance)
+//! allows. Two crossings inside one step cancel and go unseen: bound the step with `h_max` when `g` can
+//! oscillate faster than the solution.
+//!
+//! The right-hand side is only evaluated at times inside `[t0, t_end]`, and the stages of the step that
+//! ends at `t_end` that belong to `t_end` are evaluated at exactly `t_end`: a caller whose `f` jumps at
+//! `t_end` can therefore hand the integrator the left limit `f(t_end⁻)` there
+//! ([`crate::flow::integrate_flow`] does). A remaining interval `t_end − t` below the time resolution
+//! is covered by one step of exactly that length (it lands on `t_end`), never reported as a step-size
+//! underflow: that error is reserved for steps the error control itself has shrunk to the rounding
+//! level of `t`.
 
 use crate::error::{SimError, check_finite};
 use crate::event::{Event, brent};
@@ -57,6 +66,10 @@ const D5: f64 = 701980252875.0 / 199316789632.0;
 const D6: f64 = -1453857185.0 / 822651844.0;
 const D7: f64 = 69997945.0 / 29380423.0;
 
+/// A remembered step size is reused by the next call only if it exceeds this many units of the time
+/// resolution `ε|t|` (smaller ones can only come from slivers and would risk a step-size underflow).
+const MEMORY_RESOLUTION: f64 = 1e4;
+
 /// Settings of the integrator.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Dopri5Options {
@@ -72,7 +85,8 @@ pub struct Dopri5Options {
     pub max_steps: usize,
     /// If set, integrate with this constant step and no error control (for order studies).
     pub fixed_step: Option<f64>,
-    /// Relative tolerance of event times.
+    /// Tolerance of event times relative to the length of the step whose end points bracket the event
+    /// (the absolute tolerance is `event_tol · h`, plus the rounding `2ε|t|` of the time itself).
     pub event_tol: f64,
 }
 
@@ -248,12 +262,14 @@ impl Dopri5 {
     }
 
     /// Hairer's initial step heuristic (Solving ODEs I, §II.4); `k[0]` holds `f(t0, y0)`.
+    /// The trial evaluation is at `min(t0 + h, t_end)`.
     fn initial_step<F: Fn(f64, &[f64], &mut [f64])>(
         &mut self,
         f: &F,
         t0: f64,
         y0: &[f64],
         hmax: f64,
+        t_end: f64,
     ) -> f64 {
         let (rtol, atol) = (self.opts.rtol, self.opts.atol);
         let mut dnf = 0.0;
@@ -272,7 +288,7 @@ impl Dopri5 {
         for i in 0..self.n {
             self.ys[i] = y0[i] + h * self.k[0][i];
         }
-        f(t0 + h, &self.ys, &mut self.tmp);
+        f((t0 + h).min(t_end), &self.ys, &mut self.tmp);
         self.stats.rhs_evals += 1;
         let mut der2 = 0.0;
         for i in 0..self.n {
@@ -329,9 +345,16 @@ impl Dopri5 {
         f(t, x, &mut self.k[0]);
         self.stats.rhs_evals += 1;
         check_finite(&self.k[0], "flow map at the initial state")?;
-        let mut h = match fixed.or(self.last_h).or(self.opts.h_init) {
-            Some(h) => h.min(hmax),
-            None => self.initial_step(f, t, x, hmax),
+        // The first trial step is the remembered one, capped by h_max only: the end of the interval is
+        // handled by the `last` logic below, so that a step shortened to fit a short interval (e.g. a
+        // sliver of one rounding error before a sampling instant) does not overwrite the memory. A
+        // remembered step at the rounding level of t says nothing useful here: restart the heuristic.
+        let remembered = self
+            .last_h
+            .filter(|&h| h > MEMORY_RESOLUTION * t.abs() * uround);
+        let mut h = match fixed.or(remembered).or(self.opts.h_init) {
+            Some(h) => h.min(self.opts.h_max),
+            None => self.initial_step(f, t, x, hmax, t_end),
         };
         let mut g_prev: Vec<f64> = events.iter().map(|e| (e.g)(t, x)).collect();
         let mut facold: f64 = 1e-4;
@@ -344,16 +367,20 @@ impl Dopri5 {
                     max_steps: self.opts.max_steps,
                 });
             }
-            if 0.1 * h.abs() <= t.abs() * uround {
+            // A step that would end within 1 % of its length before t_end is stretched to land on it.
+            let last = t + 1.01 * h >= t_end;
+            // Underflow is about the step-size control: a last step may be arbitrarily short because the
+            // remaining interval is (e.g. a sampling instant one rounding error before the horizon).
+            if !last && 0.1 * h.abs() <= t.abs() * uround {
                 return Err(SimError::StepSizeUnderflow { t, h });
             }
-            let last = t + 1.01 * h >= t_end;
             let h_proposed = h;
             if last {
                 h = t_end - t;
             }
+            let t_new = if last { t_end } else { t + h };
             steps += 1;
-            self.stage_all(f, t, x, h);
+            self.stage_all(f, t, x, h, t_new);
             // Error estimate.
             let err = if fixed.is_some() {
                 0.0
@@ -392,7 +419,6 @@ impl Dopri5 {
                 // Accepted step.
                 facold = err.max(1e-4);
                 self.stats.accepted += 1;
-                let t_new = if last { t_end } else { t + h };
                 self.build_dense(x, h);
                 // Events.
                 let mut hit: Option<(usize, f64)> = None;
@@ -477,37 +503,47 @@ impl Dopri5 {
         }
     }
 
-    /// Evaluates the seven stages of one step of size `h` from `(t, y)`; `k[0]` must hold `f(t, y)`.
-    /// Leaves the 5th-order solution in `y1` and `f(t + h, y1)` in `k[6]`.
-    fn stage_all<F: Fn(f64, &[f64], &mut [f64])>(&mut self, f: &F, t: f64, y: &[f64], h: f64) {
+    /// Evaluates the seven stages of one step of size `h` from `(t, y)` to `t_new` (`= t + h` up to
+    /// rounding); `k[0]` must hold `f(t, y)`. Stage times are clamped to `t_new` and the two stages with
+    /// `c = 1` are evaluated at exactly `t_new`. Leaves the 5th-order solution in `y1` and `f(t_new, y1)`
+    /// in `k[6]`.
+    fn stage_all<F: Fn(f64, &[f64], &mut [f64])>(
+        &mut self,
+        f: &F,
+        t: f64,
+        y: &[f64],
+        h: f64,
+        t_new: f64,
+    ) {
         let n = self.n;
+        let at = |c: f64| (t + c * h).min(t_new);
         let [k1, k2, k3, k4, k5, k6, k7] = &mut self.k;
         for i in 0..n {
             self.ys[i] = y[i] + h * A21 * k1[i];
         }
-        f(t + C2 * h, &self.ys, k2);
+        f(at(C2), &self.ys, k2);
         for i in 0..n {
             self.ys[i] = y[i] + h * (A31 * k1[i] + A32 * k2[i]);
         }
-        f(t + C3 * h, &self.ys, k3);
+        f(at(C3), &self.ys, k3);
         for i in 0..n {
             self.ys[i] = y[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i]);
         }
-        f(t + C4 * h, &self.ys, k4);
+        f(at(C4), &self.ys, k4);
         for i in 0..n {
             self.ys[i] = y[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i]);
         }
-        f(t + C5 * h, &self.ys, k5);
+        f(at(C5), &self.ys, k5);
         for i in 0..n {
             self.ys[i] =
                 y[i] + h * (A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i]);
         }
-        f(t + h, &self.ys, k6);
+        f(t_new, &self.ys, k6);
         for i in 0..n {
             self.y1[i] =
                 y[i] + h * (A71 * k1[i] + A73 * k3[i] + A74 * k4[i] + A75 * k5[i] + A76 * k6[i]);
         }
-        f(t + h, &self.y1, k7);
+        f(t_new, &self.y1, k7);
         self.stats.rhs_evals += 6;
     }
 
@@ -541,7 +577,8 @@ impl Dopri5 {
         g0: f64,
         g1: f64,
     ) -> Result<f64, SimError> {
-        let xtol = self.opts.event_tol * t.abs().min(t_new.abs());
+        // Relative to the bracket, not to |t|: at t = 1e6 a |t|-relative 1e-12 would be 1e-6 absolute.
+        let xtol = self.opts.event_tol * (t_new - t);
         let r = [
             &self.rc[0][..],
             &self.rc[1][..],
@@ -724,6 +761,76 @@ mod tests {
             (t - expect).abs() <= 1e-11 * expect,
             "falling crossing at {t}"
         );
+    }
+
+    #[test]
+    fn event_location_far_from_the_origin() {
+        // Regression: the event tolerance was event_tol·|t| = 1e-6 absolute at t = 1e6. It is relative to
+        // the bracket now, so the crossing of x = cos(t − t0) at t0 + π/2 is found to the resolution of t
+        // (ulp(1e6) = 1.2e-10), as it is at t0 = 0 (`event_harmonic_oscillator`).
+        let f = |_t: f64, x: &[f64], dx: &mut [f64]| {
+            dx[0] = x[1];
+            dx[1] = -x[0];
+        };
+        let g = |_t: f64, x: &[f64]| x[0];
+        let mut d = Dopri5::new(Dopri5Options::with_tolerances(1e-13, 1e-15)).unwrap();
+        for t0 in [0.0, 1e3, 1e6] {
+            let mut x = [1.0, 0.0];
+            let ev = [Event::new(&g, Direction::Falling)];
+            let (t, out) = d.integrate(&f, t0, &mut x, t0 + 10.0, &ev, |_| {}).unwrap();
+            assert!(matches!(out, Outcome::Event { index: 0, .. }));
+            let expect = t0 + std::f64::consts::FRAC_PI_2;
+            // Dense-output error (~1e-12) plus two units of the resolution of t (the old tolerance left
+            // 1.4e-9 at t0 = 1e6).
+            assert!(
+                (t - expect).abs() <= 1e-11 + 2.0 * f64::EPSILON * expect,
+                "t0 = {t0}: crossing at {t}, error {:e}",
+                t - expect
+            );
+            d.reset_step();
+        }
+    }
+
+    #[test]
+    fn interval_of_one_rounding_error_lands_on_its_end() {
+        // Regression (found by sporadic-etienne2017): a sampling instant accumulated as 15 × 0.3 =
+        // 4.499999999999999 leaves one ulp to the horizon 4.5; integrating over it raised
+        // StepSizeUnderflow. It is one step of exactly that length now.
+        let f = |_t: f64, x: &[f64], dx: &mut [f64]| dx[0] = -x[0].sin();
+        let mut d = Dopri5::new(Dopri5Options::default()).unwrap();
+        let t15 = (0..15).fold(0.0, |t, _| t + 0.3);
+        assert!(t15 < 4.5 && 4.5 - t15 <= 4.5 * f64::EPSILON);
+        for (t0, t1) in [(t15, 4.5), (1e6, 1e6f64.next_up()), (0.1, 0.1f64.next_up())] {
+            let mut x = [1.0];
+            let (t, out) = d.integrate(&f, t0, &mut x, t1, &[], |_| {}).unwrap();
+            assert_eq!((t, out), (t1, Outcome::Reached));
+            assert!((x[0] - (1.0 - 1f64.sin() * (t1 - t0))).abs() <= 4.0 * f64::EPSILON);
+        }
+        // Genuine underflow (the step-size control shrinks steps to the resolution of t) is still an error.
+        let blow = |_t: f64, x: &[f64], dx: &mut [f64]| dx[0] = x[0] * x[0];
+        assert!(matches!(
+            d.integrate(&blow, 0.0, &mut [1.0], 2.0, &[], |_| {}),
+            Err(SimError::StepSizeUnderflow { .. }) | Err(SimError::NonFinite { .. })
+        ));
+    }
+
+    #[test]
+    fn rhs_is_only_evaluated_inside_the_interval() {
+        // The stages of the last step are evaluated at exactly t_end (not t + h, which may round past it),
+        // so that a caller can hand the integrator the left limit of a discontinuous f there.
+        use std::cell::RefCell;
+        for (t0, t1) in [(0.1, 0.3), (0.7, 1.1), (1e6 + 0.1, 1e6 + 0.3), (0.0, 1e-3)] {
+            let seen = RefCell::new(Vec::new());
+            let f = |t: f64, x: &[f64], dx: &mut [f64]| {
+                seen.borrow_mut().push(t);
+                dx[0] = x[0].cos();
+            };
+            let mut d = Dopri5::new(Dopri5Options::default()).unwrap();
+            d.integrate(&f, t0, &mut [0.5], t1, &[], |_| {}).unwrap();
+            let seen = seen.into_inner();
+            assert!(seen.iter().all(|&t| (t0..=t1).contains(&t)), "{t0}..{t1}");
+            assert!(seen.contains(&t1));
+        }
     }
 
     #[test]

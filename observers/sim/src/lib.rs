@@ -54,7 +54,9 @@ pub use figures::{
     FigureStyle, PlotSpec, Series, plot_components, plot_eigen_curves, plot_error_norm,
     plot_hybrid_time, plot_interval_bounds,
 };
-pub use flow::{EmptyFlow, Flow, FnFlow, InputSignal, LtiFlow, LtiPropagator, TransitionTable};
+pub use flow::{
+    EmptyFlow, Flow, FnFlow, InputSignal, LtiFlow, LtiPropagator, TransitionTable, integrate_flow,
+};
 pub use noise::{BoundedUniform, Gaussian, NoiseSource, Sinusoidal, ZeroNoise};
 pub use rng::SimRng;
 pub use sampling::{

@@ -105,9 +105,17 @@ impl PiecewiseConstant {
         self.starts.partition_point(|&s| s <= t).saturating_sub(1)
     }
 
-    /// The value at time `t`.
+    /// The value at time `t` (right-continuous: at a switching time, the new value).
     pub fn value(&self, t: f64) -> &[f64] {
         let k = self.segment(t);
+        &self.values[k * self.dim..(k + 1) * self.dim]
+    }
+
+    /// The left limit `u(t⁻)`: at a switching time `s_k` the value of the segment that ends there,
+    /// elsewhere the same as [`PiecewiseConstant::value`]. This is the input of a flow interval that
+    /// ends at `t`.
+    pub fn left_limit(&self, t: f64) -> &[f64] {
+        let k = self.starts.partition_point(|&s| s < t).saturating_sub(1);
         &self.values[k * self.dim..(k + 1) * self.dim]
     }
 
@@ -248,6 +256,13 @@ mod tests {
         assert_eq!(p.value(0.99), &[1.0]);
         assert_eq!(p.value(1.0), &[2.0]);
         assert_eq!(p.value(7.0), &[3.0]);
+        // Left limits: the previous segment's value exactly at a switch, the value elsewhere.
+        assert_eq!(p.left_limit(1.0), &[1.0]);
+        assert_eq!(p.left_limit(2.5), &[2.0]);
+        assert_eq!(p.left_limit(1.7), &[2.0]);
+        assert_eq!(p.left_limit(0.0), &[1.0]);
+        assert_eq!(p.left_limit(-3.0), &[1.0]);
+        assert_eq!(p.left_limit(1f64.next_up()), &[2.0]);
         assert_eq!(p.next_breakpoint(0.0), Some(1.0));
         assert_eq!(p.next_breakpoint(1.0), Some(2.5));
         assert_eq!(p.next_breakpoint(2.5), None);

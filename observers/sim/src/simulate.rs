@@ -14,13 +14,24 @@
 //!   ([`crate::Dopri5`]), restarted at the samples and at input switching times, and state-triggered
 //!   samples are located on its dense output.
 //!
-//! Sample times are `t_k = t_{k−1} + interval_k`; a sample falling exactly on the horizon is taken.
+//! **Limits at switching and sampling times.** Each flow interval is integrated with the dynamics valid
+//! on it: inputs that switch at `b` enter with their left limit `u(b⁻)` at the end of the interval that
+//! ends at `b` and with `u(b) = u(b⁺)` from `b` on ([`crate::flow::integrate_flow`]). At a sample `t_k`
+//! the output and the jump map see the pre-jump state `(x(t_k), x̂(t_k⁻))`, reached with those left
+//! limits; the next flow starts from the post-jump state with the right limits. A sample and a switch
+//! at the same instant are therefore ordered flow → jump → flow with the new input, whichever the
+//! engine.
+//!
+//! Sample times are `t_k = t_{k−1} + interval_k`; a sample falling exactly on the horizon is taken. Sample
+//! times accumulate rounding errors, so a scheduled time may fall one rounding error short of the horizon
+//! or of an input switch: the flow over such a sliver is one integrator step that lands exactly on the
+//! scheduled time (never a step-size underflow).
 
 use crate::arc::HybridArc;
 use crate::dopri5::{Dopri5, Dopri5Options, Dopri5Stats, Outcome};
 use crate::error::{SimError, check_finite, check_len};
 use crate::event::{Direction, Event};
-use crate::flow::{Flow, LtiPropagator};
+use crate::flow::{Flow, LtiPropagator, integrate_flow};
 use crate::sampling::{SampleContext, SamplingRule, Trigger};
 use crate::system::{HybridObserver, Jump, NoPlant, Observer, Plant, SampleEvent};
 
@@ -240,6 +251,39 @@ pub fn simulate_hybrid<F: Flow, J: Jump, R: SamplingRule + ?Sized>(
 /// Event function of a state-triggered rule, in the joint state.
 type Guard<'a> = &'a dyn Fn(f64, &[f64]) -> f64;
 
+/// The flow of the joint state `(x, x̂)`: plant and observer flow side by side; the breakpoints are
+/// those of both.
+struct JointFlow<'a> {
+    plant: &'a dyn Flow,
+    observer: &'a dyn Flow,
+    np: usize,
+}
+
+impl Flow for JointFlow<'_> {
+    fn dim(&self) -> usize {
+        self.np + self.observer.dim()
+    }
+    fn rhs(&self, t: f64, z: &[f64], dz: &mut [f64]) {
+        let (dp, dq) = dz.split_at_mut(self.np);
+        self.plant.rhs(t, &z[..self.np], dp);
+        self.observer.rhs(t, &z[self.np..], dq);
+    }
+    fn rhs_left(&self, t: f64, z: &[f64], dz: &mut [f64]) {
+        let (dp, dq) = dz.split_at_mut(self.np);
+        self.plant.rhs_left(t, &z[..self.np], dp);
+        self.observer.rhs_left(t, &z[self.np..], dq);
+    }
+    fn next_breakpoint(&self, t: f64) -> Option<f64> {
+        [
+            self.plant.next_breakpoint(t),
+            self.observer.next_breakpoint(t),
+        ]
+        .into_iter()
+        .flatten()
+        .reduce(f64::min)
+    }
+}
+
 /// Exact propagators of the plant and observer flows (`None` for an empty part).
 struct ExactEngine {
     plant: Option<LtiPropagator>,
@@ -456,21 +500,19 @@ impl<P: Plant + ?Sized, O: Observer + ?Sized> Driver<'_, P, O> {
         }
     }
 
-    /// Integrates the joint flow to `t_to` (stopping at the flows' breakpoints), optionally with the
-    /// state-triggered guard. Returns whether the guard fired (then the current time is the event time).
+    /// Integrates the joint flow to `t_to` (stopping at the flows' breakpoints, with the inputs valid on
+    /// each flow interval: [`integrate_flow`]), optionally with the state-triggered guard. Returns whether
+    /// the guard fired (then the current time is the event time).
     fn flow_adaptive(
         &mut self,
         dp: &mut Dopri5,
         t_to: f64,
         guard: Option<Guard<'_>>,
     ) -> Result<bool, SimError> {
-        let np = self.np;
-        let pf = self.plant.flow();
-        let of = self.observer.flow();
-        let rhs = |t: f64, z: &[f64], dz: &mut [f64]| {
-            let (dp_, do_) = dz.split_at_mut(np);
-            pf.rhs(t, &z[..np], dp_);
-            of.rhs(t, &z[np..], do_);
+        let joint = JointFlow {
+            plant: self.plant.flow(),
+            observer: self.observer.flow(),
+            np: self.np,
         };
         let events: Vec<Event<'_>> = guard
             .map(|g| Event::new(g, Direction::Rising))
@@ -484,53 +526,40 @@ impl<P: Plant + ?Sized, O: Observer + ?Sized> Driver<'_, P, O> {
         let j = self.j;
         let arc = &mut self.arc;
         let mut buf = vec![0.0; self.z.len()];
-        while self.t < t_to {
-            let bp = [pf.next_breakpoint(self.t), of.next_breakpoint(self.t)]
-                .into_iter()
-                .flatten()
-                .fold(t_to, f64::min);
-            let seg_end = bp.min(t_to);
-            let (t_reached, outcome) = dp.integrate(
-                &rhs,
-                self.t,
-                &mut self.z,
-                seg_end,
-                &events,
-                |s| match record {
-                    Record::JumpsOnly => {}
-                    Record::Steps => {
-                        if s.t_end < t_to {
-                            s.eval(s.t_end, &mut buf);
-                            arc.push_unchecked(s.t_end, j, &buf);
-                        }
+        let (t_reached, outcome) = integrate_flow(
+            &joint,
+            dp,
+            self.t,
+            &mut self.z,
+            t_to,
+            &events,
+            |s| match record {
+                Record::JumpsOnly => {}
+                Record::Steps => {
+                    if s.t_end < t_to {
+                        s.eval(s.t_end, &mut buf);
+                        arc.push_unchecked(s.t_end, j, &buf);
                     }
-                    Record::Every(_) => {
-                        let k0 = ((s.t_start - t0_grid) / dt).floor() as i64 + 1;
-                        let mut k = k0;
-                        loop {
-                            let g = t0_grid + k as f64 * dt;
-                            if g > s.t_end || g >= t_to {
-                                break;
-                            }
-                            if g > s.t_start {
-                                s.eval(g, &mut buf);
-                                arc.push_unchecked(g, j, &buf);
-                            }
-                            k += 1;
+                }
+                Record::Every(_) => {
+                    let k0 = ((s.t_start - t0_grid) / dt).floor() as i64 + 1;
+                    let mut k = k0;
+                    loop {
+                        let g = t0_grid + k as f64 * dt;
+                        if g > s.t_end || g >= t_to {
+                            break;
                         }
+                        if g > s.t_start {
+                            s.eval(g, &mut buf);
+                            arc.push_unchecked(g, j, &buf);
+                        }
+                        k += 1;
                     }
-                },
-            )?;
-            self.t = t_reached;
-            if let Outcome::Event { .. } = outcome {
-                return Ok(true);
-            }
-            if seg_end < t_to {
-                // Input switch: the integrator restarts with a fresh step-size estimate.
-                dp.reset_step();
-            }
-        }
-        Ok(false)
+                }
+            },
+        )?;
+        self.t = t_reached;
+        Ok(matches!(outcome, Outcome::Event { .. }))
     }
 
     /// Records the current state unless a sample with the same hybrid time was just stored (e.g. the

@@ -3,8 +3,8 @@
 use faer::{Mat, mat};
 use proptest::prelude::*;
 use sporadic_sim::{
-    Dopri5, Dopri5Options, Exosystem, Flow, InputSignal, LtiFlow, PiecewiseConstant,
-    TransitionTable,
+    Dopri5, Dopri5Options, Exosystem, InputSignal, LtiFlow, PiecewiseConstant, TransitionTable,
+    integrate_flow,
 };
 
 /// Mass–spring system of Ferrante et al. (2016), Example 2, augmented with the constant sensor bias.
@@ -77,14 +77,9 @@ fn piecewise_constant_input_matches_van_loan_zoh() {
 /// Integrates `flow` with DP5 from `x0` over `[0, t_end]`, stopping at the flow's breakpoints.
 fn integrate(flow: &LtiFlow, x0: &[f64], t_end: f64) -> Vec<f64> {
     let mut dp = Dopri5::new(Dopri5Options::with_tolerances(1e-12, 1e-14)).unwrap();
-    let f = |t: f64, x: &[f64], dx: &mut [f64]| flow.rhs(t, x, dx);
     let mut x = x0.to_vec();
-    let mut t = 0.0;
-    while t < t_end {
-        let stop = flow.next_breakpoint(t).map_or(t_end, |b| b.min(t_end));
-        t = dp.integrate(&f, t, &mut x, stop, &[], |_| {}).unwrap().0;
-        dp.reset_step();
-    }
+    let (t, _) = integrate_flow(flow, &mut dp, 0.0, &mut x, t_end, &[], |_| {}).unwrap();
+    assert_eq!(t, t_end);
     x
 }
 

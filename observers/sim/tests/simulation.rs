@@ -514,6 +514,166 @@ fn invalid_simulation_inputs() {
     assert!((x[0] - 0.25 * 2f64.exp()).abs() < 1e-13);
 }
 
+/// `ẋ = u(t)` with a piecewise-constant `u` given to the simulator as a user flow (not an `LtiFlow`).
+struct HeldInput(PiecewiseConstant);
+
+impl sporadic_sim::Flow for HeldInput {
+    fn dim(&self) -> usize {
+        1
+    }
+    fn rhs(&self, t: f64, _x: &[f64], dx: &mut [f64]) {
+        dx[0] = self.0.value(t)[0];
+    }
+    fn next_breakpoint(&self, t: f64) -> Option<f64> {
+        self.0.next_breakpoint(t)
+    }
+}
+
+#[test]
+fn inputs_are_left_limited_at_switches() {
+    // Regression: the adaptive driver evaluated the last stages of a step ending at a switch of u with
+    // the NEXT segment's value (u is right-continuous), which made the error control reject steps down
+    // to ~1e-9 and left an error of ~1e-8 in x. ẋ = u with u = 1 on [0, 1), 100 on [1, 2), −50 after:
+    // x(t) = t, then 1 + 100(t − 1), then 101 − 50(t − 2) — piecewise linear, so DP5 must be exact.
+    let u = || {
+        PiecewiseConstant::new(
+            vec![0.0, 1.0, 2.0],
+            vec![vec![1.0], vec![100.0], vec![-50.0]],
+        )
+        .unwrap()
+    };
+    let exact = |t: f64| {
+        if t <= 1.0 {
+            t
+        } else if t <= 2.0 {
+            1.0 + 100.0 * (t - 1.0)
+        } else {
+            101.0 - 50.0 * (t - 2.0)
+        }
+    };
+    let identity =
+        |_ev: &SampleEvent, _y: &[f64], _x: &mut [f64]| -> Result<(), SimError> { Ok(()) };
+    // Period 0.5: samples on the switches (flow → jump → flow with the new input); 0.75: switches inside
+    // flow intervals. Record::Steps also stores the state at every switch (end of an integrator call).
+    for period in [0.5, 0.75] {
+        let opts = SimOptions::new(3.0).record(Record::Steps);
+        let sim = simulate_hybrid(
+            HeldInput(u()),
+            identity,
+            &mut Periodic::new(period).unwrap(),
+            &[0.0],
+            &opts,
+        )
+        .unwrap();
+        assert!(!sim.exact);
+        for (ht, x) in sim.arc.iter() {
+            assert!(
+                (x[0] - exact(ht.t)).abs() <= 1e-12 * exact(ht.t).abs().max(1.0),
+                "period {period}: x({}) = {} vs {}",
+                ht.t,
+                x[0],
+                exact(ht.t)
+            );
+        }
+        for t in [1.0, 2.0] {
+            let before = sim.arc.value_at(t, JumpSide::Before).unwrap()[0];
+            assert!(
+                (before - exact(t)).abs() <= 1e-12 * exact(t),
+                "x({t}⁻) = {before}"
+            );
+        }
+        assert_eq!(sim.integrator_stats.rejected, 0, "period {period}");
+    }
+    // The same through an LtiFlow: the adaptive path (exact left limits) against the exact engine.
+    let lti = || {
+        LtiFlow::new(mat![[-0.5]].as_ref())
+            .unwrap()
+            .with_input(mat![[1.0]].as_ref(), InputSignal::PiecewiseConstant(u()))
+            .unwrap()
+    };
+    let mut opts = SimOptions::new(3.0);
+    let exact_run = simulate_hybrid(
+        lti(),
+        identity,
+        &mut Periodic::new(0.5).unwrap(),
+        &[2.0],
+        &opts,
+    )
+    .unwrap();
+    opts.force_integrator = true;
+    opts.integrator.rtol = 1e-12;
+    opts.integrator.atol = 1e-14;
+    let dp5 = simulate_hybrid(
+        lti(),
+        identity,
+        &mut Periodic::new(0.5).unwrap(),
+        &[2.0],
+        &opts,
+    )
+    .unwrap();
+    assert!(exact_run.exact && !dp5.exact);
+    for ((ta, a), (tb, b)) in exact_run.arc.iter().zip(dp5.arc.iter()) {
+        assert_eq!(ta, tb);
+        assert!(
+            (a[0] - b[0]).abs() <= 1e-11 * a[0].abs().max(1.0),
+            "t = {}: {} vs {}",
+            ta.t,
+            a[0],
+            b[0]
+        );
+    }
+}
+
+#[test]
+fn schedule_one_rounding_error_short_of_the_horizon_or_a_switch() {
+    // Regression (found by sporadic-etienne2017): 15 intervals of 0.3 end at 4.499999999999999, one ulp
+    // before the horizon 4.5; the final flow over that ulp raised StepSizeUnderflow. It lands on 4.5 now.
+    let pendulum = || {
+        FnFlow::new(2, |_t, x: &[f64], dx: &mut [f64]| {
+            dx[0] = x[1];
+            dx[1] = -x[0].sin();
+        })
+    };
+    let identity =
+        |_ev: &SampleEvent, _y: &[f64], _x: &mut [f64]| -> Result<(), SimError> { Ok(()) };
+    let t15 = (0..15).fold(0.0, |t, _| t + 0.3);
+    assert!(t15 < 4.5 && 4.5 - t15 <= 4.5 * f64::EPSILON);
+    for record in [Record::JumpsOnly, Record::Every(0.005), Record::Steps] {
+        let mut data = FromData::from_slice(&[0.3; 16]).unwrap();
+        let opts = SimOptions::new(4.5).record(record);
+        let sim = simulate_hybrid(pendulum(), identity, &mut data, &[1.0, 0.0], &opts).unwrap();
+        assert_eq!(sim.arc.num_jumps(), 15);
+        assert_eq!(sim.samples.times()[14], t15);
+        let (ht, x) = sim.arc.last().unwrap();
+        assert_eq!((ht.t, ht.j), (4.5, 15));
+        // The same pendulum without samples (the jumps are the identity) reaches the same state.
+        let free = simulate_hybrid(
+            pendulum(),
+            identity,
+            &mut Periodic::new(10.0).unwrap(),
+            &[1.0, 0.0],
+            &SimOptions::new(4.5),
+        )
+        .unwrap();
+        let (_, y) = free.arc.last().unwrap();
+        assert!((x[0] - y[0]).abs() < 1e-8 && (x[1] - y[1]).abs() < 1e-8);
+    }
+    // An input switch one ulp after a sampling instant: a flow interval of one ulp with the new input.
+    let u = PiecewiseConstant::new(vec![0.0, 4.5], vec![vec![1.0], vec![-1.0]]).unwrap();
+    let mut data = FromData::from_slice(&[0.3; 20]).unwrap();
+    let sim = simulate_hybrid(
+        HeldInput(u),
+        identity,
+        &mut data,
+        &[0.0],
+        &SimOptions::new(6.0),
+    )
+    .unwrap();
+    let (ht, x) = sim.arc.last().unwrap();
+    assert_eq!(ht.t, 6.0);
+    assert!((x[0] - (4.5 - 1.5)).abs() < 1e-12, "x(6) = {}", x[0]);
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(32))]
 

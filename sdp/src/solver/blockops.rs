@@ -361,7 +361,7 @@ pub(crate) fn min_eig(kind: BlockKind, a: &Mat<f64>) -> f64 {
 /// Factorisations of the current iterate needed by one interior-point iteration.
 ///
 /// PSD block: `X = L_X L_Xᵀ`, `S = L_S L_Sᵀ`, the inverses `L_X⁻¹`, `L_S⁻¹`, and
-/// `S⁻¹ = L_S⁻ᵀ L_S⁻¹`. LP block: only `zinv = 1/s` (the other fields are `0×0`).
+/// `S⁻¹ = L_S⁻ᵀ L_S⁻¹`. LP block: only `zinv = 1/s` (the other fields are `0×0`, `linv_x = 1/x`).
 #[derive(Debug, Clone)]
 pub(crate) struct Factors {
     /// `L_X`.
@@ -370,6 +370,8 @@ pub(crate) struct Factors {
     pub linv_x: BlockMats,
     /// `L_S⁻¹`.
     pub linv_s: BlockMats,
+    /// `L_S`.
+    pub ls: BlockMats,
     /// `S⁻¹` (PSD, full symmetric) or `1/s` (LP).
     pub zinv: BlockMats,
 }
@@ -424,7 +426,7 @@ impl Factors {
         fs: (BlockMats, BlockMats),
     ) -> Self {
         let (lx, linv_x) = fx;
-        let (_, linv_s) = fs;
+        let (ls, linv_s) = fs;
         let zinv = an
             .blocks
             .iter()
@@ -438,6 +440,7 @@ impl Factors {
             lx,
             linv_x,
             linv_s,
+            ls,
             zinv,
         }
     }

@@ -23,7 +23,7 @@ use super::linsys::SchurSolver;
 use crate::error::SdpError;
 use crate::problem::{BlockKind, Problem, SparseSym};
 
-/// A Farkas-type proof of infeasibility (see the [module documentation](self)).
+/// A Farkas-type proof of infeasibility (see the module documentation of `solver::certificate`).
 #[derive(Debug, Clone, PartialEq)]
 pub enum InfeasibilityCertificate {
     /// (P) is infeasible: `y` normalised to `bᵀy = 1` with `λ_max(Σ y_i A_i) = max_eig ≈ ≤ 0`.

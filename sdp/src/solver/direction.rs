@@ -11,16 +11,25 @@
 //!
 //! after which `ΔX` is symmetrised (the HKM choice). For an LP block every product is
 //! elementwise.
+//!
+//! The system is solved in one of two forms ([`System`]): the normal equations above (Cholesky of
+//! `M`, module `linsys`), or the equivalent least-squares problem in the scaled space (QR of the
+//! scaled constraint matrix, module `lsq`), which keeps `𝒜(ΔX) = r_p` accurate when `M` is too
+//! ill-conditioned for double precision. Either way the direction is then refined against the
+//! primal equation recomputed from the actual `ΔX` ([`refine`]), and `ΔS = R_d − 𝒜ᵀ(Δy)` makes the
+//! dual equation exact.
 
 use faer::Mat;
 use rayon::prelude::*;
 
-use super::blockops::{BlockMats, apply_at, mul, symmetrize};
+use super::blockops::{BlockMats, Factors, apply_a, apply_at, axpy, mul, symmetrize};
+use super::linsys::SchurSolver;
+use super::lsq::LeastSquares;
 use super::structure::{Analysis, Values};
 use crate::problem::BlockKind;
 
 /// `T_k = (X_k R_d,k + H_k − σμ I) S_k⁻¹` for every block.
-pub(crate) fn rhs_blocks(
+fn rhs_blocks(
     an: &Analysis,
     x: &[Mat<f64>],
     zinv: &[Mat<f64>],
@@ -57,9 +66,9 @@ pub(crate) fn rhs_blocks(
         .collect()
 }
 
-/// `(ΔX, ΔS)` from `Δy`: `ΔS = R_d − 𝒜ᵀ(Δy)`, `ΔX = sym(−X − (X ΔS + H − σμI) S⁻¹)`.
+/// `ΔX = sym(−X − (X ΔS + H − σμI) S⁻¹)` from `Δy`, with `ΔS = R_d − 𝒜ᵀ(Δy)`.
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn recover(
+fn recover_x(
     an: &Analysis,
     vals: &Values,
     x: &[Mat<f64>],
@@ -68,14 +77,13 @@ pub(crate) fn recover(
     dy: &[f64],
     sigma_mu: f64,
     h: Option<&[Mat<f64>]>,
-) -> (BlockMats, BlockMats) {
+) -> BlockMats {
     let mut ds = super::blockops::zeros(an);
     apply_at(an, vals, dy, &mut ds);
     for (d, r) in ds.iter_mut().zip(rd) {
         *d = r - &*d;
     }
-    let dx: BlockMats = an
-        .blocks
+    an.blocks
         .par_iter()
         .enumerate()
         .map(|(k, b)| match b.kind {
@@ -105,12 +113,11 @@ pub(crate) fn recover(
                 d
             }
         })
-        .collect();
-    (dx, ds)
+        .collect()
 }
 
 /// Second-order term `H = ΔX ΔS` of the corrector (per block; elementwise for LP blocks).
-pub(crate) fn second_order(an: &Analysis, dx: &[Mat<f64>], ds: &[Mat<f64>]) -> BlockMats {
+fn second_order(an: &Analysis, dx: &[Mat<f64>], ds: &[Mat<f64>]) -> BlockMats {
     an.blocks
         .par_iter()
         .enumerate()
@@ -121,31 +128,135 @@ pub(crate) fn second_order(an: &Analysis, dx: &[Mat<f64>], ds: &[Mat<f64>]) -> B
         .collect()
 }
 
-/// Iterative refinement of a direction against the primal linearised equation
-/// `𝒜(ΔX) = r_p`.
-///
-/// Near the optimum `M` is badly conditioned and `ΔX = −X − (XΔS + H − σμI)S⁻¹` cancels, so the
-/// computed `ΔX` can miss `r_p` by far more than the tolerance; full steps then *increase* the
-/// primal infeasibility. Since `ΔX` is affine in `Δy` with `∂ΔX/∂Δy · δ = sym(X 𝒜ᵀ(δ) S⁻¹)`,
-/// the correction `M δ = r_p − 𝒜(ΔX)` (same factorisation), `Δy += δ`, `ΔS −= 𝒜ᵀ(δ)`,
-/// `ΔX += sym(X 𝒜ᵀ(δ) S⁻¹)` restores the equation; it is repeated while the residual is above
-/// `threshold` and halves.
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn refine(
+/// A search direction and how well it satisfies the primal equation.
+pub(crate) struct Direction {
+    /// `ΔX`.
+    pub dx: BlockMats,
+    /// `Δy`.
+    pub dy: Vec<f64>,
+    /// `ΔS = R_d − 𝒜ᵀ(Δy)`.
+    pub ds: BlockMats,
+    /// `‖r_p − 𝒜(ΔX)‖₂` after refinement.
+    pub error: f64,
+}
+
+/// The data a direction is computed from.
+pub(crate) struct Iterate<'a> {
+    pub an: &'a Analysis,
+    pub vals: &'a Values,
+    pub x: &'a [Mat<f64>],
+    pub f: &'a Factors,
+    /// Primal residual `r_p = b − 𝒜(X)`.
+    pub rp: &'a [f64],
+    /// Dual residual `R_d = C − 𝒜ᵀ(y) − S`.
+    pub rd: &'a [Mat<f64>],
+    /// Refinement stops once `‖r_p − 𝒜(ΔX)‖₂` is at most this.
+    pub threshold: f64,
+}
+
+/// A factorised Newton system.
+pub(crate) enum System<'a> {
+    /// Cholesky (or fallback) factorisation of the Schur matrix `M`.
+    Normal(&'a SchurSolver),
+    /// QR factorisation of the scaled constraint matrix `K` (`M = KᵀK`).
+    LeastSquares(&'a LeastSquares),
+}
+
+impl System<'_> {
+    /// Whether this is the normal-equations form.
+    pub(crate) fn is_normal(&self) -> bool {
+        matches!(self, System::Normal(_))
+    }
+
+    /// The direction for centring target `σμ`; `second` is the predictor `(ΔX_a, ΔS_a)` for the
+    /// corrector's second-order term.
+    pub(crate) fn direction(
+        &self,
+        it: &Iterate<'_>,
+        sigma_mu: f64,
+        second: Option<(&[Mat<f64>], &[Mat<f64>])>,
+    ) -> Direction {
+        let (an, vals, x, f) = (it.an, it.vals, it.x, it.f);
+        let (mut dx, mut dy) = match self {
+            System::Normal(solver) => {
+                let h = second.map(|(dx, ds)| second_order(an, dx, ds));
+                let t = rhs_blocks(an, x, &f.zinv, it.rd, sigma_mu, h.as_deref());
+                let mut r = vals.b.clone();
+                apply_a(an, vals, &t, &mut r);
+                let dy = solver.solve(&r);
+                let dx = recover_x(an, vals, x, &f.zinv, it.rd, &dy, sigma_mu, h.as_deref());
+                (dx, dy)
+            }
+            System::LeastSquares(ls) => ls.direction(an, x, f, it.rd, it.rp, sigma_mu, second),
+        };
+        let correction = |e: &[f64]| -> (Vec<f64>, BlockMats) {
+            match self {
+                System::Normal(solver) => {
+                    let delta = solver.solve(e);
+                    let corr = hkm_image(an, vals, x, &f.zinv, &delta);
+                    (delta, corr)
+                }
+                System::LeastSquares(ls) => ls.correction(an, x, f, e),
+            }
+        };
+        let error = refine(an, vals, it.rp, it.threshold, &correction, &mut dx, &mut dy);
+        let mut ds = super::blockops::zeros(an);
+        apply_at(an, vals, &dy, &mut ds);
+        for (d, r) in ds.iter_mut().zip(it.rd) {
+            *d = r - &*d;
+        }
+        Direction { dx, dy, ds, error }
+    }
+}
+
+/// `sym(X 𝒜ᵀ(δ) S⁻¹)` per block (elementwise for LP blocks): the change of `ΔX` per unit change of
+/// `Δy` in the normal-equations form.
+fn hkm_image(
     an: &Analysis,
     vals: &Values,
     x: &[Mat<f64>],
     zinv: &[Mat<f64>],
+    delta: &[f64],
+) -> BlockMats {
+    let mut w = super::blockops::zeros(an);
+    apply_at(an, vals, delta, &mut w);
+    an.blocks
+        .par_iter()
+        .enumerate()
+        .map(|(k, b)| match b.kind {
+            BlockKind::Lp => {
+                Mat::from_fn(b.n, 1, |l, _| x[k][(l, 0)] * w[k][(l, 0)] * zinv[k][(l, 0)])
+            }
+            BlockKind::Psd => {
+                let mut c = mul(&mul(&x[k], &w[k]), &zinv[k]);
+                symmetrize(&mut c);
+                c
+            }
+        })
+        .collect()
+}
+
+/// Iterative refinement of a direction against the primal linearised equation
+/// `𝒜(ΔX) = r_p`, recomputed from the actual `ΔX`.
+///
+/// Rounding in the solve and in the recovery of `ΔX` (which cancels near the optimum) can make
+/// the computed `ΔX` miss `r_p` by more than the tolerance; full steps would then *increase* the
+/// primal infeasibility. `ΔX` is affine in `Δy`, so `correction(e)` returns `δ` and the matching
+/// change of `ΔX` with `𝒜(·) ≈ e` (same factorisation); `Δy += δ`, `ΔX += ·` is repeated while
+/// the residual is above `threshold` and halves. Returns the final residual norm; `ΔS` is formed
+/// afterwards from the refined `Δy`.
+fn refine(
+    an: &Analysis,
+    vals: &Values,
     rp: &[f64],
     threshold: f64,
-    solve: &dyn Fn(&[f64]) -> Vec<f64>,
+    correction: &dyn Fn(&[f64]) -> (Vec<f64>, BlockMats),
     dx: &mut BlockMats,
     dy: &mut [f64],
-    ds: &mut BlockMats,
-) {
+) -> f64 {
     let residual = |dx: &[Mat<f64>]| {
         let mut adx = vec![0.0; an.m];
-        super::blockops::apply_a(an, vals, dx, &mut adx);
+        apply_a(an, vals, dx, &mut adx);
         let e: Vec<f64> = rp.iter().zip(&adx).map(|(r, a)| r - a).collect();
         let n = e.iter().map(|v| v * v).sum::<f64>().sqrt();
         (e, n)
@@ -155,32 +266,14 @@ pub(crate) fn refine(
         if !(norm > threshold) {
             break;
         }
-        let delta = solve(&e);
-        let mut w = super::blockops::zeros(an);
-        apply_at(an, vals, &delta, &mut w);
-        let corr: BlockMats = an
-            .blocks
-            .par_iter()
-            .enumerate()
-            .map(|(k, b)| match b.kind {
-                BlockKind::Lp => {
-                    Mat::from_fn(b.n, 1, |l, _| x[k][(l, 0)] * w[k][(l, 0)] * zinv[k][(l, 0)])
-                }
-                BlockKind::Psd => {
-                    let mut c = mul(&mul(&x[k], &w[k]), &zinv[k]);
-                    symmetrize(&mut c);
-                    c
-                }
-            })
-            .collect();
+        let (delta, corr) = correction(&e);
         let mut trial = dx.clone();
-        super::blockops::axpy(&mut trial, 1.0, &corr);
+        axpy(&mut trial, 1.0, &corr);
         let (e2, n2) = residual(&trial);
         if !(n2 < norm) {
             break;
         }
         *dx = trial;
-        super::blockops::axpy(ds, -1.0, &w);
         for (a, d) in dy.iter_mut().zip(&delta) {
             *a += d;
         }
@@ -191,4 +284,5 @@ pub(crate) fn refine(
             break;
         }
     }
+    norm
 }

@@ -2,12 +2,13 @@
 
 use std::time::Instant;
 
-use faer::Mat;
+use faer::{Mat, Par};
 
 use super::blockops::{BlockMats, Factors, axpy, c_dense, factor_all, inner};
 use super::certificate::InfeasibilityCertificate;
-use super::direction::{recover, refine, rhs_blocks, second_order};
+use super::direction::{Direction, Iterate, System};
 use super::linsys::SchurSolver;
+use super::lsq::LeastSquares;
 use super::residuals::{DataNorms, Residuals, measures, residuals};
 use super::schur::assemble;
 use super::settings::{IterationLog, Settings};
@@ -23,7 +24,24 @@ pub(crate) struct Workspace {
     pub schur: Mat<f64>,
     /// Factorisation of the Schur matrix.
     pub linsys: SchurSolver,
+    /// Least-squares form of the Newton system, allocated the first time it is needed.
+    pub lsq: Option<LeastSquares>,
+    /// Parallelism of the dense factorisations.
+    pub par: Par,
 }
+
+/// How the Newton systems are currently solved (see [`super::lsq`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Mode {
+    /// Normal equations `M Δy = r` (Cholesky).
+    Normal,
+    /// Least squares in the scaled space (Householder QR).
+    LeastSquares,
+}
+
+/// A refined normal-equations direction whose primal error exceeds this multiple of the
+/// refinement threshold is inaccurate; the solve continues with the least-squares form.
+const ACCEPTED_ERROR: f64 = 10.0;
 
 /// Best iterate seen so far (by [`Residuals::merit`]).
 struct Best {
@@ -49,13 +67,13 @@ const NEAR_OPTIMAL_MERIT: f64 = 1e-3;
 const DETERIORATION: f64 = 1e3;
 
 /// Progress monitor in the spirit of SDPT3's `sqlpcheckconvg.m`: an iteration makes progress if
-/// the merit (largest stopping measure) or an infeasibility that is still above its tolerance
-/// falls by [`PROGRESS_FACTOR`] below its value at its last progress, and neither infeasibility
-/// has deteriorated.
+/// the merit (largest stopping measure) falls by [`PROGRESS_FACTOR`] below its value at its last
+/// progress, or an infeasibility that is still above its tolerance falls by that factor below
+/// the smallest value it ever had, and neither infeasibility has deteriorated. (Comparing with
+/// the smallest value, not with the value at the last progress, keeps an infeasibility that
+/// oscillates around its tolerance from counting as progress again and again.)
 struct Progress {
     merit: f64,
-    pinf: f64,
-    dinf: f64,
     pinf_min: f64,
     dinf_min: f64,
     since: usize,
@@ -65,8 +83,6 @@ impl Progress {
     fn new() -> Self {
         Self {
             merit: f64::INFINITY,
-            pinf: f64::INFINITY,
-            dinf: f64::INFINITY,
             pinf_min: f64::INFINITY,
             dinf_min: f64::INFINITY,
             since: 0,
@@ -74,22 +90,22 @@ impl Progress {
     }
 
     fn update(&mut self, res: &Residuals, settings: &Settings) {
+        let tol = settings.tol_feas;
+        let merit = res.merit();
         let mut progress = false;
-        let mut test = |value: f64, reference: &mut f64, open: bool| {
-            if open && value < PROGRESS_FACTOR * *reference {
-                *reference = value;
+        if merit < PROGRESS_FACTOR * self.merit {
+            self.merit = merit;
+            progress = true;
+        }
+        for (value, min) in [(res.pinf, self.pinf_min), (res.dinf, self.dinf_min)] {
+            if value > tol && value < PROGRESS_FACTOR * min {
                 progress = true;
             }
-        };
-        test(res.merit(), &mut self.merit, true);
-        test(res.pinf, &mut self.pinf, res.pinf > settings.tol_feas);
-        test(res.dinf, &mut self.dinf, res.dinf > settings.tol_feas);
+        }
         self.pinf_min = self.pinf_min.min(res.pinf);
         self.dinf_min = self.dinf_min.min(res.dinf);
-        let worse = |v: f64, min: f64, tol: f64| v > (DETERIORATION * min).max(10.0 * tol);
-        if worse(res.pinf, self.pinf_min, settings.tol_feas)
-            || worse(res.dinf, self.dinf_min, settings.tol_feas)
-        {
+        let worse = |v: f64, min: f64| v > (DETERIORATION * min).max(10.0 * tol);
+        if worse(res.pinf, self.pinf_min) || worse(res.dinf, self.dinf_min) {
             progress = false;
         }
         if progress {
@@ -125,12 +141,11 @@ fn detect_infeasibility(
                 }
             }
         }
-        if sq.sqrt() / res.dobj <= prefilter {
-            if let Some(cert) = InfeasibilityCertificate::primal(problem, y) {
-                if cert.verify(problem).is_ok_and(|v| v <= settings.tol_infeas) {
-                    return Some((Status::PrimalInfeasible, cert));
-                }
-            }
+        if sq.sqrt() / res.dobj <= prefilter
+            && let Some(cert) = InfeasibilityCertificate::primal(problem, y)
+            && cert.verify(problem).is_ok_and(|v| v <= settings.tol_infeas)
+        {
+            return Some((Status::PrimalInfeasible, cert));
         }
     }
     if res.pobj < 0.0 && res.dinf > settings.tol_feas {
@@ -141,12 +156,11 @@ fn detect_infeasibility(
             .map(|(b, r)| (b - r) * (b - r))
             .sum::<f64>()
             .sqrt();
-        if ax / -res.pobj <= prefilter {
-            if let Some(cert) = InfeasibilityCertificate::dual(problem, x, gram) {
-                if cert.verify(problem).is_ok_and(|v| v <= settings.tol_infeas) {
-                    return Some((Status::DualInfeasible, cert));
-                }
-            }
+        if ax / -res.pobj <= prefilter
+            && let Some(cert) = InfeasibilityCertificate::dual(problem, x, gram)
+            && cert.verify(problem).is_ok_and(|v| v <= settings.tol_infeas)
+        {
+            return Some((Status::DualInfeasible, cert));
         }
     }
     None
@@ -208,6 +222,8 @@ pub(crate) fn run(
     let mut iteration = 0usize;
     let mut certificate = None;
     let mut gram = None;
+    let mut mode = Mode::Normal;
+    let mut lsq_failed = false;
     let status = loop {
         let res = residuals(an, vals, &cd, &norms, &x, &y, &s);
         let mu = if an.nu > 0 { res.xs / nu } else { 0.0 };
@@ -223,6 +239,31 @@ pub(crate) fn run(
                 primal_step: steps.0,
                 dual_step: steps.1,
             });
+        }
+        if std::env::var_os("SPORADIC_SDP_DEBUG").is_some() {
+            let ny = y.iter().map(|v| v * v).sum::<f64>().sqrt();
+            let mins: Vec<f64> = an
+                .blocks
+                .iter()
+                .zip(&s)
+                .map(|(b, m)| super::blockops::min_eig(b.kind, m))
+                .collect();
+            let minx: Vec<f64> = an
+                .blocks
+                .iter()
+                .zip(&x)
+                .map(|(b, m)| super::blockops::min_eig(b.kind, m))
+                .collect();
+            eprintln!(
+                "   |y| {:.3e} |S| {:.3e} |X| {:.3e} smin {:.2e} xmin {:.2e} compl {:.2e} mode {:?}",
+                ny,
+                super::blockops::norm_fro(&s),
+                super::blockops::norm_fro(&x),
+                mins.iter().cloned().fold(f64::INFINITY, f64::min),
+                minx.iter().cloned().fold(f64::INFINITY, f64::min),
+                res.rel_compl,
+                mode
+            );
         }
         let merit = res.merit();
         if !merit.is_finite() {
@@ -265,55 +306,99 @@ pub(crate) fn run(
         };
         let f = Factors::new(an, fxv, fsv);
 
-        // Schur complement, shared by predictor and corrector.
-        assemble(an, vals, &x, &f, &mut ws.schur);
-        if !ws.linsys.factorize(&ws.schur) {
-            break Status::NumericalTrouble;
-        }
-        let solve_dir = |sigma_mu: f64, h: Option<&[Mat<f64>]>| {
-            let t = rhs_blocks(an, &x, &f.zinv, &res.rd, sigma_mu, h);
-            let mut r = vals.b.clone();
-            super::blockops::apply_a(an, vals, &t, &mut r);
-            let mut dy = ws.linsys.solve(&r);
-            let (mut dx, mut ds) = recover(an, vals, &x, &f.zinv, &res.rd, &dy, sigma_mu, h);
-            let solver = |e: &[f64]| ws.linsys.solve(e);
-            // Errors below 1% of the current residual (or of the tolerance) cannot spoil the
-            // step; only larger ones are refined.
-            let threshold = 0.01 * res.rp_norm.max(0.1 * settings.tol_feas * (1.0 + norms.b2));
-            refine(
-                an, vals, &x, &f.zinv, &res.rp, threshold, &solver, &mut dx, &mut dy, &mut ds,
-            );
-            (dx, dy, ds)
+        // Errors of 𝒜(ΔX) = r_p below 1% of the current residual (or of the tolerance) cannot
+        // spoil the step and are not refined; a normal-equations direction still off by more
+        // than ten times that after refinement is inaccurate.
+        let threshold = 0.01 * res.rp_norm.max(0.1 * settings.tol_feas * (1.0 + norms.b2));
+        let it = Iterate {
+            an,
+            vals,
+            x: &x,
+            f: &f,
+            rp: &res.rp,
+            rd: &res.rd,
+            threshold,
         };
-
-        // Predictor (affine scaling, σ = 0).
         let gamma = settings
             .step_fraction
             .unwrap_or(0.9 + 0.09 * steps.0.min(steps.1));
-        let (dx, _, ds) = solve_dir(0.0, None);
-        let ap = step_length(an, &x, &f.linv_x, &dx, gamma);
-        let ad = step_length(an, &s, &f.linv_s, &ds, gamma);
-        let mu_pred = if an.nu > 0 {
-            (res.xs + ap * inner(&dx, &s) + ad * inner(&x, &ds) + ap * ad * inner(&dx, &ds)) / nu
-        } else {
-            0.0
-        };
-        // Mehrotra's centring with SDPT3's adaptive exponent.
-        let step_pred = ap.min(ad);
-        let expon = if mu > 1e-6 && step_pred >= 1.0 / 3f64.sqrt() {
-            (3.0 * step_pred * step_pred).max(1.0)
-        } else {
-            1.0
-        };
-        let sigma = if mu_pred < 0.0 || mu <= 0.0 {
-            0.8
-        } else {
-            (mu_pred / mu).powf(expon).min(1.0)
-        };
+        let directions = loop {
+            let system = match mode {
+                Mode::Normal => {
+                    // Schur complement, shared by predictor and corrector.
+                    assemble(an, vals, &x, &f, &mut ws.schur);
+                    if !ws.linsys.factorize(&ws.schur) {
+                        if lsq_failed {
+                            break None;
+                        }
+                        mode = Mode::LeastSquares;
+                        continue;
+                    }
+                    System::Normal(&ws.linsys)
+                }
+                Mode::LeastSquares => {
+                    if ws.lsq.is_none() {
+                        ws.lsq = LeastSquares::new(an, ws.par);
+                    }
+                    // Unavailable (too large) or numerically dependent constraints: the
+                    // regularised normal equations handle them.
+                    if !ws
+                        .lsq
+                        .as_mut()
+                        .is_some_and(|ls| ls.factorize(an, vals, &x, &f))
+                    {
+                        lsq_failed = true;
+                        mode = Mode::Normal;
+                        continue;
+                    }
+                    System::LeastSquares(ws.lsq.as_ref().expect("factorised above"))
+                }
+            };
+            let switch = |d: &Direction| {
+                system.is_normal() && !lsq_failed && d.error > ACCEPTED_ERROR * threshold
+            };
 
-        // Corrector with the second-order term ΔX_a ΔS_a.
-        let h = second_order(an, &dx, &ds);
-        let (dx, dy, ds) = solve_dir(sigma * mu, Some(&h));
+            // Predictor (affine scaling, σ = 0).
+            let pred = system.direction(&it, 0.0, None);
+            if switch(&pred) {
+                mode = Mode::LeastSquares;
+                continue;
+            }
+            let ap = step_length(an, &x, &f.linv_x, &pred.dx, gamma);
+            let ad = step_length(an, &s, &f.linv_s, &pred.ds, gamma);
+            let mu_pred = if an.nu > 0 {
+                (res.xs
+                    + ap * inner(&pred.dx, &s)
+                    + ad * inner(&x, &pred.ds)
+                    + ap * ad * inner(&pred.dx, &pred.ds))
+                    / nu
+            } else {
+                0.0
+            };
+            // Mehrotra's centring with SDPT3's adaptive exponent.
+            let step_pred = ap.min(ad);
+            let expon = if mu > 1e-6 && step_pred >= 1.0 / 3f64.sqrt() {
+                (3.0 * step_pred * step_pred).max(1.0)
+            } else {
+                1.0
+            };
+            let sigma = if mu_pred < 0.0 || mu <= 0.0 {
+                0.8
+            } else {
+                (mu_pred / mu).powf(expon).min(1.0)
+            };
+
+            // Corrector with the second-order term ΔX_a ΔS_a.
+            let corr = system.direction(&it, sigma * mu, Some((&pred.dx, &pred.ds)));
+            if switch(&corr) {
+                mode = Mode::LeastSquares;
+                continue;
+            }
+            break Some((corr, step_pred));
+        };
+        let Some((Direction { dx, dy, ds, .. }, step_pred)) = directions else {
+            break Status::NumericalTrouble;
+        };
         let gamma = settings.step_fraction.unwrap_or(0.9 + 0.09 * step_pred);
         let ap = step_length(an, &x, &f.linv_x, &dx, gamma);
         let ad = step_length(an, &s, &f.linv_s, &ds, gamma);
@@ -342,12 +427,11 @@ pub(crate) fn run(
     if !matches!(
         status,
         Status::Optimal | Status::PrimalInfeasible | Status::DualInfeasible
-    ) {
-        if let Some(b) = best {
-            x = b.x;
-            y = b.y;
-            s = b.s;
-        }
+    ) && let Some(b) = best
+    {
+        x = b.x;
+        y = b.y;
+        s = b.s;
     }
     let res = residuals(an, vals, &cd, &norms, &x, &y, &s);
     let measures = measures(an, &norms, &res, &x, &s);

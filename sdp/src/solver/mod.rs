@@ -63,6 +63,7 @@ mod certificate;
 mod direction;
 mod ipm;
 mod linsys;
+mod lsq;
 mod residuals;
 mod schur;
 mod settings;
@@ -125,12 +126,12 @@ fn check_settings(s: &Settings) -> Result<(), SdpError> {
             s.tol_gap, s.tol_feas, s.tol_infeas
         )));
     }
-    if let Some(g) = s.step_fraction {
-        if !(g > 0.0 && g < 1.0) {
-            return Err(SdpError::InvalidSettings(format!(
-                "step_fraction {g} outside (0, 1)"
-            )));
-        }
+    if let Some(g) = s.step_fraction
+        && !(g > 0.0 && g < 1.0)
+    {
+        return Err(SdpError::InvalidSettings(format!(
+            "step_fraction {g} outside (0, 1)"
+        )));
     }
     Ok(())
 }
@@ -162,6 +163,8 @@ impl Solver {
         let workspace = Workspace {
             schur: Mat::zeros(m, m),
             linsys: SchurSolver::new(m, par),
+            lsq: None,
+            par,
         };
         Ok(Solver {
             settings,

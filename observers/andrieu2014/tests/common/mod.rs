@@ -76,6 +76,15 @@ pub fn assert_invariants(run: &Run, tuning: &Tuning, closed_form_tol: f64) -> f6
             );
         }
     }
+    // L(t) = L_k exp((a2/a3)(M(t) − 1)) at every recorded point, against the integrated (6a).
+    let l_integrated = run.arc.map(|z| z[run.plant_dim + n + 2]);
+    for (i, (li, lc)) in l_integrated.iter().zip(&l).enumerate() {
+        assert!(
+            (li / lc - 1.0).abs() <= closed_form_tol,
+            "closed form of L at t = {}: {lc} vs integrated {li}",
+            t[i]
+        );
+    }
     let m_off = run.plant_dim + n + 3;
     for jr in run.arc.jumps() {
         assert_eq!(run.arc.state(jr.after)[m_off], 1.0, "M(t_k) = 1");

@@ -216,12 +216,9 @@ impl LtiFlow {
     }
 }
 
-impl Flow for LtiFlow {
-    fn dim(&self) -> usize {
-        self.a.nrows()
-    }
-
-    fn rhs(&self, t: f64, x: &[f64], dx: &mut [f64]) {
+impl LtiFlow {
+    /// `A x + Σ B_i u_i + c` with the piecewise-constant inputs at `t` (`left`: their left limits).
+    fn eval(&self, t: f64, left: bool, x: &[f64], dx: &mut [f64]) {
         let n = self.dim();
         for i in 0..n {
             let mut s = self.affine.as_ref().map_or(0.0, |c| c[i]);
@@ -233,6 +230,7 @@ impl Flow for LtiFlow {
         for ch in &self.channels {
             let owned;
             let u: &[f64] = match &ch.signal {
+                InputSignal::PiecewiseConstant(p) if left => p.left_limit(t),
                 InputSignal::PiecewiseConstant(p) => p.value(t),
                 InputSignal::Exosystem(e) => match e.value(t) {
                     Ok(v) => {
@@ -249,6 +247,21 @@ impl Flow for LtiFlow {
                 dx[i] += (0..u.len()).map(|k| ch.b[(i, k)] * u[k]).sum::<f64>();
             }
         }
+    }
+}
+
+impl Flow for LtiFlow {
+    fn dim(&self) -> usize {
+        self.a.nrows()
+    }
+
+    fn rhs(&self, t: f64, x: &[f64], dx: &mut [f64]) {
+        self.eval(t, false, x, dx);
+    }
+
+    /// Exact left limit: piecewise-constant inputs take the value of the segment that ends at `t`.
+    fn rhs_left(&self, t: f64, x: &[f64], dx: &mut [f64]) {
+        self.eval(t, true, x, dx);
     }
 
     fn next_breakpoint(&self, t: f64) -> Option<f64> {
@@ -641,6 +654,28 @@ mod tests {
         let x = flow.propagate(0.0, &[1.0, -1.0], 1.7).unwrap();
         assert!((x[0] - (1.0 - 1.7 + 1.7 * 1.7)).abs() < 1e-13);
         assert!((x[1] - (-1.0 + 3.4)).abs() < 1e-13);
+    }
+
+    #[test]
+    fn left_limit_at_a_switch() {
+        // ẋ = −x + u, u = 1 on [0, 1), 3 after: at t = 1 the right value uses 3, the left limit 1.
+        let u = PiecewiseConstant::new(vec![0.0, 1.0], vec![vec![1.0], vec![3.0]]).unwrap();
+        let flow = LtiFlow::new(mat![[-1.0]].as_ref())
+            .unwrap()
+            .with_input(mat![[1.0]].as_ref(), InputSignal::PiecewiseConstant(u))
+            .unwrap();
+        let (mut right, mut left) = ([0.0], [0.0]);
+        flow.rhs(1.0, &[0.5], &mut right);
+        flow.rhs_left(1.0, &[0.5], &mut left);
+        assert_eq!((right[0], left[0]), (2.5, 0.5));
+        // Away from switches both agree; the trait's default (rhs one ulp earlier) agrees with the
+        // exact override at the switch.
+        flow.rhs_left(0.5, &[0.5], &mut left);
+        flow.rhs(0.5, &[0.5], &mut right);
+        assert_eq!(left, right);
+        let mut shifted = [0.0];
+        flow.rhs(1f64.next_down(), &[0.5], &mut shifted);
+        assert_eq!(shifted[0], 0.5);
     }
 
     #[test]

@@ -1,0 +1,248 @@
+//! The data of Section III of Rabehi et al. (2021): the plant (2)–(3), the sampling window of
+//! Assumption 1 and the disturbance/noise bounds of Assumptions 2–3.
+
+use faer::{Mat, MatRef};
+
+use crate::error::{Error, check_finite, check_finite_vec, check_square};
+
+/// The plant (2)–(3): `ẋ = Ax + Bu + d(t)`, `y(t_k) = Cx(t_k) + v(t_k)`, with `x ∈ Rⁿ`, `u ∈ Rᵐ`,
+/// `y ∈ Rᵖ`. The disturbance enters every state directly.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plant {
+    a: Mat<f64>,
+    b: Mat<f64>,
+    c: Mat<f64>,
+}
+
+impl Plant {
+    /// Checks shapes (`A` n×n, `B` n×m, `C` p×n with n, p ≥ 1; `m = 0` is allowed) and finiteness.
+    ///
+    /// # Errors
+    /// [`Error::NotSquare`], [`Error::Empty`], [`Error::DimensionMismatch`], [`Error::NonFinite`].
+    pub fn new(a: MatRef<'_, f64>, b: MatRef<'_, f64>, c: MatRef<'_, f64>) -> Result<Self, Error> {
+        let n = check_square(a, "A")?;
+        if b.nrows() != n {
+            return Err(Error::mismatch("rows of B (= order of A)", n, b.nrows()));
+        }
+        check_finite(b, "B")?;
+        if c.nrows() == 0 {
+            return Err(Error::Empty {
+                what: "C (no measured output)",
+            });
+        }
+        if c.ncols() != n {
+            return Err(Error::mismatch("columns of C (= order of A)", n, c.ncols()));
+        }
+        check_finite(c, "C")?;
+        Ok(Self {
+            a: a.to_owned(),
+            b: b.to_owned(),
+            c: c.to_owned(),
+        })
+    }
+
+    /// State dimension `n`.
+    pub fn n(&self) -> usize {
+        self.a.nrows()
+    }
+
+    /// Input dimension `m`.
+    pub fn m(&self) -> usize {
+        self.b.ncols()
+    }
+
+    /// Output dimension `p`.
+    pub fn p(&self) -> usize {
+        self.c.nrows()
+    }
+
+    /// `A`.
+    pub fn a(&self) -> MatRef<'_, f64> {
+        self.a.as_ref()
+    }
+
+    /// `B`.
+    pub fn b(&self) -> MatRef<'_, f64> {
+        self.b.as_ref()
+    }
+
+    /// `C`.
+    pub fn c(&self) -> MatRef<'_, f64> {
+        self.c.as_ref()
+    }
+
+    /// Checks that `l` is an `n × p` finite gain.
+    pub(crate) fn check_gain(&self, l: MatRef<'_, f64>) -> Result<(), Error> {
+        if l.nrows() != self.n() {
+            return Err(Error::mismatch("rows of L (= n)", self.n(), l.nrows()));
+        }
+        if l.ncols() != self.p() {
+            return Err(Error::mismatch("columns of L (= p)", self.p(), l.ncols()));
+        }
+        check_finite(l, "L")
+    }
+}
+
+/// The sampling window of Assumption 1: `t_{k+1} − t_k ∈ [τmin, τmax]`, `0 < τmin ≤ τmax < ∞`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Window {
+    tau_min: f64,
+    tau_max: f64,
+}
+
+impl Window {
+    /// # Errors
+    /// [`Error::InvalidWindow`] for non-finite ends, `τmin ≤ 0` or `τmin > τmax`.
+    pub fn new(tau_min: f64, tau_max: f64) -> Result<Self, Error> {
+        let bad = |reason| {
+            Err(Error::InvalidWindow {
+                tau_min,
+                tau_max,
+                reason,
+            })
+        };
+        if !(tau_min.is_finite() && tau_max.is_finite()) {
+            return bad("both ends must be finite");
+        }
+        if tau_min <= 0.0 {
+            return bad("tau_min must be > 0 (Assumption 1; excludes Zeno solutions)");
+        }
+        if tau_min > tau_max {
+            return bad("tau_min must not exceed tau_max");
+        }
+        Ok(Self { tau_min, tau_max })
+    }
+
+    /// `τmin`.
+    pub fn tau_min(&self) -> f64 {
+        self.tau_min
+    }
+
+    /// `τmax`.
+    pub fn tau_max(&self) -> f64 {
+        self.tau_max
+    }
+
+    /// Whether `μ ∈ [τmin, τmax]`.
+    pub fn contains(&self, mu: f64) -> bool {
+        mu >= self.tau_min && mu <= self.tau_max
+    }
+
+    /// `points ≥ 2` equally spaced values from `τmin` to `τmax` (one point for a degenerate
+    /// window).
+    pub fn grid(&self, points: usize) -> Vec<f64> {
+        if self.tau_min == self.tau_max || points < 2 {
+            return vec![self.tau_min];
+        }
+        let h = (self.tau_max - self.tau_min) / (points - 1) as f64;
+        (0..points)
+            .map(|k| {
+                if k + 1 == points {
+                    self.tau_max
+                } else {
+                    self.tau_min + k as f64 * h
+                }
+            })
+            .collect()
+    }
+}
+
+/// The bounds of Assumptions 2–3: `|v(t)| ≤ v̄` (elementwise, `v̄ ∈ Rᵖ`, `v̄ ≥ 0`) and
+/// `d̲ ≤ d(t) ≤ d̄` (`d̲, d̄ ∈ Rⁿ`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Bounds {
+    d_lower: Vec<f64>,
+    d_upper: Vec<f64>,
+    v_bar: Vec<f64>,
+}
+
+impl Bounds {
+    /// # Errors
+    /// [`Error::DimensionMismatch`] when `d_lower`/`d_upper` have different lengths,
+    /// [`Error::NonFinite`], [`Error::InvalidBounds`] for `d̲_i > d̄_i` or `v̄_i < 0`.
+    pub fn new(d_lower: Vec<f64>, d_upper: Vec<f64>, v_bar: Vec<f64>) -> Result<Self, Error> {
+        if d_lower.len() != d_upper.len() {
+            return Err(Error::mismatch(
+                "length of d_upper (= length of d_lower)",
+                d_lower.len(),
+                d_upper.len(),
+            ));
+        }
+        check_finite_vec(&d_lower, "d_lower")?;
+        check_finite_vec(&d_upper, "d_upper")?;
+        check_finite_vec(&v_bar, "v_bar")?;
+        if let Some(i) = (0..d_lower.len()).find(|&i| d_lower[i] > d_upper[i]) {
+            return Err(Error::InvalidBounds {
+                what: "d_lower/d_upper",
+                index: i,
+                reason: format!("d_lower = {} > d_upper = {}", d_lower[i], d_upper[i]),
+            });
+        }
+        if let Some(i) = v_bar.iter().position(|&v| v < 0.0) {
+            return Err(Error::InvalidBounds {
+                what: "v_bar",
+                index: i,
+                reason: format!("v_bar = {} < 0", v_bar[i]),
+            });
+        }
+        Ok(Self {
+            d_lower,
+            d_upper,
+            v_bar,
+        })
+    }
+
+    /// The noise- and disturbance-free case of Remark 4 (`d̲ = d̄ = 0`, `v̄ = 0`).
+    pub fn zero(n: usize, p: usize) -> Self {
+        Self {
+            d_lower: vec![0.0; n],
+            d_upper: vec![0.0; n],
+            v_bar: vec![0.0; p],
+        }
+    }
+
+    /// `d̲`.
+    pub fn d_lower(&self) -> &[f64] {
+        &self.d_lower
+    }
+
+    /// `d̄`.
+    pub fn d_upper(&self) -> &[f64] {
+        &self.d_upper
+    }
+
+    /// `v̄`.
+    pub fn v_bar(&self) -> &[f64] {
+        &self.v_bar
+    }
+
+    /// Checks the dimensions against a plant (`n` disturbance and `p` noise components).
+    pub fn check_against(&self, plant: &Plant) -> Result<(), Error> {
+        if self.d_lower.len() != plant.n() {
+            return Err(Error::mismatch(
+                "length of the disturbance bounds (= n)",
+                plant.n(),
+                self.d_lower.len(),
+            ));
+        }
+        if self.v_bar.len() != plant.p() {
+            return Err(Error::mismatch(
+                "length of the noise bound v_bar (= p)",
+                plant.p(),
+                self.v_bar.len(),
+            ));
+        }
+        Ok(())
+    }
+
+    /// `Ξ̄ = [d̄ − d̲; d̄ − d̲]`, the constant upper bound of the disturbance term of (6).
+    pub fn xi_bar(&self) -> Vec<f64> {
+        let w: Vec<f64> = self
+            .d_upper
+            .iter()
+            .zip(&self.d_lower)
+            .map(|(u, l)| u - l)
+            .collect();
+        w.iter().chain(&w).copied().collect()
+    }
+}

@@ -1,0 +1,447 @@
+//! The HKM Newton system as a least-squares problem in the scaled space, solved by an orthogonal
+//! (Householder QR) factorisation instead of the normal equations.
+//!
+//! # Why
+//!
+//! With `X = L_X L_Xᵀ`, `S = L_S L_Sᵀ` and the scaled constraint matrices
+//!
+//! ```text
+//! K_i = L_Xᵀ A_i L_S⁻ᵀ          (one n×n matrix per block; √(x_l/s_l)·a_il for an LP block)
+//! ```
+//!
+//! the Schur matrix is the Gram matrix `M = KᵀK`, `M_ij = ⟨K_i, K_j⟩`, and `X 𝒜ᵀ(δ) S⁻¹ =
+//! L_X 𝒦(δ) L_S⁻¹` with `𝒦(δ) = Σ δ_i K_i`. The HKM direction `ΔX = sym(−X − T + X 𝒜ᵀ(Δy) S⁻¹)`
+//! (`T` as in [`super::direction`]) becomes
+//!
+//! ```text
+//! ΔX = sym(L_X Z L_S⁻¹),   Z = G + 𝒦(Δy),   G = −L_Xᵀ (L_S + R_d L_S⁻ᵀ) − L_X⁻¹ (H − σμ I) L_S⁻ᵀ,
+//! ```
+//!
+//! and the primal equation `𝒜(ΔX) = r_p` reads `Kᵀ(g + K Δy) = r_p` (`g = vec G`): the normal
+//! equations of a least-squares problem. Near the optimum the condition number of `K` grows like
+//! `1/μ` and that of `M = KᵀK` like `1/μ²`; once it passes `1/ε ≈ 10¹⁶` (control and truss
+//! problems of SDPLIB at `μ ≈ 10⁻⁷`, ill-posed control LMIs earlier) the computed `M` is
+//! indefinite or its Cholesky solve leaves a residual `‖M Δy − r‖ ≈ ε ‖M‖ ‖Δy‖` far above the
+//! feasibility tolerance, so the primal infeasibility *grows* while `μ` falls. This is where
+//! CSDP ("partial success") and SDPA (`pFEAS`) stop.
+//!
+//! Solving the same system with the thin QR factorisation `K = Q R` (Golub & Van Loan,
+//! *Matrix Computations*, 4th ed., §5.3; the augmented-system argument for interior-point methods
+//! is M. H. Wright, SIAM J. Optim. 9(1), 1998) avoids forming `M`:
+//!
+//! ```text
+//! c = Qᵀ g,   w = R⁻ᵀ r_p,   Δy = R⁻¹ (w − c₁),   Z = Q [w; c₂]
+//! ```
+//!
+//! so that `KᵀZ = Rᵀ w = r_p` holds up to `ε ‖K‖ ‖Z‖` (backward stability of Householder QR):
+//! the error of the primal equation no longer depends on `cond(M)`, and the dual equation
+//! `ΔS = R_d − 𝒜ᵀ(Δy)` is exact by construction. Errors in `G` (which carries the ill-conditioned
+//! factors) only perturb the complementarity part of the direction, which the next iterations
+//! correct anyway.
+//!
+//! # When
+//!
+//! A QR of the `N×m` matrix `K` (`N = Σ n_k²`) costs about twice a symmetric rank-`N` update and
+//! needs `N·m` numbers, so the normal equations remain the default; [`super::ipm`] switches to
+//! this form for the rest of a solve as soon as a normal-equations direction misses
+//! `𝒜(ΔX) = r_p` by more than the accepted error after iterative refinement, provided `K` fits
+//! the memory budget and has full column rank (dependent constraints stay with the regularised
+//! normal equations).
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::householder::{
+    apply_block_householder_sequence_on_the_left_in_place_scratch,
+    apply_block_householder_sequence_on_the_left_in_place_with_conj,
+    apply_block_householder_sequence_transpose_on_the_left_in_place_scratch,
+    apply_block_householder_sequence_transpose_on_the_left_in_place_with_conj,
+};
+use faer::linalg::qr::no_pivoting::factor::{
+    qr_in_place, qr_in_place_scratch, recommended_block_size,
+};
+use faer::linalg::triangular_solve::{
+    solve_lower_triangular_in_place, solve_upper_triangular_in_place,
+};
+use faer::{Conj, Mat, MatMut, Par};
+use rayon::prelude::*;
+
+use super::blockops::{BlockMats, Factors, mul, symmetrize};
+use super::structure::{Analysis, Values};
+use crate::problem::BlockKind;
+
+/// Largest `K` (rows × constraints, in `f64`s) that is allocated (128 MiB).
+const MAX_ELEMENTS: usize = 1 << 24;
+/// A QR pivot `|R_ii|` below this fraction of the norm of column `i` of `K` marks the constraint
+/// as numerically dependent on the previous ones.
+const DEPENDENCE: f64 = 1e-16;
+/// A constraint whose support covers at least this fraction of a block is scaled densely.
+const DENSE_SUPPORT: f64 = 0.7;
+
+/// Scaled constraint matrix `K`, overwritten by its Householder QR factorisation.
+pub(crate) struct LeastSquares {
+    m: usize,
+    /// First row of every block in the stacked scaled space (`n²` rows per PSD block, `n` per LP
+    /// block).
+    offsets: Vec<usize>,
+    rows: usize,
+    /// For every constraint: `(block, local index)` of each block it touches.
+    touches: Vec<Vec<(usize, usize)>>,
+    /// For every PSD block and local constraint: the sorted support (row/column indices) of `A_i`.
+    supports: Vec<Vec<Vec<usize>>>,
+    /// `R` in the upper triangle, the Householder vectors below it.
+    qr: Mat<f64>,
+    /// Block Householder factors.
+    coeff: Mat<f64>,
+    par: Par,
+}
+
+fn support_of(rows: &[usize], cols: &[usize]) -> Vec<usize> {
+    let mut s: Vec<usize> = rows.iter().chain(cols).copied().collect();
+    s.sort_unstable();
+    s.dedup();
+    s
+}
+
+impl LeastSquares {
+    /// Workspaces for `an`, or `None` when `K` would exceed the memory budget or cannot have full
+    /// column rank (fewer scaled rows than constraints).
+    pub(crate) fn new(an: &Analysis, par: Par) -> Option<Self> {
+        let m = an.m;
+        let mut offsets = Vec::with_capacity(an.blocks.len());
+        let mut rows = 0usize;
+        for b in &an.blocks {
+            offsets.push(rows);
+            rows = rows.checked_add(match b.kind {
+                BlockKind::Psd => b.n.checked_mul(b.n)?,
+                BlockKind::Lp => b.n,
+            })?;
+        }
+        if m == 0 || rows < m || rows.checked_mul(m)? > MAX_ELEMENTS {
+            return None;
+        }
+        let mut touches = vec![Vec::new(); m];
+        let mut supports = Vec::with_capacity(an.blocks.len());
+        for (k, b) in an.blocks.iter().enumerate() {
+            for (p, pat) in b.cons.iter().enumerate() {
+                touches[pat.con].push((k, p));
+            }
+            supports.push(match b.kind {
+                BlockKind::Psd => b
+                    .cons
+                    .iter()
+                    .map(|pat| support_of(&pat.rows, &pat.cols))
+                    .collect(),
+                BlockKind::Lp => Vec::new(),
+            });
+        }
+        let block = recommended_block_size::<f64>(rows, m);
+        Some(Self {
+            m,
+            offsets,
+            rows,
+            touches,
+            supports,
+            qr: Mat::zeros(rows, m),
+            coeff: Mat::zeros(block, m),
+            par,
+        })
+    }
+
+    /// Builds `K` at the iterate with factors `f` and factorises it. Returns `false` (and leaves
+    /// the workspace unusable until the next call) if a constraint is numerically dependent.
+    pub(crate) fn factorize(
+        &mut self,
+        an: &Analysis,
+        vals: &Values,
+        x: &[Mat<f64>],
+        f: &Factors,
+    ) -> bool {
+        let Self {
+            offsets,
+            touches,
+            supports,
+            qr,
+            ..
+        } = self;
+        qr.par_col_iter_mut().enumerate().for_each(|(c, mut col)| {
+            col.fill(0.0);
+            for &(k, p) in &touches[c] {
+                let b = &an.blocks[k];
+                let o = offsets[k];
+                let v = &vals.a[k][p];
+                let pat = &b.cons[p];
+                match b.kind {
+                    BlockKind::Lp => {
+                        let (xs, zs) = (x[k].col_as_slice(0), f.zinv[k].col_as_slice(0));
+                        for (e, &l) in pat.rows.iter().enumerate() {
+                            col[o + l] += (xs[l] * zs[l]).sqrt() * v[e];
+                        }
+                    }
+                    BlockKind::Psd => {
+                        let n = b.n;
+                        let kp = scaled_constraint(
+                            n,
+                            &pat.rows,
+                            &pat.cols,
+                            v,
+                            &supports[k][p],
+                            &f.lx[k],
+                            &f.linv_s[k],
+                        );
+                        for j in 0..n {
+                            for i in 0..n {
+                                col[o + i + j * n] += kp[(i, j)];
+                            }
+                        }
+                    }
+                }
+            }
+        });
+        let norms: Vec<f64> = (0..self.m).map(|c| self.qr.col(c).norm_l2()).collect();
+        let (rows, m) = (self.rows, self.m);
+        let block = self.coeff.nrows();
+        let mut mem = MemBuffer::new(qr_in_place_scratch::<f64>(
+            rows,
+            m,
+            block,
+            self.par,
+            Default::default(),
+        ));
+        qr_in_place(
+            self.qr.as_mut(),
+            self.coeff.as_mut(),
+            self.par,
+            MemStack::new(&mut mem),
+            Default::default(),
+        );
+        (0..m).all(|i| {
+            let r = self.qr[(i, i)];
+            r.is_finite() && r.abs() > DEPENDENCE * norms[i]
+        })
+    }
+
+    fn apply_qt(&self, v: &mut [f64]) {
+        let mut mem = MemBuffer::new(
+            apply_block_householder_sequence_transpose_on_the_left_in_place_scratch::<f64>(
+                self.rows,
+                self.coeff.nrows(),
+                1,
+            ),
+        );
+        apply_block_householder_sequence_transpose_on_the_left_in_place_with_conj(
+            self.qr.as_ref(),
+            self.coeff.as_ref(),
+            Conj::No,
+            MatMut::from_column_major_slice_mut(v, self.rows, 1),
+            self.par,
+            MemStack::new(&mut mem),
+        );
+    }
+
+    fn apply_q(&self, v: &mut [f64]) {
+        let mut mem = MemBuffer::new(
+            apply_block_householder_sequence_on_the_left_in_place_scratch::<f64>(
+                self.rows,
+                self.coeff.nrows(),
+                1,
+            ),
+        );
+        apply_block_householder_sequence_on_the_left_in_place_with_conj(
+            self.qr.as_ref(),
+            self.coeff.as_ref(),
+            Conj::No,
+            MatMut::from_column_major_slice_mut(v, self.rows, 1),
+            self.par,
+            MemStack::new(&mut mem),
+        );
+    }
+
+    /// `R⁻ᵀ v` in place.
+    fn solve_rt(&self, v: &mut [f64]) {
+        let r = self.qr.get(..self.m, ..self.m);
+        solve_lower_triangular_in_place(
+            r.transpose(),
+            MatMut::from_column_major_slice_mut(v, self.m, 1),
+            self.par,
+        );
+    }
+
+    /// `R⁻¹ v` in place.
+    fn solve_r(&self, v: &mut [f64]) {
+        let r = self.qr.get(..self.m, ..self.m);
+        solve_upper_triangular_in_place(
+            r,
+            MatMut::from_column_major_slice_mut(v, self.m, 1),
+            self.par,
+        );
+    }
+
+    /// `ΔX = sym(L_X Z L_S⁻¹)` per block from the stacked scaled `Z`.
+    fn unscale(&self, an: &Analysis, x: &[Mat<f64>], f: &Factors, z: &[f64]) -> BlockMats {
+        an.blocks
+            .par_iter()
+            .enumerate()
+            .map(|(k, b)| {
+                let o = self.offsets[k];
+                match b.kind {
+                    BlockKind::Lp => {
+                        let (xs, zs) = (x[k].col_as_slice(0), f.zinv[k].col_as_slice(0));
+                        Mat::from_fn(b.n, 1, |l, _| (xs[l] * zs[l]).sqrt() * z[o + l])
+                    }
+                    BlockKind::Psd => {
+                        let n = b.n;
+                        let zk = faer::MatRef::from_column_major_slice(&z[o..o + n * n], n, n);
+                        let mut d = mul(&mul(&f.lx[k], &zk.to_owned()), &f.linv_s[k]);
+                        symmetrize(&mut d);
+                        d
+                    }
+                }
+            })
+            .collect()
+    }
+
+    /// The stacked `g = vec G` (see the module documentation); `second` is the predictor
+    /// `(ΔX_a, ΔS_a)` whose product `H = ΔX_a ΔS_a` enters the corrector.
+    fn scaled_rhs(
+        &self,
+        an: &Analysis,
+        x: &[Mat<f64>],
+        f: &Factors,
+        rd: &[Mat<f64>],
+        sigma_mu: f64,
+        second: Option<(&[Mat<f64>], &[Mat<f64>])>,
+    ) -> Vec<f64> {
+        let parts: Vec<Vec<f64>> = an
+            .blocks
+            .par_iter()
+            .enumerate()
+            .map(|(k, b)| match b.kind {
+                BlockKind::Lp => {
+                    let (xs, zs, rs) = (
+                        x[k].col_as_slice(0),
+                        f.zinv[k].col_as_slice(0),
+                        rd[k].col_as_slice(0),
+                    );
+                    (0..b.n)
+                        .map(|l| {
+                            let h = second.map_or(0.0, |(dx, ds)| dx[k][(l, 0)] * ds[k][(l, 0)]);
+                            // x s = x / zinv; all products kept in scaled form.
+                            let xs_prod = xs[l] / zs[l];
+                            -xs_prod.sqrt()
+                                - (xs[l] * zs[l]).sqrt() * rs[l]
+                                - (h - sigma_mu) / xs_prod.sqrt()
+                        })
+                        .collect()
+                }
+                BlockKind::Psd => {
+                    let (lx, linv_x, ls, linv_s) = (&f.lx[k], &f.linv_x[k], &f.ls[k], &f.linv_s[k]);
+                    // −L_Xᵀ (L_S + R_d L_S⁻ᵀ)
+                    let mut inner = mul(&rd[k], &linv_s.transpose().to_owned());
+                    inner += ls;
+                    let mut g = mul(&lx.transpose().to_owned(), &inner);
+                    g *= faer::Scale(-1.0);
+                    // + σμ L_X⁻¹ L_S⁻ᵀ − (L_X⁻¹ ΔX_a)(ΔS_a L_S⁻ᵀ)
+                    if sigma_mu != 0.0 {
+                        let nmat = mul(linv_x, &linv_s.transpose().to_owned());
+                        g += &(nmat * faer::Scale(sigma_mu));
+                    }
+                    if let Some((dx, ds)) = second {
+                        let left = mul(linv_x, &dx[k]);
+                        let right = mul(&ds[k], &linv_s.transpose().to_owned());
+                        g -= &mul(&left, &right);
+                    }
+                    let n = b.n;
+                    (0..n * n).map(|e| g[(e % n, e / n)]).collect()
+                }
+            })
+            .collect();
+        let mut out = Vec::with_capacity(self.rows);
+        for p in parts {
+            out.extend(p);
+        }
+        out
+    }
+
+    /// The HKM direction `(ΔX, Δy)` of the least-squares form; `ΔS` is left to the caller
+    /// (`R_d − 𝒜ᵀ(Δy)`).
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn direction(
+        &self,
+        an: &Analysis,
+        x: &[Mat<f64>],
+        f: &Factors,
+        rd: &[Mat<f64>],
+        rp: &[f64],
+        sigma_mu: f64,
+        second: Option<(&[Mat<f64>], &[Mat<f64>])>,
+    ) -> (BlockMats, Vec<f64>) {
+        let m = self.m;
+        let mut c = self.scaled_rhs(an, x, f, rd, sigma_mu, second);
+        self.apply_qt(&mut c);
+        let mut w = rp.to_vec();
+        self.solve_rt(&mut w);
+        let mut dy: Vec<f64> = w.iter().zip(&c[..m]).map(|(a, b)| a - b).collect();
+        self.solve_r(&mut dy);
+        c[..m].copy_from_slice(&w);
+        self.apply_q(&mut c);
+        (self.unscale(an, x, f, &c), dy)
+    }
+
+    /// Minimum-norm correction for a primal residual `e`: `δ = R⁻¹R⁻ᵀ e` and the matching
+    /// `ΔX` correction `sym(L_X Q [R⁻ᵀ e; 0] L_S⁻¹)`, which satisfies `𝒜(·) = e`.
+    pub(crate) fn correction(
+        &self,
+        an: &Analysis,
+        x: &[Mat<f64>],
+        f: &Factors,
+        e: &[f64],
+    ) -> (Vec<f64>, BlockMats) {
+        let mut w = e.to_vec();
+        self.solve_rt(&mut w);
+        let mut z = vec![0.0; self.rows];
+        z[..self.m].copy_from_slice(&w);
+        self.apply_q(&mut z);
+        self.solve_r(&mut w);
+        (w, self.unscale(an, x, f, &z))
+    }
+}
+
+/// `K_p = L_Xᵀ A_p L_S⁻ᵀ` for a constraint with upper-triangle pattern `(rows, cols)`, values `v`
+/// and support `support`: only the rows `J` of `L_X` and the columns `J` of `L_S⁻¹` take part,
+/// `K_p = L_X[J,:]ᵀ A_p[J,J] (L_S⁻¹[:,J])ᵀ`.
+fn scaled_constraint(
+    n: usize,
+    rows: &[usize],
+    cols: &[usize],
+    v: &[f64],
+    support: &[usize],
+    lx: &Mat<f64>,
+    linv_s: &Mat<f64>,
+) -> Mat<f64> {
+    let nj = support.len();
+    if nj as f64 >= DENSE_SUPPORT * n as f64 {
+        let mut a = Mat::<f64>::zeros(n, n);
+        for e in 0..v.len() {
+            let (r, c) = (rows[e], cols[e]);
+            a[(r, c)] += v[e];
+            if r != c {
+                a[(c, r)] += v[e];
+            }
+        }
+        return mul(
+            &mul(&lx.transpose().to_owned(), &a),
+            &linv_s.transpose().to_owned(),
+        );
+    }
+    let pos = |i: usize| support.binary_search(&i).unwrap_or(0);
+    let mut a = Mat::<f64>::zeros(nj, nj);
+    for e in 0..v.len() {
+        let (r, c) = (pos(rows[e]), pos(cols[e]));
+        a[(r, c)] += v[e];
+        if r != c {
+            a[(c, r)] += v[e];
+        }
+    }
+    let lxj_t = Mat::from_fn(n, nj, |i, c| lx[(support[c], i)]);
+    let lsj_t = Mat::from_fn(nj, n, |r, j| linv_s[(j, support[r])]);
+    mul(&mul(&lxj_t, &a), &lsj_t)
+}
