@@ -20,15 +20,26 @@
 //! * `lmi_small/rebuild_solve` (reference): build the model for a new `τ̄` and solve;
 //! * `lmi_small/update_solve`: `set_param` on the compiled model and re-solve.
 //!
+//! The 64-vertex problem exported from the modelling layer (`write_sdpa` of the compiled
+//! feasibility problem: 64 blocks of order 15 plus the margin normalisation, in 46 shared
+//! variables) is written to `$TMPDIR/sporadic-lmi64x15.dat-s` and timed from the file:
+//!
+//! * `lmi_vs_csdp/ours`: `read_sdpa_file` + `solve` in process;
+//! * `lmi_vs_csdp/csdp` (reference): the `csdp` binary on the same file, whole process (when
+//!   `/usr/bin/csdp` exists). `benches/scripts/vs_csdp.sh` also compares whole processes with
+//!   hyperfine.
+//!
 //! Run: `cargo bench -p sporadic-benches --bench lmi -- --warm-up-time 1 --measurement-time 5`
 
 use std::hint::black_box;
+use std::path::Path;
+use std::process::{Command, Stdio};
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use faer::{Mat, mat};
 use sporadic_linalg::expm_scaled;
-use sporadic_sdp::Solver;
 use sporadic_sdp::lmi::{Compiled, Expr, FeasibilityOptions, Model, Normalisation, Param};
+use sporadic_sdp::{Settings, Solver, read_sdpa_file, solve, write_sdpa};
 
 const VERTICES: usize = 64;
 
@@ -265,5 +276,52 @@ fn bench_small(c: &mut Criterion) {
     );
 }
 
-criterion_group!(benches, bench, bench_small);
+const CSDP: &str = "/usr/bin/csdp";
+
+/// Exports the 64-vertex feasibility problem and times ours against CSDP from the file.
+fn bench_vs_csdp(c: &mut Criterion) {
+    let (a, _) = plant();
+    let opts = FeasibilityOptions::default();
+    let problem = build_constant(&vertices(&a, 0.0))
+        .compile_feasibility(&opts)
+        .expect("compile")
+        .problem()
+        .expect("problem")
+        .clone();
+    let file = std::env::temp_dir().join("sporadic-lmi64x15.dat-s");
+    std::fs::write(&file, write_sdpa(&problem)).expect("write the exported problem");
+    eprintln!("lmi bench: exported {}", file.display());
+    let mut g = c.benchmark_group("lmi_vs_csdp");
+    g.sample_size(10);
+    g.bench_function("ours", |b| {
+        b.iter(|| {
+            let p = read_sdpa_file(black_box(&file)).expect("read");
+            solve(&p, &Settings::default()).expect("solve").iterations
+        })
+    });
+    if Path::new(CSDP).exists() {
+        let out = std::env::temp_dir().join("sporadic-lmi64x15.csdp.sol");
+        g.bench_function("csdp", |b| {
+            b.iter(|| {
+                let status = Command::new(CSDP)
+                    .arg(black_box(&file))
+                    .arg(&out)
+                    .stdout(Stdio::null())
+                    .stderr(Stdio::null())
+                    .status()
+                    .expect("csdp runs");
+                // 0: success, 3: partial success.
+                assert!(
+                    matches!(status.code(), Some(0 | 3)),
+                    "csdp failed: {status}"
+                );
+            })
+        });
+    } else {
+        eprintln!("lmi bench: {CSDP} not found, CSDP reference SKIPPED");
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench, bench_small, bench_vs_csdp);
 criterion_main!(benches);

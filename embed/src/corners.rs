@@ -6,7 +6,8 @@
 //! Coefficients whose range is a single value are folded into the base matrix, so they do not
 //! double the vertex count.
 
-use faer::{Mat, MatRef, Scale};
+use faer::linalg::matmul::matmul;
+use faer::{Accum, Mat, MatRef, Par, Scale};
 
 use crate::EmbedError;
 
@@ -42,15 +43,26 @@ pub(crate) fn box_vertices(
     if f >= usize::BITS as usize - 1 || (1usize << f) > limit {
         return Err(EmbedError::TooManyVertices { free: f, limit });
     }
-    let mut vertices = Vec::with_capacity(1 << f);
-    for v in 0..(1usize << f) {
-        let mut x = fixed.clone();
-        for (k, (m, lo, hi)) in free.iter().enumerate() {
-            let coef = if v >> k & 1 == 1 { *hi } else { *lo };
-            x += Scale(coef) * m;
-        }
-        vertices.push(x);
-    }
+    // All corners at once: column v of `stacked` is vec(X_v) = vec(B) + Σ_k c_k^{(v)} vec(N_k),
+    // one matrix product instead of 2^F · F small matrix updates.
+    let count = 1usize << f;
+    let dirs = Mat::from_fn(r * c, f, |p, k| free[k].0[(p % r, p / r)]);
+    let coefs = Mat::from_fn(f, count, |k, v| {
+        let (_, lo, hi) = free[k];
+        if v >> k & 1 == 1 { hi } else { lo }
+    });
+    let mut stacked = Mat::from_fn(r * c, count, |p, _| fixed[(p % r, p / r)]);
+    matmul(
+        stacked.as_mut(),
+        Accum::Add,
+        dirs.as_ref(),
+        coefs.as_ref(),
+        1.0,
+        Par::Seq,
+    );
+    let vertices = (0..count)
+        .map(|v| Mat::from_fn(r, c, |i, j| stacked[(i + r * j, v)]))
+        .collect();
     Ok((vertices, f))
 }
 

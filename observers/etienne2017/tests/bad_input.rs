@@ -7,14 +7,15 @@ use sporadic_etienne2017::{
 };
 use sporadic_sim::Periodic;
 
-fn data() -> (Mat<f64>, Mat<f64>, Mat<f64>, Mat<f64>, Mat<f64>) {
-    (
+/// `A, B, C, G, H` of a valid plant (n = 2, no input, q = m = 1).
+fn data() -> [Mat<f64>; 5] {
+    [
         mat![[0.0, 1.0], [-1.0, 0.0]],
         Mat::zeros(2, 0),
         mat![[1.0, 0.0]],
         mat![[0.0], [1.0]],
         mat![[1.0, 0.0]],
-    )
+    ]
 }
 
 #[test]
@@ -81,7 +82,7 @@ fn windows() {
 
 #[test]
 fn plant_data() {
-    let (a, b, c, g, h) = data();
+    let [a, b, c, g, h] = data();
     let (ar, br, cr, gr, hr) = (a.as_ref(), b.as_ref(), c.as_ref(), g.as_ref(), h.as_ref());
     assert!(Plant::lipschitz(ar, br, cr, gr, hr, 1.0).is_ok());
     // Non-finite Jacobian bounds / Lipschitz constant.

@@ -464,8 +464,8 @@ fn example2_claims(out_dir: &Path, rep: &mut Reproduction) -> Result<(), Error> 
         worst100,
         format!(
             "largest ‖ε‖²/‖ε0‖² after 100 jumps with L_paper over 5 random ε0 and i.i.d. uniform \
-             intervals in [0.2, 3] (after 20 jumps: {worst20:.2e}); spec 000 §6.9 reports \
-             1e-16…1e-20 (1e-3…1e-6 after 20) for its own random draws"
+             intervals in [0.2, 3]: {worst100:.2e} (after 20 jumps: {worst20:.2e}); spec 000 §6.9 \
+             reports 1e-16…1e-20 (1e-3…1e-6 after 20) for its own random draws"
         ),
     ));
 
@@ -557,11 +557,11 @@ fn example2_claims(out_dir: &Path, rep: &mut Reproduction) -> Result<(), Error> 
         "ex2.window.smallest_T1",
         w1.best.unwrap_or(f64::NAN),
         format!(
-            "smallest T1 certified for T2 = 3 (search limit 0.01): bracket (first failure {:?}, \
-             best {:?}), monotone on the {} probes: {}; spec 000 §5: feasible at 0.1, margin lost \
-             near 0.05 (solver- and normalisation-dependent)",
-            w1.first_failure,
-            w1.best,
+            "smallest T1 certified for T2 = 3 (search limit 0.01): bracket ({:.5}, {:.5}] between \
+             the first failure and the best certified T1, monotone on the {} probes: {}; spec 000 \
+             §5: feasible at 0.1, margin lost near 0.05 (solver- and normalisation-dependent)",
+            w1.first_failure.unwrap_or(f64::NAN),
+            w1.best.unwrap_or(f64::NAN),
             w1.probes.len(),
             w1.monotone
         ),

@@ -67,7 +67,8 @@ pub struct Scenario {
     pub disturbance: Option<Disturbance>,
     /// The realised noise.
     pub noise: Noise,
-    /// `u(t) = Σ a sin(ωt + φ)` as `(a, ω, φ)` terms (empty: `u ≡ 0`).
+    /// `u(t) = Σ a sin(ωt + φ)` as `(a, ω, φ)` terms (empty: `u ≡ 0`; otherwise the plant must
+    /// have a single input).
     pub input: Vec<(f64, f64, f64)>,
     /// Also record the flow on a uniform grid of this step (figures); `None`: jumps only.
     pub record_step: Option<f64>,
@@ -248,8 +249,9 @@ pub fn simulate_interval(
             &scenario.input,
         )?))
     };
+    // A scalar input: the plant must have m = 1 (the simulator reports any other m).
     let mut plant_flow = LtiFlow::new(plant.a())?;
-    if let (Some(u), true) = (&input, plant.m() > 0) {
+    if let Some(u) = &input {
         plant_flow = plant_flow.with_input(plant.b(), u.clone())?;
     }
     if let Some(d) = &scenario.disturbance {
@@ -293,7 +295,7 @@ pub fn simulate_interval(
         flow: plant_flow,
         output,
     };
-    let mut sim_observer = observer.hybrid(if plant.m() > 0 { input } else { None })?;
+    let mut sim_observer = observer.hybrid(input)?;
     let mut rule = UniformRandom::new(
         scenario.sampling.tau_min(),
         scenario.sampling.tau_max(),

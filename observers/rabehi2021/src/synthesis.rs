@@ -37,17 +37,21 @@
 //!    implies `Ψ_i ⪯ tI`, moves all variables at once, and contains the current iterate.
 //!
 //! Every step's `t` is **recomputed in `f64`** from the returned matrices (`max_i λmax(Ψ_i)`);
-//! the best iterate is kept, and the log records every step. The run stops when (44) is certified
-//! and Theorem 1 holds for `Γ(L)` (below), when the value stalls, or at the step limits; a run
-//! that does not get there is reported as **not certified**, with the reason.
+//! the best iterate is kept, and the log records every step. The run stops when (44) holds at
+//! the vertices and Theorem 1 is certified for `Γ(L)` (below), when the value stalls, or at the
+//! step limits; a run that does not get there is reported as **not certified**, with the reason.
 //!
-//! **Certificate.** (44) holds on the whole window if `max_i λmax(Ψ_i) + ‖P‖₂δ < 0` (with a
-//! rounding allowance), `δ` the Taylor remainder bound: `Ψ` depends on `M` only through the block
-//! `PM`, so the remainder perturbs it by at most `‖PΔ‖₂ ≤ ‖P‖₂δ`. **Remark 6 caveat.** The
-//! observer is implemented with `Γ(L) = [[G⁺, G⁻], [G⁻, G⁺]] ≤ Γ(G1, G2)` elementwise, and a
-//! common quadratic `P` is not inherited by an elementwise-smaller nonnegative matrix; so every
-//! certified design is re-verified with Theorem 1 for `Γ(L)` itself ([`crate::analysis`]), and
-//! only a design passing both is [`DesignStatus::Certified`].
+//! **Certificates.** [`Bmi44Check`] is Proposition 1's own certificate: (44) holds on the whole
+//! window if `max_i λmax(Ψ_i) + ‖P‖₂δ < 0` (with a rounding allowance), `δ` the Taylor remainder
+//! bound — `Ψ` depends on `M` only through the block `PM`, so the remainder perturbs it by at
+//! most `‖PΔ‖₂ ≤ ‖P‖₂δ`. **Remark 6 caveat.** The observer is implemented with
+//! `Γ(L) = [[G⁺, G⁻], [G⁻, G⁺]] ≤ Γ(G1, G2)` elementwise, and a common quadratic `P` is not
+//! inherited by an elementwise-smaller nonnegative matrix; so as soon as (44) holds at the
+//! vertices, Theorem 1 is re-verified for `Γ(L)` itself with a fresh `P`
+//! ([`crate::analysis`], with [`SynthesisOptions::analysis`], independent of the design polytope).
+//! That re-verification is the statement the observer needs, and it is rigorous on its own
+//! (polytope with remainder, plus the grid bound); a design is [`DesignStatus::Certified`] only
+//! when it passes.
 
 use std::time::{Duration, Instant};
 
@@ -56,7 +60,7 @@ use sporadic_sdp::lmi::{Compiled, Expr, Model, Param, SolveOptions, Var};
 
 use crate::analysis::{Analysis, AnalysisOptions, analyse};
 use crate::error::Error;
-use crate::ipr::{MetzlerDecomposition, gamma_of_gain, jump_matrix};
+use crate::ipr::{MetzlerDecomposition, gamma_of_gain, jump_matrix, negative_part, positive_part};
 use crate::polytope::{PolytopeOptions, norm2, taylor_polytope};
 use crate::system::{Plant, Window};
 
@@ -83,8 +87,8 @@ pub struct SynthesisOptions {
     pub stall_tolerance: f64,
     /// Interior-point settings and the LMI layer's verification safety factor.
     pub solve: SolveOptions,
-    /// Settings of the Theorem 1 re-verification with `Γ(L)` (Remark 6); its polytope options are
-    /// replaced by [`SynthesisOptions::polytope`].
+    /// Settings of the Theorem 1 re-verification with `Γ(L)` (Remark 6); by default a split Taylor
+    /// polytope with remainder ≤ 1e-9 and the grid check, whatever the design polytope.
     pub analysis: AnalysisOptions,
     /// Factor of the rounding allowance of the `f64` re-check of (44) (multiplies
     /// `6n·ε_mach·max|Ψ_ij|`). Default 100.
@@ -196,7 +200,7 @@ pub struct Bmi44Check {
 /// Final status of a synthesis.
 #[derive(Debug, Clone, PartialEq)]
 pub enum DesignStatus {
-    /// (44) certified on the whole window and Theorem 1 re-verified for `Γ(L)`.
+    /// (44) holds at the vertices (`f64` re-check) and Theorem 1 is certified for `Γ(L)`.
     Certified,
     /// No certified design: why (stall, step limit, Remark 6 re-verification failed, …).
     NotCertified(String),
@@ -219,7 +223,8 @@ pub struct Design {
     pub p: Mat<f64>,
     /// `f64` re-check of (44) at the best iterate.
     pub bmi: Bmi44Check,
-    /// Theorem 1 re-verification with `Γ(L)` (run once (44) is certified).
+    /// Theorem 1 re-verification with `Γ(L)` (the last one run; run whenever an improved
+    /// iterate satisfies (44) at the vertices).
     pub reverification: Option<Analysis>,
     /// Number of polytope vertices.
     pub vertices: usize,
@@ -327,6 +332,7 @@ impl Bmi44 {
         }
         Ok(StepModel {
             compiled: m.compile(&o.solve)?,
+            c: self.c.clone(),
             p: c.p,
             t: c.t,
             f: None,
@@ -352,6 +358,7 @@ impl Bmi44 {
         }
         Ok(StepModel {
             compiled: m.compile(&o.solve)?,
+            c: self.c.clone(),
             p: c.p,
             t: c.t,
             f: Some(f),
@@ -402,6 +409,7 @@ impl Bmi44 {
         }
         Ok(StepModel {
             compiled: m.compile(&o.solve)?,
+            c: self.c.clone(),
             p: c.p,
             t: c.t,
             f: Some(f),
@@ -477,6 +485,8 @@ impl Bmi44 {
 /// A compiled step model and its handles.
 struct StepModel {
     compiled: Compiled,
+    /// The output matrix `C` (for the repair of the split (31)).
+    c: Mat<f64>,
     p: Var,
     t: Var,
     f: Option<Var>,
@@ -503,11 +513,11 @@ impl StepModel {
             None => prev.f.clone(),
         };
         let (g1, g2, l) = match &self.resets {
-            Some((g1, g2, l)) => (
-                clip_nonnegative(sol.value(g1)?),
-                clip_nonnegative(sol.value(g2)?),
-                sol.value(l)?,
-            ),
+            Some((g1, g2, l)) => {
+                let l = sol.value(l)?;
+                let (g1, g2) = repair_split(self.c.as_ref(), &l, &sol.value(g1)?, &sol.value(g2)?);
+                (g1, g2, l)
+            }
             None => (prev.g1.clone(), prev.g2.clone(), prev.l.clone()),
         };
         Ok(Some((
@@ -531,10 +541,24 @@ fn dense_placeholder(k: usize) -> Mat<f64> {
     Mat::from_fn(k, k, |i, j| if i == j { 2.0 } else { 1.0 })
 }
 
-/// Interior-point solutions satisfy `G ≥ 0` only up to the solver tolerance; entries below zero
-/// by that much are set to 0 (the re-check of (44) and of (35b) is done on the clipped values).
-fn clip_nonnegative(g: Mat<f64>) -> Mat<f64> {
-    Mat::from_fn(g.nrows(), g.ncols(), |i, j| g[(i, j)].max(0.0))
+/// Interior-point solutions satisfy (35b)–(35d) only up to the solver tolerance. The split is
+/// repaired onto the exact form (31): `G1 = G⁺ + Δ`, `G2 = G⁻ + Δ` with `G = I + LC` from the
+/// returned `L` and `Δ = max(0, ((G1 − G⁺) + (G2 − G⁻))/2)` (the entrywise least-squares choice),
+/// so that `G1, G2 ≥ 0` and `G1 − G2 = G` hold exactly; (44) is then re-checked on the repaired
+/// matrices.
+fn repair_split(
+    c: MatRef<'_, f64>,
+    l: &Mat<f64>,
+    g1: &Mat<f64>,
+    g2: &Mat<f64>,
+) -> (Mat<f64>, Mat<f64>) {
+    let n = g1.nrows();
+    let g = Mat::<f64>::identity(n, n) + l * c;
+    let (gp, gm) = (positive_part(g.as_ref()), negative_part(g.as_ref()));
+    let delta = Mat::from_fn(n, n, |i, j| {
+        (0.5 * ((g1[(i, j)] - gp[(i, j)]) + (g2[(i, j)] - gm[(i, j)]))).max(0.0)
+    });
+    (&gp + &delta, &gm + &delta)
 }
 
 /// Runs the Proposition 1 pipeline (module docs) for `plant` on `window`.
@@ -742,9 +766,12 @@ impl Run<'_> {
         if accepted && check.max_eigenvalue + check.rounding < 0.0 && check.min_g_entry >= 0.0 {
             let best = self.best.as_ref().expect("accepted");
             let gamma = gamma_of_gain(self.plant, best.l.as_ref())?;
-            let mut analysis_options = self.options.analysis.clone();
-            analysis_options.polytope = self.options.polytope;
-            let a = analyse(self.a_bar, gamma.as_ref(), self.window, &analysis_options)?;
+            let a = analyse(
+                self.a_bar,
+                gamma.as_ref(),
+                self.window,
+                &self.options.analysis,
+            )?;
             self.done = a.certified;
             self.reverification = Some(a);
         }

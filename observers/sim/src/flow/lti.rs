@@ -214,9 +214,7 @@ impl LtiFlow {
         p.advance(t, &mut out, tau)?;
         Ok(out)
     }
-}
 
-impl LtiFlow {
     /// `A x + Σ B_i u_i + c` with the piecewise-constant inputs at `t` (`left`: their left limits).
     fn eval(&self, t: f64, left: bool, x: &[f64], dx: &mut [f64]) {
         let n = self.dim();

@@ -1,0 +1,71 @@
+#!/usr/bin/env bash
+# Whole-process time of `sporadic sdp solve FILE` against the Debian `csdp` binary
+# (coinor-csdp) on the SDPLIB problems of issue 3 and on an LMI problem with many small blocks
+# exported from the modelling layer, measured in the same run with hyperfine.
+#
+#   benches/scripts/vs_csdp.sh [SDPLIB_DIR]        (default: $SPORADIC_SDPLIB or ../shared/sdplib)
+#
+# Environment: RUNS (hyperfine runs per command, default 5), WARMUP (default 1),
+# PROBLEMS (space-separated list overriding the default set), OUT (result directory,
+# default target/vs_csdp).
+#
+# For each problem it prints both mean times, their ratio ours/csdp (< 1: we are faster) and the
+# status of both solvers (our status from the JSON output; CSDP's exit code: 0 success,
+# 3 partial success). It also writes the in-process table of `sporadic sdp bench DIR --vs-csdp`
+# (solve time without process start-up and file reading, same solvers) to $OUT/bench.txt.
+# The LMI problem (LMI (41) of Ferrante et al. 2016 on 64 vertices: 64 blocks of order 15 in 46
+# shared variables) is written by the `lmi` criterion bench, which also times it in process
+# (`lmi_vs_csdp/{ours,csdp}`).
+set -euo pipefail
+
+cd "$(dirname "$0")/../.."
+ROOT=$(pwd)
+SDPLIB=${1:-${SPORADIC_SDPLIB:-$ROOT/../shared/sdplib}}
+RUNS=${RUNS:-5}
+WARMUP=${WARMUP:-1}
+OUT=${OUT:-$ROOT/target/vs_csdp}
+CSDP=${CSDP:-/usr/bin/csdp}
+DEFAULT_PROBLEMS="control1 control2 control3 control4 control5
+truss1 truss2 truss3 truss4 truss5 truss6 truss7 truss8
+theta1 theta2 theta3
+hinf1 hinf2 hinf3 hinf4 hinf5 hinf6 hinf7 hinf8 hinf9 hinf10"
+PROBLEMS=${PROBLEMS:-$DEFAULT_PROBLEMS}
+
+command -v hyperfine >/dev/null || { echo "hyperfine not found (apt-get install -y hyperfine)" >&2; exit 1; }
+[ -x "$CSDP" ] || { echo "csdp not found at $CSDP (apt-get install -y coinor-csdp)" >&2; exit 1; }
+[ -d "$SDPLIB" ] || { echo "SDPLIB directory $SDPLIB not found" >&2; exit 1; }
+
+mkdir -p "$OUT"
+cargo build --release --bin sporadic
+SPORADIC=$ROOT/target/release/sporadic
+
+# The many-small-blocks LMI, exported from the modelling layer by the lmi bench.
+LMI_FILE=${TMPDIR:-/tmp}/sporadic-lmi64x15.dat-s
+cargo bench -p sporadic-benches --bench lmi -- lmi_vs_csdp --warm-up-time 1 --measurement-time 3 \
+    | tee "$OUT/lmi_bench.txt"
+[ -f "$LMI_FILE" ] || { echo "the lmi bench did not write $LMI_FILE" >&2; exit 1; }
+
+files=()
+for p in $PROBLEMS; do files+=("$SDPLIB/$p.dat-s"); done
+files+=("$LMI_FILE")
+
+printf '%-22s %10s %10s %7s  %-18s %s\n' problem 'ours[s]' 'csdp[s]' ratio 'our status' 'csdp exit'
+for f in "${files[@]}"; do
+    name=$(basename "$f" .dat-s)
+    json=$OUT/$name.json
+    # CSDP exits with 3 ("partial success") on several of these problems: accept 0..4.
+    hyperfine --runs "$RUNS" --warmup "$WARMUP" --style none --export-json "$json" \
+        -n ours "$SPORADIC sdp solve $f" \
+        -n csdp "sh -c '$CSDP $f $OUT/$name.csdp.sol >/dev/null; c=\$?; [ \$c -le 4 ]'" >/dev/null
+    read -r ours csdp < <(python3 -c '
+import json, sys
+r = {x["command"]: x["mean"] for x in json.load(open(sys.argv[1]))["results"]}
+print(r["ours"], r["csdp"])' "$json")
+    status=$("$SPORADIC" sdp solve "$f" --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["status"])')
+    set +e; "$CSDP" "$f" "$OUT/$name.csdp.sol" >/dev/null; code=$?; set -e
+    printf '%-22s %10.4f %10.4f %7.2f  %-18s %s\n' "$name" "$ours" "$csdp" \
+        "$(python3 -c "print($ours/$csdp)")" "$status" "$code"
+done | tee "$OUT/hyperfine.txt"
+
+"$SPORADIC" sdp bench "$SDPLIB" --vs-csdp > "$OUT/bench.txt"
+echo "in-process table: $OUT/bench.txt; hyperfine JSON: $OUT/*.json"
