@@ -216,3 +216,291 @@ fn reproduce_rejects_unknown_papers() {
     let o = sporadic(&["reproduce", "nobody1999"]);
     assert_clean_failure(&o, "unknown paper 'nobody1999'");
 }
+
+/// Spectral radius of `e^{Mτ}·J` (dense, via the workspace's expm).
+fn spectral_radius_after(m: &faer::Mat<f64>, tau: f64, jump: &faer::Mat<f64>) -> f64 {
+    let e = sporadic::linalg::expm((m * faer::Scale(tau)).as_ref()).unwrap();
+    (&e * jump)
+        .eigenvalues()
+        .unwrap()
+        .iter()
+        .map(|z| z.norm())
+        .fold(0.0, f64::max)
+}
+
+fn rows(v: &serde_json::Value) -> Vec<Vec<f64>> {
+    v.as_array()
+        .unwrap()
+        .iter()
+        .map(|r| {
+            r.as_array()
+                .unwrap()
+                .iter()
+                .map(|x| x.as_f64().unwrap())
+                .collect()
+        })
+        .collect()
+}
+
+#[test]
+fn design_etienne_static_gain_contracts_at_every_jacobian_vertex() {
+    let o = sporadic(&[
+        "design",
+        &example("etienne2017-flexible-joint.toml"),
+        "--method",
+        "etienne2017",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+    // Spec 003 §4.5: Corollary 2 is feasible on [0.01, 0.2] with t* = 5.402e-4.
+    assert!(
+        (v["margin"].as_f64().unwrap() - 5.402e-4).abs() < 1e-6,
+        "{v}"
+    );
+    assert_eq!(v["gains"][0]["name"], "K");
+    let k = rows(&v["gains"][0]["rows"]);
+    assert_eq!((k.len(), k[0].len()), (4, 2));
+    // Independent necessary condition: (I − KC)e^{R_p τ} is Schur for both vertices
+    // R_p = A + G θ H, θ = ±3.3, and every τ in [0.01, 0.2].
+    let a = faer::mat![
+        [0.0, 1.0, 0.0, 0.0],
+        [-48.6, -1.25, 48.6, 0.0],
+        [0.0, 0.0, 0.0, 1.0],
+        [19.5, 0.0, -19.5, 0.0],
+    ];
+    let jump = faer::Mat::from_fn(4, 4, |i, j| {
+        let kc = k[i][0] * f64::from(u8::from(j == 0)) + k[i][1] * f64::from(u8::from(j == 1));
+        f64::from(u8::from(i == j)) - kc
+    });
+    for theta in [-3.3, 3.3] {
+        let mut r = a.clone();
+        r[(3, 2)] += theta;
+        for step in 0..=19 {
+            let tau = 0.01 + 0.01 * step as f64;
+            let rho = spectral_radius_after(&r, tau, &jump);
+            assert!(rho < 1.0, "rho = {rho} at theta = {theta}, tau = {tau}");
+        }
+    }
+}
+
+#[test]
+fn max_interval_etienne_matches_the_spec_bracket() {
+    let o = sporadic(&[
+        "max-interval",
+        &example("etienne2017-flexible-joint.toml"),
+        "--method",
+        "etienne2017",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+    // Spec 003 §4.5: Theorem 3 with τ_low = 0.01 is feasible up to τ̄ ≈ 0.3417, in
+    // (0.3414, 0.3419) across solvers.
+    let best = v["largest_certified_t2"].as_f64().unwrap();
+    assert!((0.3405..0.3419).contains(&best), "{best}");
+    assert_eq!(v["design"]["gains"][1]["name"], "K1 = K(T2)");
+}
+
+#[test]
+fn design_rabehi_toml_gain_is_schur_on_the_window_and_simulates() {
+    let out = scratch("rabehi-sim");
+    let o = sporadic(&[
+        "design",
+        &example("rabehi2021-mass-spring-damper.toml"),
+        "--method",
+        "rabehi2021",
+        "--toml",
+        "--simulate",
+        &out.display().to_string(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let doc: toml::Table = toml::from_str(&stdout(&o)).unwrap();
+    assert_eq!(doc["method"].as_str(), Some("rabehi2021"));
+    assert!(doc["margin"].as_float().unwrap() > 0.0);
+    let gains = doc["gains"].as_array().unwrap();
+    assert_eq!(gains[0]["name"].as_str(), Some("L"));
+    let l: Vec<f64> = gains[0]["rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r.as_array().unwrap()[0].as_float().unwrap())
+        .collect();
+    // Independent necessary condition (spec 004, error e = x − x̂ of the centre): e^{Aμ}(I + LC)
+    // is Schur for every μ in [0.04, 0.3], with A = [[0, 1], [−1, −1]], C = [2, 0].
+    let a = faer::mat![[0.0, 1.0], [-1.0, -1.0]];
+    let g = faer::mat![[1.0 + 2.0 * l[0], 0.0], [2.0 * l[1], 1.0]];
+    for step in 0..=26 {
+        let mu = 0.04 + 0.01 * step as f64;
+        let rho = spectral_radius_after(&a, mu, &g);
+        assert!(rho < 1.0, "rho = {rho} at mu = {mu}");
+    }
+    let sim = doc["simulation"].as_table().unwrap();
+    let figure = sim["figure"].as_str().unwrap();
+    assert!(std::fs::read_to_string(figure).unwrap().starts_with("<svg"));
+    assert!(
+        sim["result"].as_str().unwrap().contains("violated at 0 of"),
+        "{sim:?}"
+    );
+}
+
+#[test]
+fn design_ferrante_simulate_writes_the_error_figure() {
+    let out = scratch("ferrante-sim");
+    let o = sporadic(&[
+        "design",
+        &example("ferrante2016-example2.toml"),
+        "--method",
+        "ferrante2016",
+        "--simulate",
+        &out.display().to_string(),
+        "--seed",
+        "7",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    let path = out.join("ferrante2016_error.svg");
+    assert!(
+        text.contains(&format!("figure: {}", path.display())),
+        "{text}"
+    );
+    let svg = std::fs::read_to_string(&path).unwrap();
+    assert!(svg.starts_with("<svg") && svg.contains("estimation error"));
+}
+
+#[test]
+fn max_interval_rabehi_stays_below_the_necessary_limit() {
+    let o = sporadic(&[
+        "max-interval",
+        &example("rabehi2021-mass-spring-damper.toml"),
+        "--method",
+        "rabehi2021",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+    // Spec 004 A6: the width of x2 is never corrected, so no design exists for τmax ≥ 2.037;
+    // A4: the paper's gain alone is certified up to ≈ 1.77, so the search must pass 1.
+    let best = v["largest_certified_t2"].as_f64().unwrap();
+    assert!((1.0..2.037).contains(&best), "{best}");
+    assert!(v["design"]["margin"].as_f64().unwrap() > 0.0);
+}
+
+#[test]
+fn inapplicable_methods_fail_cleanly_with_the_reason() {
+    let o = sporadic(&[
+        "design",
+        &example("ferrante2016-example2.toml"),
+        "--method",
+        "andrieu2014",
+    ]);
+    assert_clean_failure(&o, "andrieu2014 does not apply to this plant");
+    let o = sporadic(&[
+        "max-interval",
+        &example("two-tank-round-robin.toml"),
+        "--method",
+        "rabehi2021",
+    ]);
+    assert_clean_failure(&o, "needs a [bounds] section");
+    let o = sporadic(&[
+        "design",
+        &example("etienne2017-flexible-joint.toml"),
+        "--method",
+        "etienne2017",
+        "--simulate",
+        &scratch("no-sim").display().to_string(),
+    ]);
+    assert_clean_failure(&o, "etienne2017: simulation:");
+    let bad = scratch("lipschitz.toml");
+    std::fs::write(
+        &bad,
+        "[plant]\nA = [[0.0, 1.0], [0.0, 0.0]]\nC = [[1.0, 0.0]]\n[sampling]\nwindow = [0.1, 0.2]\n\
+         [lipschitz]\nG = [[0.0], [1.0]]\nH = [[1.0, 0.0], [0.0, 1.0]]\n\
+         jacobian_lower = [[-1.0, -1.0]]\njacobian_upper = [[1.0, 1.0]]\n",
+    )
+    .unwrap();
+    let o = sporadic(&[
+        "design",
+        &bad.display().to_string(),
+        "--method",
+        "etienne2017",
+    ]);
+    assert_clean_failure(&o, "G has 1 columns and H has 2 rows");
+    std::fs::write(
+        &bad,
+        "[plant]\nA = [[0.0, 1.0], [0.0, 0.0]]\nC = [[1.0, 0.0]]\n[sampling]\nwindow = [0.1, 0.2]\n\
+         [lipschitz]\nG = [[0.0], [1.0]]\nH = [[1.0, 0.0]]\n\
+         jacobian_lower = [[1.0]]\njacobian_upper = [[-1.0]]\n",
+    )
+    .unwrap();
+    let o = sporadic(&[
+        "compare",
+        &bad.display().to_string(),
+        "--out",
+        &scratch("no-cmp").display().to_string(),
+    ]);
+    assert_clean_failure(
+        &o,
+        "lipschitz.toml:6: lipschitz.jacobian_lower: entry (1, 1) = 1",
+    );
+}
+
+#[test]
+fn compare_lists_the_interval_observer() {
+    let out = scratch("compare-rabehi");
+    let o = sporadic(&[
+        "compare",
+        &example("rabehi2021-mass-spring-damper.toml"),
+        "--out",
+        &out.display().to_string(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    let row = text
+        .lines()
+        .find(|l| l.starts_with("rabehi2021"))
+        .unwrap_or_else(|| panic!("{text}"));
+    assert!(
+        row.contains("[0.04, 0.3]") && row.ends_with("certified"),
+        "{row}"
+    );
+}
+
+#[test]
+fn reproduce_json_lists_the_figures_written() {
+    let out = scratch("reproduce");
+    let o = sporadic(&[
+        "reproduce",
+        "andrieu2014",
+        "--json",
+        "--out",
+        &out.display().to_string(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let lines: Vec<serde_json::Value> = stdout(&o)
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap_or_else(|e| panic!("{l}: {e}")))
+        .collect();
+    let figures: Vec<&str> = lines
+        .iter()
+        .filter_map(|v| v.get("figure").and_then(|f| f.as_str()))
+        .collect();
+    assert!(!figures.is_empty(), "{lines:?}");
+    let first_figure = lines
+        .iter()
+        .position(|v| v.get("figure").is_some())
+        .unwrap();
+    assert!(
+        lines[..first_figure]
+            .iter()
+            .all(|v| v.get("claim").is_some())
+    );
+    for f in figures {
+        assert!(f.starts_with(&out.display().to_string()), "{f}");
+        assert!(
+            std::fs::read_to_string(f).unwrap().starts_with("<svg"),
+            "{f}"
+        );
+    }
+    assert!(lines.iter().all(|v| v["paper"] == "andrieu2014"));
+}

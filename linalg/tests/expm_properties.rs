@@ -134,6 +134,26 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(12))]
+
+    /// Mid orders (faer GEMM and the blocked Padé LU of `expm::lu`, exact norms): the inverse
+    /// identity e^{A}·e^{−A} = I and e^{2A} = (e^{A})², at norms that select every degree.
+    #[test]
+    fn inverse_pair_mid_orders(n in 17usize..80, m in matrix(80, 1.0), norm in 0.005f64..12.0) {
+        let a0 = sub(&m, n);
+        let a = &a0 * Scale(norm / norm1(&a0));
+        let e = expm(a.as_ref()).unwrap();
+        let ei = expm((&a * Scale(-1.0)).as_ref()).unwrap();
+        let err = norm1(&(&e * &ei - Mat::<f64>::identity(n, n)));
+        let bound = 200.0 * n as f64 * U * norm1(&e) * norm1(&ei);
+        prop_assert!(err <= bound, "n={} err={:e} bound={:e}", n, err, bound);
+        let e2 = expm_scaled(a.as_ref(), 2.0).unwrap();
+        let err2 = norm1(&(&e * &e - &e2));
+        prop_assert!(err2 <= 200.0 * n as f64 * U * norm1(&e) * norm1(&e), "err2={:e}", err2);
+    }
+}
+
 /// Orders ≥ 200 use the Higham–Tisseur norm estimator: check the inverse identity and
 /// e^{A} = (e^{A/2})² at n = 220.
 #[test]

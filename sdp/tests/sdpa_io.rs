@@ -59,7 +59,15 @@ fn random_problem() -> impl Strategy<Value = Problem> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(256))]
+    // Bounded run time in CI: 256 cases per property (well under a second each in release
+    // mode; the reader's allocations are bounded by the input length) and a cap on shrinking,
+    // so that even a failure reports within seconds instead of shrinking without limit.
+    #![proptest_config(ProptestConfig {
+        cases: 256,
+        max_shrink_iters: 2_000,
+        max_shrink_time: 10_000,
+        ..ProptestConfig::default()
+    })]
 
     #[test]
     fn arbitrary_bytes_never_panic(bytes in prop::collection::vec(any::<u8>(), 0..400)) {

@@ -705,3 +705,33 @@ fn invalid_input_is_an_error() {
         ));
     }
 }
+
+/// Regression (seed found by `finds_planted_optimum`): the planted problem has an empty
+/// constraint `A_4 = 0` with `b_4 = 0` (CSDP refuses it: "Constraint 4 is empty"). Once the
+/// normal equations became inaccurate the solver switched to the least-squares form, whose
+/// Householder QR of the zero column made `Δy` overflow (steps of 1e-150, `NumericalTrouble`
+/// with a relative gap of 5e-7); it must reach the planted optimum with verified KKT residuals.
+#[test]
+fn empty_constraint_keeps_normal_equations() {
+    let (p, opt) = planted_optimum(5007805108508768314, false);
+    assert!(
+        p.blocks.iter().all(|b| b
+            .a
+            .iter()
+            .all(|(i, a)| *i != 3 || a.vals.iter().all(|v| *v == 0.0))),
+        "the case must keep its empty constraint"
+    );
+    let sol = solve(&p, &Settings::default()).unwrap();
+    assert_optimal_kkt(&p, &sol);
+    let scale = 1.0 + opt.abs();
+    assert!(
+        (sol.primal_objective - opt).abs() <= 1e-6 * scale,
+        "pobj {} vs {opt}",
+        sol.primal_objective
+    );
+    assert!(
+        (sol.dual_objective - opt).abs() <= 1e-6 * scale,
+        "dobj {} vs {opt}",
+        sol.dual_objective
+    );
+}

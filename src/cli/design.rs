@@ -1,7 +1,9 @@
 //! `sporadic design`, `sporadic max-interval` and `sporadic compare`: observer design for a
 //! user's plant file.
 
-use sporadic::methods::{self, DesignSummary, MaxInterval, Method, MethodError, NamedMatrix};
+use sporadic::methods::{
+    self, DesignSummary, MaxInterval, Method, MethodError, NamedMatrix, SimulationSummary,
+};
 use sporadic::plant_file::PlantFile;
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
@@ -42,8 +44,18 @@ pub struct DesignArgs {
     #[arg(long)]
     pub method: MethodArg,
     /// Print the gains and certificate as one JSON object.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "toml")]
     pub json: bool,
+    /// Print the gains and certificate as a TOML document.
+    #[arg(long)]
+    pub toml: bool,
+    /// Also simulate the observer (random sampling in the certified window) and write an SVG
+    /// figure of the estimation error into this folder (ferrante2016, rabehi2021).
+    #[arg(long, value_name = "OUT_DIR")]
+    pub simulate: Option<PathBuf>,
+    /// Seed of the random sampling intervals of `--simulate`.
+    #[arg(long, default_value_t = 1, requires = "simulate")]
+    pub seed: u64,
 }
 
 /// Arguments of `sporadic max-interval`.
@@ -117,14 +129,93 @@ fn print_design(plant: &PlantFile, d: &DesignSummary) {
     }
 }
 
+/// The design as a TOML document: scalars first, then one `[[gains]]` / `[[certificate]]`
+/// table per matrix (`name`, `rows`).
+fn design_toml<'a>(
+    d: &'a DesignSummary,
+    simulation: Option<&'a SimulationSummary>,
+) -> Result<String, String> {
+    #[derive(serde::Serialize)]
+    struct Matrix<'a> {
+        name: &'a str,
+        rows: Vec<Vec<f64>>,
+    }
+    #[derive(serde::Serialize)]
+    struct Simulation<'a> {
+        figure: String,
+        setup: &'a str,
+        result: &'a str,
+    }
+    #[derive(serde::Serialize)]
+    struct Doc<'a> {
+        method: &'a str,
+        window: &'a str,
+        margin: f64,
+        seconds: f64,
+        notes: &'a [String],
+        gains: Vec<Matrix<'a>>,
+        certificate: Vec<Matrix<'a>>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        simulation: Option<Simulation<'a>>,
+    }
+    let matrices = |ms: &'a [NamedMatrix]| -> Vec<Matrix<'a>> {
+        ms.iter()
+            .map(|m| Matrix {
+                name: &m.name,
+                rows: m.rows(),
+            })
+            .collect()
+    };
+    let doc = Doc {
+        method: d.method.id(),
+        window: &d.window,
+        margin: d.margin,
+        seconds: d.seconds,
+        notes: &d.notes,
+        gains: matrices(&d.gains),
+        certificate: matrices(&d.certificate),
+        simulation: simulation.map(|s| Simulation {
+            figure: s.figure.display().to_string(),
+            setup: &s.setup,
+            result: &s.result,
+        }),
+    };
+    toml::to_string(&doc).map_err(|e| format!("TOML output: {e}"))
+}
+
+fn simulation_json(s: &SimulationSummary) -> serde_json::Value {
+    serde_json::json!({
+        "figure": s.figure.display().to_string(),
+        "setup": s.setup,
+        "result": s.result,
+    })
+}
+
 /// Runs `sporadic design`.
 pub fn design(args: &DesignArgs) -> Result<(), String> {
     let plant = read(&args.plant)?;
     let d = methods::design(&plant, args.method.into()).map_err(|e| e.to_string())?;
+    let simulation = args
+        .simulate
+        .as_ref()
+        .map(|dir| methods::simulate(&plant, &d, dir, args.seed))
+        .transpose()
+        .map_err(|e| e.to_string())?;
     if args.json {
-        println!("{}", design_json(&d));
+        let mut v = design_json(&d);
+        if let Some(s) = &simulation {
+            v["simulation"] = simulation_json(s);
+        }
+        println!("{v}");
+    } else if args.toml {
+        print!("{}", design_toml(&d, simulation.as_ref())?);
     } else {
         print_design(&plant, &d);
+        if let Some(s) = &simulation {
+            println!("simulation: {}", s.setup);
+            println!("simulation: {}", s.result);
+            println!("figure: {}", s.figure.display());
+        }
     }
     Ok(())
 }

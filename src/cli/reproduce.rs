@@ -8,7 +8,8 @@ use std::path::{Path, PathBuf};
 pub struct Args {
     /// `all`, or one of the paper ids listed by `sporadic reproduce all`.
     pub paper: String,
-    /// Print one JSON object per checked claim instead of the human table.
+    /// Print one JSON object per checked claim, then one `{"paper", "figure"}` object per figure
+    /// written, instead of the human table.
     #[arg(long)]
     pub json: bool,
     /// Folder for the figures (one sub-folder per paper).
@@ -103,7 +104,10 @@ pub fn run(args: &Args) -> Result<(), String> {
                 println!("{}", claim.to_json(id));
             }
             for figure in &reproduction.figures {
-                println!("{}", figure.display());
+                println!(
+                    "{}",
+                    serde_json::json!({"paper": id, "figure": figure.display().to_string()})
+                );
             }
         } else {
             println!("{}", reproduction.table(&format!("{id} ({title})")));

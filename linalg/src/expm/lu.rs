@@ -19,8 +19,8 @@
 //! right-hand side, every step combines whole contiguous columns (no transposition, full-width
 //! vector operations), and the O(n³) work is in GEMM calls with inner dimension up to n. For
 //! the orders this backend serves (n > 16) this is markedly faster than faer's `lu_in_place`
-//! followed by `solve_in_place` on the project machine. The backward error is that of an LU solve of
-//! the transposed system (Higham, *Accuracy and Stability of Numerical Algorithms*, 2nd ed.,
+//! followed by `solve_in_place` on the project machine. The backward error is that of an LU
+//! solve of the transposed system (Higham, *Accuracy and Stability of Numerical Algorithms*, 2nd ed.,
 //! Theorem 9.4).
 
 use faer::linalg::matmul::matmul;
@@ -30,7 +30,7 @@ use faer::{Accum, Mat, MatMut, MatRef, Par};
 use super::storage::SingularPivot;
 
 /// Panel width of the elimination and block width of the substitutions.
-const PANEL: usize = 16;
+const PANEL: usize = 8;
 
 /// Rows the column combinations accumulate at once (four AVX2 registers of f64).
 const ROWS: usize = 16;
@@ -381,87 +381,5 @@ mod tests {
             PadeSolver::new(n).solve(&mut x, &v2, &u2, Par::Seq),
             Err(SingularPivot)
         );
-    }
-}
-
-#[cfg(test)]
-mod timing_tmp {
-    use super::*;
-    use faer::dyn_stack::{MemBuffer, MemStack};
-    use faer::linalg::lu::partial_pivoting::{factor, solve};
-
-    struct Run<'a>(
-        &'a mut PadeSolver,
-        &'a mut Mat<f64>,
-        &'a Mat<f64>,
-        &'a Mat<f64>,
-    );
-    impl pulp::WithSimd for Run<'_> {
-        type Output = ();
-        #[inline(always)]
-        fn with_simd<S: pulp::Simd>(self, _s: S) {
-            self.0.solve(self.1, self.2, self.3, Par::Seq).unwrap();
-        }
-    }
-
-    #[test]
-    #[ignore]
-    fn timing() {
-        for n in [16usize, 32, 64, 128] {
-            let mut st = 7u64;
-            let mut r = || {
-                st = st
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                (st >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-            };
-            let v = Mat::from_fn(n, n, |_, _| r());
-            let u = Mat::from_fn(n, n, |_, _| r());
-            let mut x = Mat::zeros(n, n);
-            let mut s = PadeSolver::new(n);
-            let arch = pulp::Arch::new();
-            let reps = (20_000_000 / (n * n * n)).max(3);
-            let mut best = (f64::MAX, f64::MAX);
-            let req = factor::lu_in_place_scratch::<usize, f64>(n, n, Par::Seq, Default::default())
-                .or(solve::solve_in_place_scratch::<usize, f64>(n, n, Par::Seq));
-            let mut mem = MemBuffer::new(req);
-            let (mut p, mut pi) = (vec![0usize; n], vec![0usize; n]);
-            let mut q = Mat::zeros(n, n);
-            for _ in 0..20 {
-                let t = std::time::Instant::now();
-                for _ in 0..reps {
-                    arch.dispatch(Run(&mut s, &mut x, &v, &u));
-                }
-                best.0 = best.0.min(t.elapsed().as_secs_f64() / reps as f64);
-                let t = std::time::Instant::now();
-                for _ in 0..reps {
-                    q.copy_from(&v - &u);
-                    x.copy_from(&v + &u);
-                    let stack = MemStack::new(&mut mem);
-                    let (_, perm) = factor::lu_in_place(
-                        q.as_mut(),
-                        &mut p,
-                        &mut pi,
-                        Par::Seq,
-                        stack,
-                        Default::default(),
-                    );
-                    solve::solve_in_place(
-                        q.as_ref(),
-                        q.as_ref(),
-                        perm,
-                        x.as_mut(),
-                        Par::Seq,
-                        stack,
-                    );
-                }
-                best.1 = best.1.min(t.elapsed().as_secs_f64() / reps as f64);
-            }
-            println!(
-                "n={n}: ours {:.1} µs, faer {:.1} µs",
-                best.0 * 1e6,
-                best.1 * 1e6
-            );
-        }
     }
 }

@@ -386,33 +386,13 @@ impl<M: SquareStorage> PadeWorkspace<M> {
 
         // Step 1 (steps as in faer-expm.md §2.3): degree 3.
         let mut degree = 0;
-        if self.certify(&mut pw, &mut estimator, THETA[0], [4, 6])
-            && abs.ell(
-                &self.a,
-                &mut self.abs_t,
-                &mut self.x,
-                &mut self.y,
-                0,
-                norm,
-                0,
-            ) == 0
-        {
+        if self.accept(&mut pw, &mut estimator, &mut abs, 0, norm, [4, 6]) {
             degree = 3;
         }
         // Step 2: degree 5 (‖A⁴‖₁ exact from here on).
         if degree == 0 {
             self.form(&mut pw, 4);
-            if self.certify(&mut pw, &mut estimator, THETA[1], [4, 6])
-                && abs.ell(
-                    &self.a,
-                    &mut self.abs_t,
-                    &mut self.x,
-                    &mut self.y,
-                    1,
-                    norm,
-                    0,
-                ) == 0
-            {
+            if self.accept(&mut pw, &mut estimator, &mut abs, 1, norm, [4, 6]) {
                 degree = 5;
             }
         }
@@ -420,17 +400,7 @@ impl<M: SquareStorage> PadeWorkspace<M> {
         if degree == 0 {
             self.form(&mut pw, 6);
             for (idx, m) in [(2, 7), (3, 9)] {
-                if self.certify(&mut pw, &mut estimator, THETA[idx], [6, 8])
-                    && abs.ell(
-                        &self.a,
-                        &mut self.abs_t,
-                        &mut self.x,
-                        &mut self.y,
-                        idx,
-                        norm,
-                        0,
-                    ) == 0
-                {
+                if self.accept(&mut pw, &mut estimator, &mut abs, idx, norm, [6, 8]) {
                     degree = m;
                     break;
                 }
@@ -572,21 +542,27 @@ impl<M: SquareStorage> PadeWorkspace<M> {
         (pw.p8.expect("A⁸ formed"), self.w.norm1())
     }
 
-    /// Decides d_a ≤ θ ∧ d_b ≤ θ, i.e. p_a ≤ θ^a ∧ p_b ≤ θ^b with p_k = ‖A^k‖₁.
+    /// Whether degree m = DEGREES[idx] is accepted (steps 1–3 of Algorithm 6.1): d_a ≤ θ_m,
+    /// d_b ≤ θ_m (p_a ≤ θ_m^a ∧ p_b ≤ θ_m^b with p_k = ‖A^k‖₁) and ℓ(A, m) = 0.
     ///
-    /// Exact mode: the test is first made with the submultiplicative upper bounds of
-    /// [`PowerNorms::value`]; a power is formed only when its bound fails and its exact value
-    /// could still pass, so the outcome is exactly that of the test with exact norms, at lower
-    /// cost. Estimate mode (Algorithm 6.1 as published): unformed powers are represented by
-    /// Higham–Tisseur estimates.
+    /// Exact mode: the norm test is first made with the submultiplicative upper bounds of
+    /// [`PowerNorms::value`] (and, for p8, the lower bound of
+    /// [`PadeWorkspace::lower_bound_8`]); a power is formed only when the bounds leave the test
+    /// open and ℓ(A, m) = 0 (ℓ costs matrix–vector products only), so the outcome is exactly
+    /// that of the test with exact norms, at lower cost. Estimate mode (Algorithm 6.1 as
+    /// published): unformed powers are represented by Higham–Tisseur estimates.
     #[inline(always)]
-    fn certify(
+    fn accept(
         &mut self,
         pw: &mut PowerNorms,
         estimator: &mut Estimator<'_, M>,
-        theta: f64,
+        abs: &mut AbsPowers,
+        idx: usize,
+        norm: f64,
         ks: [usize; 2],
     ) -> bool {
+        let theta = THETA[idx];
+        let mut ell_zero = None;
         loop {
             let mut pass = true;
             let mut to_form = None;
@@ -606,11 +582,38 @@ impl<M: SquareStorage> PadeWorkspace<M> {
                 }
             }
             match to_form {
-                _ if pass => return true,
-                Some(k) => self.form(pw, k),
+                _ if pass => break,
+                Some(k) => {
+                    // A⁸ is only worth forming if the degree can still be accepted.
+                    if k == 8 && ell_zero.is_none() {
+                        if !self.ell_is_zero(abs, idx, norm) {
+                            return false;
+                        }
+                        ell_zero = Some(true);
+                    }
+                    self.form(pw, k)
+                }
                 None => return false,
             }
         }
+        match ell_zero {
+            Some(z) => z,
+            None => self.ell_is_zero(abs, idx, norm),
+        }
+    }
+
+    /// ℓ(A, m) = 0 for m = DEGREES[idx] (no scaling).
+    #[inline(always)]
+    fn ell_is_zero(&mut self, abs: &mut AbsPowers, idx: usize, norm: f64) -> bool {
+        abs.ell(
+            &self.a,
+            &mut self.abs_t,
+            &mut self.x,
+            &mut self.y,
+            idx,
+            norm,
+            0,
+        ) == 0
     }
 
     /// Forms U (in `u`) and V (in `v`) of r_m from the (scaled) powers; may use `w` and, for
@@ -1063,65 +1066,5 @@ mod tests {
         assert_eq!(Structure::detect(&g), Structure::General);
         let g2 = SmallMat([[1.0, 0.0, 1.0], [5.0, 2.0, 0.0], [1.0, 7.0, 3.0]]);
         assert_eq!(Structure::detect(&g2), Structure::General);
-    }
-}
-
-#[cfg(test)]
-mod debug_tmp {
-    use super::*;
-    use faer::Mat;
-    #[test]
-    #[ignore]
-    fn bounds() {
-        for n in [8usize, 16, 64, 128] {
-            for norm in [1.0, 10.0] {
-                let mut state =
-                    0x2545_f491_4f6c_dd1du64 ^ (n as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15);
-                let a = Mat::from_fn(n, n, |_, _| {
-                    state = state
-                        .wrapping_mul(6364136223846793005)
-                        .wrapping_add(1442695040888963407);
-                    2.0 * ((state >> 11) as f64 / (1u64 << 53) as f64) - 1.0
-                });
-                let n1 = a.norm1();
-                let a = Mat::from_fn(n, n, |i, j| a[(i, j)] * norm / n1);
-                let mut ws = PadeWorkspace::<Mat<f64>>::new(n);
-                ws.input_mut().copy_from(&a);
-                let a2 = &a * &a;
-                let a4 = &a2 * &a2;
-                let a6 = &a4 * &a2;
-                let a8 = &a4 * &a4;
-                let a10 = &a4 * &a6;
-                let (p2, p4, p6, p8, p10) =
-                    (a2.norm1(), a4.norm1(), a6.norm1(), a8.norm1(), a10.norm1());
-                ws.a2.copy_from(&a2);
-                ws.a4.copy_from(&a4);
-                ws.a6.copy_from(&a6);
-                let mut pw = PowerNorms::new(p2, false);
-                let (q4, j4) = ws.a4.norm1_argmax();
-                let (q6, j6) = ws.a6.norm1_argmax();
-                pw.p4 = Some(q4);
-                pw.j4 = j4;
-                pw.p6 = Some(q6);
-                pw.j6 = j6;
-                let lo8 = ws.lower_bound_8(&mut pw);
-                let hi8 = (p4 * p4).min(p2 * p6);
-                let lo10 = ws
-                    .a4
-                    .column_product_norm1(&ws.a6, j6, &mut ws.y)
-                    .max(ws.a6.column_product_norm1(&ws.a4, j4, &mut ws.y));
-                let hi10 = (p4 * p6).min(p2 * hi8);
-                println!(
-                    "n={n} norm={norm}: p8 {lo8:.4e} <= {p8:.4e} <= {hi8:.4e}; p10 {lo10:.4e} <= {p10:.4e} <= {hi10:.4e}; s lo {} exact {} hi {}; d8 {:.3} d10 {:.3} d6 {:.3} theta7^8 {:.3e}",
-                    squarings_13(p6, lo8, lo10),
-                    squarings_13(p6, p8, p10),
-                    squarings_13(p6, hi8, hi10),
-                    root(p8, 8),
-                    root(p10, 10),
-                    root(p6, 6),
-                    THETA[2].powi(8)
-                );
-            }
-        }
     }
 }

@@ -29,7 +29,7 @@ pub(crate) const PARALLEL_MIN_ORDER: usize = 256;
 pub(crate) struct SingularPivot;
 
 /// Number of independent partial sums in the element-wise reductions ([`abs_sum`],
-/// [`all_finite`], [`dots`]): two AVX2 registers, enough to hide the latency of the adds.
+/// [`all_finite`], [`dot`]): two AVX2 registers, enough to hide the latency of the adds.
 const LANES: usize = 8;
 
 /// Combines the partial sums in a fixed order.
@@ -55,36 +55,57 @@ pub(crate) fn abs_sum(x: &[f64]) -> f64 {
     reduce(acc)
 }
 
-/// Number of columns [`dots`] processes together.
-const DOT_COLUMNS: usize = 4;
-
-/// The dot products (a_c·x) for up to [`DOT_COLUMNS`] columns a_c at once, so that every chunk
-/// of x is loaded once for all of them; [`LANES`] partial sums per column.
+/// Σ aᵢ·xᵢ with [`LANES`] partial sums.
 #[inline(always)]
-fn dots(a: &[&[f64]], x: &[f64]) -> [f64; DOT_COLUMNS] {
-    let n = x.len();
-    let mut acc = [[0.0f64; LANES]; DOT_COLUMNS];
-    let mut o = 0;
-    while o + LANES <= n {
-        let xs = &x[o..o + LANES];
-        for (c, col) in a.iter().enumerate() {
-            let cs = &col[o..o + LANES];
-            for k in 0..LANES {
-                acc[c][k] += cs[k] * xs[k];
-            }
-        }
-        o += LANES;
-    }
-    for (c, col) in a.iter().enumerate() {
-        for (k, i) in (o..n).enumerate() {
-            acc[c][k] += col[i] * x[i];
+fn dot(a: &[f64], x: &[f64]) -> f64 {
+    let mut acc = [0.0f64; LANES];
+    let (ca, cx) = (a.chunks_exact(LANES), x.chunks_exact(LANES));
+    let (ra, rx) = (ca.remainder(), cx.remainder());
+    for (p, q) in ca.zip(cx) {
+        for k in 0..LANES {
+            acc[k] += p[k] * q[k];
         }
     }
-    let mut out = [0.0; DOT_COLUMNS];
-    for c in 0..DOT_COLUMNS {
-        out[c] = reduce(acc[c]);
+    for ((s, p), q) in acc.iter_mut().zip(ra).zip(rx) {
+        *s += p * q;
     }
-    out
+    reduce(acc)
+}
+
+/// The dot products of four columns with x at once (each chunk of x is loaded once for all
+/// four; eight accumulator registers), each with the summation order of [`dot`].
+#[inline(always)]
+fn dot4(a: [&[f64]; 4], x: &[f64]) -> [f64; 4] {
+    let mut acc = [[0.0f64; LANES]; 4];
+    let cx = x.chunks_exact(LANES);
+    let rx = cx.remainder();
+    let (a0, a1) = (a[0].chunks_exact(LANES), a[1].chunks_exact(LANES));
+    let (a2, a3) = (a[2].chunks_exact(LANES), a[3].chunks_exact(LANES));
+    let rem = [
+        a0.remainder(),
+        a1.remainder(),
+        a2.remainder(),
+        a3.remainder(),
+    ];
+    for ((((q, p0), p1), p2), p3) in cx.zip(a0).zip(a1).zip(a2).zip(a3) {
+        for k in 0..LANES {
+            acc[0][k] += p0[k] * q[k];
+            acc[1][k] += p1[k] * q[k];
+            acc[2][k] += p2[k] * q[k];
+            acc[3][k] += p3[k] * q[k];
+        }
+    }
+    for c in 0..4 {
+        for ((s, p), q) in acc[c].iter_mut().zip(rem[c]).zip(rx) {
+            *s += p * q;
+        }
+    }
+    [
+        reduce(acc[0]),
+        reduce(acc[1]),
+        reduce(acc[2]),
+        reduce(acc[3]),
+    ]
 }
 
 /// Whether every entry is finite, without an early exit so that the loop vectorises: x·0 is
@@ -550,7 +571,7 @@ impl SquareStorage for Mat<f64> {
         abs_sum(y)
     }
     /// Stores |src| (not transposed): (|A|ᵀx)_j = Σ_i |a_ij|·x_i is then a dot product with a
-    /// contiguous column (see [`dots`]).
+    /// contiguous column (see [`dot4`]).
     #[inline(always)]
     fn prepare_abs_transpose(&mut self, src: &Self) {
         for j in 0..self.ncols() {
@@ -564,20 +585,27 @@ impl SquareStorage for Mat<f64> {
         let n = self.ncols();
         let mut top = 0.0f64;
         let mut j = 0;
+        while j + 4 <= n {
+            let d = dot4(
+                [
+                    self.col_as_slice(j),
+                    self.col_as_slice(j + 1),
+                    self.col_as_slice(j + 2),
+                    self.col_as_slice(j + 3),
+                ],
+                x,
+            );
+            y[j..j + 4].copy_from_slice(&d);
+            j += 4;
+        }
         while j < n {
-            let w = DOT_COLUMNS.min(n - j);
-            let mut cols: [&[f64]; DOT_COLUMNS] = [&[]; DOT_COLUMNS];
-            for c in 0..w {
-                cols[c] = self.col_as_slice(j + c);
+            y[j] = dot(self.col_as_slice(j), x);
+            j += 1;
+        }
+        for &v in y.iter() {
+            if v > top {
+                top = v;
             }
-            let d = dots(&cols[..w], x);
-            for c in 0..w {
-                y[j + c] = d[c];
-                if d[c] > top {
-                    top = d[c];
-                }
-            }
-            j += w;
         }
         top
     }

@@ -128,6 +128,13 @@ fn second_order(an: &Analysis, dx: &[Mat<f64>], ds: &[Mat<f64>]) -> BlockMats {
         .collect()
 }
 
+/// The predictor `(ΔX_a, ΔS_a)` whose product `H = ΔX_a ΔS_a` is the corrector's second-order
+/// term.
+pub(crate) type Predictor<'a> = (&'a [Mat<f64>], &'a [Mat<f64>]);
+
+/// Maps a primal residual `e` to `(δ, change of ΔX)` with `𝒜(change) ≈ e` (see [`refine`]).
+type Correction<'a> = dyn Fn(&[f64]) -> (Vec<f64>, BlockMats) + 'a;
+
 /// A search direction and how well it satisfies the primal equation.
 pub(crate) struct Direction {
     /// `ΔX`.
@@ -174,7 +181,7 @@ impl System<'_> {
         &self,
         it: &Iterate<'_>,
         sigma_mu: f64,
-        second: Option<(&[Mat<f64>], &[Mat<f64>])>,
+        second: Option<Predictor<'_>>,
     ) -> Direction {
         let (an, vals, x, f) = (it.an, it.vals, it.x, it.f);
         let (mut dx, mut dy) = match self {
@@ -250,7 +257,7 @@ fn refine(
     vals: &Values,
     rp: &[f64],
     threshold: f64,
-    correction: &dyn Fn(&[f64]) -> (Vec<f64>, BlockMats),
+    correction: &Correction<'_>,
     dx: &mut BlockMats,
     dy: &mut [f64],
 ) -> f64 {

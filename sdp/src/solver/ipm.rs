@@ -224,6 +224,7 @@ pub(crate) fn run(
     let mut gram = None;
     let mut mode = Mode::Normal;
     let mut lsq_failed = false;
+    let mut lsq_used = false;
     let status = loop {
         let res = residuals(an, vals, &cd, &norms, &x, &y, &s);
         let mu = if an.nu > 0 { res.xs / nu } else { 0.0 };
@@ -239,31 +240,6 @@ pub(crate) fn run(
                 primal_step: steps.0,
                 dual_step: steps.1,
             });
-        }
-        if std::env::var_os("SPORADIC_SDP_DEBUG").is_some() {
-            let ny = y.iter().map(|v| v * v).sum::<f64>().sqrt();
-            let mins: Vec<f64> = an
-                .blocks
-                .iter()
-                .zip(&s)
-                .map(|(b, m)| super::blockops::min_eig(b.kind, m))
-                .collect();
-            let minx: Vec<f64> = an
-                .blocks
-                .iter()
-                .zip(&x)
-                .map(|(b, m)| super::blockops::min_eig(b.kind, m))
-                .collect();
-            eprintln!(
-                "   |y| {:.3e} |S| {:.3e} |X| {:.3e} smin {:.2e} xmin {:.2e} compl {:.2e} mode {:?}",
-                ny,
-                super::blockops::norm_fro(&s),
-                super::blockops::norm_fro(&x),
-                mins.iter().cloned().fold(f64::INFINITY, f64::min),
-                minx.iter().cloned().fold(f64::INFINITY, f64::min),
-                res.rel_compl,
-                mode
-            );
         }
         let merit = res.merit();
         if !merit.is_finite() {
@@ -340,17 +316,21 @@ pub(crate) fn run(
                     if ws.lsq.is_none() {
                         ws.lsq = LeastSquares::new(an, ws.par);
                     }
-                    // Unavailable (too large) or numerically dependent constraints: the
-                    // regularised normal equations handle them.
                     if !ws
                         .lsq
                         .as_mut()
                         .is_some_and(|ls| ls.factorize(an, vals, &x, &f))
                     {
+                        if lsq_used {
+                            // Non-finite scaled constraints: the iterate itself is broken.
+                            break None;
+                        }
+                        // Unavailable (too large): the normal equations carry on.
                         lsq_failed = true;
                         mode = Mode::Normal;
                         continue;
                     }
+                    lsq_used = true;
                     System::LeastSquares(ws.lsq.as_ref().expect("factorised above"))
                 }
             };

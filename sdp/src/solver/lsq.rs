@@ -45,8 +45,12 @@
 //! needs `N·m` numbers, so the normal equations remain the default; [`super::ipm`] switches to
 //! this form for the rest of a solve as soon as a normal-equations direction misses
 //! `𝒜(ΔX) = r_p` by more than the accepted error after iterative refinement, provided `K` fits
-//! the memory budget and has full column rank (dependent constraints stay with the regularised
-//! normal equations).
+//! the memory budget (`N ≥ m` and `N·m` numbers at most 128 MiB).
+//!
+//! Numerically dependent constraints (duplicates, or degeneracy at the optimum as in the QAP
+//! relaxations) show up as tiny pivots `R_ii`; they are floored at a relative `10⁻¹⁴` of the
+//! column norm, which bounds `Δy` along the near-null space and changes `ΔX` only at that
+//! relative level (the least-squares counterpart of the regularised Cholesky in `linsys`).
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::householder::{
@@ -65,14 +69,15 @@ use faer::{Conj, Mat, MatMut, Par};
 use rayon::prelude::*;
 
 use super::blockops::{BlockMats, Factors, mul, symmetrize};
+use super::direction::Predictor;
 use super::structure::{Analysis, Values};
 use crate::problem::BlockKind;
 
 /// Largest `K` (rows × constraints, in `f64`s) that is allocated (128 MiB).
 const MAX_ELEMENTS: usize = 1 << 24;
 /// A QR pivot `|R_ii|` below this fraction of the norm of column `i` of `K` marks the constraint
-/// as numerically dependent on the previous ones.
-const DEPENDENCE: f64 = 1e-16;
+/// as numerically dependent on the previous ones; the pivot is raised to it.
+const DEPENDENCE: f64 = 1e-14;
 /// A constraint whose support covers at least this fraction of a block is scaled densely.
 const DENSE_SUPPORT: f64 = 0.7;
 
@@ -147,7 +152,8 @@ impl LeastSquares {
     }
 
     /// Builds `K` at the iterate with factors `f` and factorises it. Returns `false` (and leaves
-    /// the workspace unusable until the next call) if a constraint is numerically dependent.
+    /// the workspace unusable until the next call) if a constraint is empty or the
+    /// factorisation is not finite.
     pub(crate) fn factorize(
         &mut self,
         an: &Analysis,
@@ -213,10 +219,27 @@ impl LeastSquares {
             MemStack::new(&mut mem),
             Default::default(),
         );
-        (0..m).all(|i| {
+        for (i, &norm) in norms.iter().enumerate() {
             let r = self.qr[(i, i)];
-            r.is_finite() && r.abs() > DEPENDENCE * norms[i]
-        })
+            if !r.is_finite() {
+                return false;
+            }
+            // An empty constraint (`A_i = 0`, hence `K_i = 0`) has no Householder reflection
+            // and flooring its pivot made `Δy` overflow (planted problem with an empty
+            // constraint, `solver_props::empty_constraint_keeps_normal_equations`): leave such
+            // problems to the regularised normal equations, which decouple the row.
+            if norm == 0.0 {
+                return false;
+            }
+            // A numerically dependent constraint: floor its pivot, which perturbs K by a
+            // relative DEPENDENCE in that direction only (Tikhonov-like); `Δy` then stays
+            // bounded along the near-null space and `ΔX` is unaffected to that accuracy.
+            let floor = DEPENDENCE * norm;
+            if r.abs() < floor {
+                self.qr[(i, i)] = floor.copysign(r);
+            }
+        }
+        true
     }
 
     fn apply_qt(&self, v: &mut [f64]) {
@@ -308,7 +331,7 @@ impl LeastSquares {
         f: &Factors,
         rd: &[Mat<f64>],
         sigma_mu: f64,
-        second: Option<(&[Mat<f64>], &[Mat<f64>])>,
+        second: Option<Predictor<'_>>,
     ) -> Vec<f64> {
         let parts: Vec<Vec<f64>> = an
             .blocks
@@ -372,7 +395,7 @@ impl LeastSquares {
         rd: &[Mat<f64>],
         rp: &[f64],
         sigma_mu: f64,
-        second: Option<(&[Mat<f64>], &[Mat<f64>])>,
+        second: Option<Predictor<'_>>,
     ) -> (BlockMats, Vec<f64>) {
         let m = self.m;
         let mut c = self.scaled_rhs(an, x, f, rd, sigma_mu, second);

@@ -22,7 +22,9 @@
 //! 2. the Schur matrix `M_ij = Σ_k tr(A_i X A_j S⁻¹)` assembled block by block with SDPA's
 //!    sparsity-dependent formulas or a dense `KᵀK` form (`structure`, `schur`) and
 //!    factorised by dense Cholesky with regularised / LBLᵀ fallbacks and iterative refinement
-//!    (module `linsys`);
+//!    (module `linsys`) — or, once these normal equations are too ill-conditioned to deliver
+//!    `𝒜(ΔX) = r_p` to the tolerance, the same Newton system as a least-squares problem in the
+//!    HKM-scaled space solved by Householder QR (module `lsq`);
 //! 3. a predictor (`σ = 0`), exact step lengths to the cone boundary (module `step`), the centring
 //!    parameter `σ = (μ_aff/μ)^e` with SDPT3's adaptive exponent `e = max(1, 3 min(α_p,α_d)²)`,
 //!    and a corrector with the second-order term `ΔX_a ΔS_a` (module `direction`);
@@ -47,9 +49,18 @@
 //!
 //! ## Robustness
 //!
-//! Dependent, duplicate or empty constraints make `M` singular; the regularised Cholesky /
-//! LBLᵀ fallback with iterative refinement handles them, and the best iterate (smallest
-//! largest stopping measure) is returned when progress stalls. Non-finite data and
+//! Near the optimum `cond(M)` grows like `1/μ²`; on control and truss problems (and on LMIs whose
+//! optimal face is unbounded, where `y` drifts along a ray and `‖S‖` grows like `1/μ`) it passes
+//! `1/ε` before the tolerances are met. A Cholesky solve of such an `M` leaves a residual of order
+//! `ε ‖M‖ ‖Δy‖`, and recovering `ΔX = −X − (XΔS + …)S⁻¹` from explicit products amplifies the
+//! rounding of a large `ΔS` by `‖X‖ ‖S⁻¹‖`: the computed `ΔX` misses `𝒜(ΔX) = r_p` and the primal
+//! infeasibility grows while `μ` falls (where CSDP reports "partial success" and SDPA `pFEAS`).
+//! Every direction is therefore refined against `r_p − 𝒜(ΔX)` recomputed from the actual `ΔX`;
+//! if the error stays above ten times the refinement threshold, the rest of the solve uses the
+//! least-squares form (module `lsq`), whose primal error is `ε ‖K‖ ‖Z‖` independently of
+//! `cond(M)`. Dependent, duplicate or empty constraints make `M` singular; the regularised
+//! Cholesky / LBLᵀ fallback with iterative refinement handles them, and the best iterate
+//! (smallest largest stopping measure) is returned when progress stalls. Non-finite data and
 //! inconsistent structure are rejected with an [`SdpError`] before any work is done.
 //!
 //! ## Determinism
@@ -94,6 +105,13 @@ pub fn solve(problem: &Problem, settings: &Settings) -> Result<Solution, SdpErro
 
 /// Smallest Schur dimension for which the dense Cholesky uses several threads.
 const PARALLEL_CHOLESKY_MIN: usize = 192;
+
+/// Largest per-iteration work estimate ([`Analysis::work_estimate`], in flops) for which
+/// `Settings::threads == 0` runs the solve on one dedicated thread: below it, handing every
+/// block loop to rayon's global pool costs more in wake-ups and contention than it saves
+/// (hinf1, control1, truss1: 2.5–5× slower on the global pool of 2 cores, measured with
+/// `threads = 0` against `threads = 1`).
+const SEQUENTIAL_WORK_MAX: f64 = 5e5;
 
 /// A solver with the structure of a problem analysed once.
 ///
@@ -141,10 +159,14 @@ impl Solver {
     pub fn new(problem: &Problem, settings: Settings) -> Result<Solver, SdpError> {
         check_settings(&settings)?;
         let analysis = structure::analyse(problem)?;
-        let pool = if settings.threads >= 1 {
+        let threads = match settings.threads {
+            0 if analysis.work_estimate() <= SEQUENTIAL_WORK_MAX => 1,
+            k => k,
+        };
+        let pool = if threads >= 1 {
             Some(Arc::new(
                 rayon::ThreadPoolBuilder::new()
-                    .num_threads(settings.threads)
+                    .num_threads(threads)
                     .build()
                     .map_err(|e| SdpError::InvalidSettings(format!("thread pool: {e}")))?,
             ))

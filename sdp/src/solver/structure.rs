@@ -89,6 +89,28 @@ pub(crate) struct Analysis {
     pub nu: usize,
 }
 
+impl Analysis {
+    /// Rough flop count of one interior-point iteration: the dense Cholesky of the Schur
+    /// matrix (`m³/3`), the per-block factorisations and products (`n_k³`) and the Schur
+    /// assembly (`m_k n_k²` for the `m_k` constraints touching block `k`; `m_k` nonzeros per
+    /// LP entry). Used only to decide whether parallel loops are worth their overhead.
+    pub(crate) fn work_estimate(&self) -> f64 {
+        let m = self.m as f64;
+        let blocks: f64 = self
+            .blocks
+            .iter()
+            .map(|b| {
+                let (n, mk) = (b.n as f64, b.cons.len() as f64);
+                match b.kind {
+                    BlockKind::Psd => n * n * n + mk * n * n,
+                    BlockKind::Lp => n + mk * mk,
+                }
+            })
+            .sum();
+        m * m * m / 3.0 + blocks
+    }
+}
+
 /// Numbers of one problem aligned with an [`Analysis`].
 #[derive(Debug, Clone)]
 pub(crate) struct Values {
