@@ -368,6 +368,45 @@ fn design_ferrante_simulate_writes_the_error_figure() {
     assert!(svg.starts_with("<svg") && svg.contains("estimation error"));
 }
 
+/// Theorem 3 of Sferlazza et al. (2021): with a certified design, the Lyapunov function (30)
+/// decreases at every jump of the noise-free error system, and the error converges.
+#[test]
+fn design_sferlazza_simulate_round_robin_error_decreases() {
+    let out = scratch("sferlazza-sim");
+    let o = sporadic(&[
+        "design",
+        &example("two-tank-round-robin.toml"),
+        "--method",
+        "sferlazza2021",
+        "--simulate",
+        &out.display().to_string(),
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+    let sim = &v["simulation"];
+    let result = sim["result"].as_str().unwrap();
+    let number_after = |key: &str| -> f64 {
+        let rest = &result[result.find(key).unwrap_or_else(|| panic!("{result}")) + key.len()..];
+        rest.split(|c: char| c == ',' || c.is_whitespace())
+            .find(|w| !w.is_empty())
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    assert!(
+        number_after("largest V+/V over the jumps = ") < 1.0,
+        "{result}"
+    );
+    assert!(number_after("|e| at the end = ") < 1e-2, "{result}");
+    let figure = out.join("sferlazza2021_error.svg");
+    assert_eq!(
+        sim["figure"].as_str().unwrap(),
+        figure.display().to_string()
+    );
+    assert!(std::fs::read_to_string(figure).unwrap().starts_with("<svg"));
+}
+
 #[test]
 fn max_interval_rabehi_stays_below_the_necessary_limit() {
     let o = sporadic(&[

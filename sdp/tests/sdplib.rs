@@ -44,11 +44,6 @@ const SLOW: &[&str] = &[
 
 const MAX_ITERATIONS: usize = 40;
 
-/// Known exceptions to [`MAX_ITERATIONS`] (the issue-3 goal), each with its measured count.
-/// hinf10 is ill-posed (CSDP 6.2 also ends with "partial success"): our progress monitor
-/// stops with `NumericalTrouble` at 43 iterations with the objective within tolerance.
-const ITERATION_EXCEPTIONS: [(&str, usize); 1] = [("hinf10", 45)];
-
 /// What the README table says about a problem.
 #[derive(Debug, Clone, Copy)]
 enum Expected {
@@ -163,12 +158,11 @@ fn check(dir: &Path, refs: &HashMap<String, Expected>, name: &str) -> Vec<String
         k.pinf,
         k.dinf
     );
-    let cap = ITERATION_EXCEPTIONS
-        .iter()
-        .find(|(n, _)| *n == name)
-        .map_or(MAX_ITERATIONS, |&(_, c)| c);
-    if sol.iterations > cap {
-        fails.push(format!("{name}: {} iterations > {cap}", sol.iterations));
+    if sol.iterations > MAX_ITERATIONS {
+        fails.push(format!(
+            "{name}: {} iterations > {MAX_ITERATIONS}",
+            sol.iterations
+        ));
     }
     match expected {
         Expected::Value { value, tol } => {

@@ -14,7 +14,7 @@ use super::schur::assemble;
 use super::settings::{IterationLog, Settings};
 use super::solution::{Solution, Status};
 use super::start::initial_point;
-use super::step::max_step;
+use super::step::step_length;
 use super::structure::{Analysis, Values};
 use crate::problem::Problem;
 
@@ -183,21 +183,6 @@ fn take_step(
         alpha *= BACKTRACK;
     }
     None
-}
-
-fn step_length(
-    an: &Analysis,
-    cur: &[Mat<f64>],
-    linv: &[Mat<f64>],
-    d: &[Mat<f64>],
-    gamma: f64,
-) -> f64 {
-    let a = max_step(an, cur, linv, d);
-    if a.is_nan() {
-        0.0
-    } else {
-        (gamma * a).min(1.0)
-    }
 }
 
 /// Runs the interior-point method on validated, analysed data.

@@ -16,16 +16,21 @@
 //! the buffers are added into `M` sequentially in block order, so the result is bitwise
 //! independent of scheduling and of the number of threads.
 
+use faer::linalg::matmul::matmul;
 use faer::linalg::matmul::triangular::{BlockStructure, matmul as tri_matmul};
+use faer::prelude::{Reborrow, ReborrowMut};
 use faer::{Accum, Mat, MatMut, MatRef, Par};
 use rayon::prelude::*;
 
-use super::blockops::{Factors, mul};
+use super::blockops::Factors;
 use super::structure::{Analysis, BlockPlan, ConPattern, Formula, SchurPlan, Values};
 use crate::problem::BlockKind;
 
 /// Number of `f64`s the local buffers of concurrently processed blocks may use (32 MiB).
 const BATCH_BUDGET: usize = 1 << 22;
+
+/// Batches of fewer than this many blocks per thread parallelise the rows inside each block.
+const ROW_PARALLEL_BLOCKS: usize = 4;
 
 /// A block's share of `M` before it is added into the global matrix.
 enum Local {
@@ -65,6 +70,9 @@ pub(crate) fn assemble(
             used += need;
             k1 += 1;
         }
+        // With enough blocks to keep every thread busy, the rows inside a block run
+        // sequentially: a task per row of a small block costs more than the row itself.
+        let par_rows = k1 - k0 < ROW_PARALLEL_BLOCKS * rayon::current_num_threads();
         let locals: Vec<Local> = (k0..k1)
             .into_par_iter()
             .map(|k| {
@@ -75,6 +83,7 @@ pub(crate) fn assemble(
                     &x[k],
                     f,
                     k,
+                    par_rows,
                 )
             })
             .collect();
@@ -92,6 +101,7 @@ fn local_share(
     x: &Mat<f64>,
     f: &Factors,
     k: usize,
+    par_rows: bool,
 ) -> Local {
     if plan.cons.is_empty() {
         return Local::Direct;
@@ -113,14 +123,35 @@ fn local_share(
             let nc = plan.cons.len();
             let mut buf = vec![0.0; nc * nc];
             let zinv = &f.zinv[k];
-            buf.par_chunks_mut(nc)
-                .enumerate()
-                .for_each(|(t, row)| match formula[t] {
+            let n = plan.n;
+            let fill_row =
+                |ws: &mut Option<F1Scratch>, (t, row): (usize, &mut [f64])| match formula[t] {
                     Formula::F1 => {
-                        f1_row(t, order, &support[order[t]], &plan.cons, vals, x, zinv, row)
+                        let ws = ws.get_or_insert_with(|| F1Scratch::new(n));
+                        f1_row(
+                            t,
+                            order,
+                            &support[order[t]],
+                            &plan.cons,
+                            vals,
+                            x,
+                            zinv,
+                            row,
+                            ws,
+                        )
                     }
                     Formula::F3 => f3_row(t, order, &plan.cons, vals, x, zinv, row),
-                });
+                };
+            if par_rows {
+                buf.par_chunks_mut(nc)
+                    .enumerate()
+                    .for_each_init(|| None, fill_row);
+            } else {
+                let mut ws = None;
+                for item in buf.chunks_mut(nc).enumerate() {
+                    fill_row(&mut ws, item);
+                }
+            }
             Local::Sorted(buf)
         }
     }
@@ -196,6 +227,28 @@ fn syrk_share(
     local
 }
 
+/// Reusable `n×n` buffers of [`f1_row`] (one set per block or per task, so the rows of a block
+/// allocate nothing).
+struct F1Scratch {
+    a: Mat<f64>,
+    xa: Mat<f64>,
+    g: Mat<f64>,
+    xj: Mat<f64>,
+    zj: Mat<f64>,
+}
+
+impl F1Scratch {
+    fn new(n: usize) -> Self {
+        Self {
+            a: Mat::zeros(n, n),
+            xa: Mat::zeros(n, n),
+            g: Mat::zeros(n, n),
+            xj: Mat::zeros(n, n),
+            zj: Mat::zeros(n, n),
+        }
+    }
+}
+
 /// Row `t` (sorted order) with formula F1: `G = X A_p S⁻¹` on the support of `A_p`, then
 /// `row[t'] = ⟨A_q, G⟩` for `t' ≥ t`.
 #[allow(clippy::too_many_arguments)]
@@ -208,14 +261,16 @@ fn f1_row(
     x: &Mat<f64>,
     zinv: &Mat<f64>,
     row: &mut [f64],
+    ws: &mut F1Scratch,
 ) {
     let p = order[t];
     let pat = &cons[p];
     let v = &vals[p];
     let n = x.nrows();
     let nj = support.len();
-    let mut g = if 10 * nj >= 7 * n {
-        let mut a = Mat::<f64>::zeros(n, n);
+    if 10 * nj >= 7 * n {
+        let a = &mut ws.a;
+        a.fill(0.0);
         for e in 0..v.len() {
             let (r, c) = (pat.rows[e], pat.cols[e]);
             a[(r, c)] += v[e];
@@ -223,10 +278,26 @@ fn f1_row(
                 a[(c, r)] += v[e];
             }
         }
-        mul(&mul(x, &a), zinv)
+        matmul(
+            ws.xa.as_mut(),
+            Accum::Replace,
+            x.as_ref(),
+            a.as_ref(),
+            1.0,
+            Par::Seq,
+        );
+        matmul(
+            ws.g.as_mut(),
+            Accum::Replace,
+            ws.xa.as_ref(),
+            zinv.as_ref(),
+            1.0,
+            Par::Seq,
+        );
     } else {
         let pos = |i: usize| support.binary_search(&i).unwrap_or(0);
-        let mut a = Mat::<f64>::zeros(nj, nj);
+        let mut a = ws.a.as_mut().submatrix_mut(0, 0, nj, nj);
+        a.fill(0.0);
         for e in 0..v.len() {
             let (r, c) = (pos(pat.rows[e]), pos(pat.cols[e]));
             a[(r, c)] += v[e];
@@ -234,10 +305,26 @@ fn f1_row(
                 a[(c, r)] += v[e];
             }
         }
-        let xj = Mat::from_fn(n, nj, |i, c| x[(i, support[c])]);
-        let zj = Mat::from_fn(nj, n, |r, j| zinv[(support[r], j)]);
-        mul(&mul(&xj, &a), &zj)
-    };
+        let mut xj = ws.xj.as_mut().submatrix_mut(0, 0, n, nj);
+        for (c, &sc) in support.iter().enumerate() {
+            xj.rb_mut().col_mut(c).copy_from(x.col(sc));
+        }
+        let mut zj = ws.zj.as_mut().submatrix_mut(0, 0, nj, n);
+        for (r, &sr) in support.iter().enumerate() {
+            zj.rb_mut().row_mut(r).copy_from(zinv.row(sr));
+        }
+        let mut xa = ws.xa.as_mut().submatrix_mut(0, 0, n, nj);
+        matmul(xa.rb_mut(), Accum::Replace, xj.rb(), a.rb(), 1.0, Par::Seq);
+        matmul(
+            ws.g.as_mut(),
+            Accum::Replace,
+            xa.rb(),
+            zj.rb(),
+            1.0,
+            Par::Seq,
+        );
+    }
+    let g = &mut ws.g;
     // Upper triangle of G + Gᵀ (diagonal kept as G_rr).
     for c in 0..n {
         for r in 0..c {

@@ -6,19 +6,75 @@
 //! blocks; we use a dense symmetric eigenvalue solver). For an LP block it is the ratio test
 //! `min_{Δx_l < 0} −x_l / Δx_l`. The step actually taken is `min(1, γ·α_max)` with SDPT3's
 //! adaptive fraction `γ = 0.9 + 0.09·min(α_p, α_d)` of the previous step lengths.
+//!
+//! A block whose `α_max` exceeds `1/γ` does not limit the step, and that is decided without an
+//! eigenvalue: `λ_min(W) > −γ` iff `γ I + W` (`W = L⁻¹ ΔX L⁻ᵀ`) has a Cholesky factorisation.
+//! Only the blocks failing that test — the ones that can bind — need `λ_min(W)`.
 
 use faer::Mat;
 use rayon::prelude::*;
 
-use super::blockops::{congruence, min_eig};
+use super::blockops::{cholesky, congruence, min_eig};
 use super::structure::Analysis;
 use crate::problem::BlockKind;
 
-/// Largest `α ≥ 0` with `V + α ΔV ⪰ 0` (`f64::INFINITY` if every `α` is feasible), given the
-/// current point `cur` and the inverse Cholesky factors `linv` of its PSD blocks. Returns `NaN`
-/// if an eigenvalue computation failed.
-pub(crate) fn max_step(an: &Analysis, cur: &[Mat<f64>], linv: &[Mat<f64>], d: &[Mat<f64>]) -> f64 {
-    let per_block: Vec<f64> = an
+/// A block's step bound after the Cholesky tests.
+enum Bound {
+    /// Known `α_max` (LP ratio test, eigenvalue, or `∞` for a block that cannot bind).
+    Known(f64),
+    /// PSD block that may bind: `W = L⁻¹ ΔV L⁻ᵀ` and its smallest diagonal entry (an upper
+    /// bound on `λ_min(W)`).
+    Pending(Mat<f64>, f64),
+}
+
+/// Whether `W + shift·I` has a Cholesky factorisation, i.e. `λ_min(W) > −shift` (up to
+/// rounding): then the block allows every step up to `1/shift`.
+fn allows(w: &Mat<f64>, shift: f64) -> bool {
+    let mut t = w.clone();
+    for i in 0..t.nrows() {
+        t[(i, i)] += shift;
+    }
+    cholesky(&t).is_some()
+}
+
+/// `α_max = −1/λ_min(W)` (`∞` if `λ_min ≥ 0`, `NaN` if the eigenvalue computation failed).
+fn exact_step(w: &Mat<f64>) -> f64 {
+    let lam = min_eig(BlockKind::Psd, w);
+    if lam.is_nan() {
+        f64::NAN
+    } else if lam < 0.0 {
+        -1.0 / lam
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// Minimum with `NaN` propagation.
+fn nan_min(a: f64, b: f64) -> f64 {
+    if a.is_nan() || b.is_nan() {
+        f64::NAN
+    } else {
+        a.min(b)
+    }
+}
+
+/// The step `min(1, γ·α_max)` along `d` from the current point `cur`, given the inverse
+/// Cholesky factors `linv` of its PSD blocks, where `α_max` is the largest `α ≥ 0` with
+/// `V + α ΔV ⪰ 0`. Returns `0` if an eigenvalue computation failed.
+///
+/// Eigenvalues are computed only where needed: blocks with `λ_min(W) > −γ` cannot limit the
+/// step; of the others, the one with the smallest diagonal of `W` (most likely to bind) gets
+/// its exact `α`, and any other block then needs its eigenvalue only if it fails the Cholesky
+/// test at that `α`. The result is the same as with an eigenvalue for every block, except
+/// where a Cholesky test and the eigenvalue disagree by rounding at the boundary.
+pub(crate) fn step_length(
+    an: &Analysis,
+    cur: &[Mat<f64>],
+    linv: &[Mat<f64>],
+    d: &[Mat<f64>],
+    gamma: f64,
+) -> f64 {
+    let mut bounds: Vec<Bound> = an
         .blocks
         .par_iter()
         .enumerate()
@@ -31,26 +87,55 @@ pub(crate) fn max_step(an: &Analysis, cur: &[Mat<f64>], linv: &[Mat<f64>], d: &[
                         a = a.min(-x[l] / dx[l]);
                     }
                 }
-                a
+                Bound::Known(a)
             }
             BlockKind::Psd => {
                 let w = congruence(&linv[k], &d[k]);
-                let lam = min_eig(BlockKind::Psd, &w);
-                if lam.is_nan() {
-                    f64::NAN
-                } else if lam < 0.0 {
-                    -1.0 / lam
+                if allows(&w, gamma) {
+                    Bound::Known(f64::INFINITY)
                 } else {
-                    f64::INFINITY
+                    let dmin = (0..w.nrows()).fold(f64::INFINITY, |m, i| m.min(w[(i, i)]));
+                    Bound::Pending(w, dmin)
                 }
             }
         })
         .collect();
-    per_block.into_iter().fold(f64::INFINITY, |acc, a| {
-        if a.is_nan() || acc.is_nan() {
-            f64::NAN
-        } else {
-            acc.min(a)
+    let mut alpha = f64::INFINITY;
+    let mut first: Option<(usize, f64)> = None;
+    for (k, bound) in bounds.iter().enumerate() {
+        match bound {
+            Bound::Known(a) => alpha = nan_min(alpha, *a),
+            Bound::Pending(_, dmin) => {
+                if first.is_none_or(|(_, m)| *dmin < m) {
+                    first = Some((k, *dmin));
+                }
+            }
         }
-    })
+    }
+    if let Some((k, _)) = first {
+        if let Bound::Pending(w, _) = &bounds[k] {
+            alpha = nan_min(alpha, exact_step(w));
+        }
+        bounds[k] = Bound::Known(f64::INFINITY);
+        let threshold = alpha;
+        let rest: Vec<f64> = bounds
+            .par_iter()
+            .map(|bound| match bound {
+                Bound::Known(_) => f64::INFINITY,
+                Bound::Pending(w, _) => {
+                    if threshold.is_finite() && threshold > 0.0 && allows(w, 1.0 / threshold) {
+                        f64::INFINITY
+                    } else {
+                        exact_step(w)
+                    }
+                }
+            })
+            .collect();
+        alpha = rest.into_iter().fold(alpha, nan_min);
+    }
+    if alpha.is_nan() {
+        0.0
+    } else {
+        (gamma * alpha).min(1.0)
+    }
 }
