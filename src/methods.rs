@@ -199,7 +199,7 @@ pub fn simulate(
     seed: u64,
 ) -> Result<SimulationSummary, MethodError> {
     let method = design.method;
-    let err = |why: String| MethodError::Simulation { method, why };
+    let err = simulation_error(method);
     std::fs::create_dir_all(out_dir).map_err(|e| err(format!("{}: {e}", out_dir.display())))?;
     match method {
         Method::Ferrante2016 => ferrante::simulate(plant, design, out_dir, seed),
@@ -209,6 +209,31 @@ pub fn simulate(
             "--simulate is available for ferrante2016, sferlazza2021 and rabehi2021 (etienne2017 would need the nonlinearity phi itself, which a plant file only bounds; andrieu2014 has its simulations in `sporadic reproduce`)".into(),
         )),
     }
+}
+
+/// The error of a simulation of `method`, with the reason.
+fn simulation_error(method: Method) -> impl Fn(String) -> MethodError {
+    move |why| MethodError::Simulation { method, why }
+}
+
+/// Writes `<method>_error.svg`: the estimation-error norm over hybrid time `(t, j)`.
+fn write_error_figure(
+    method: Method,
+    plant: &PlantFile,
+    out_dir: &Path,
+    t: &[f64],
+    j: &[usize],
+    norms: &[f64],
+) -> Result<PathBuf, MethodError> {
+    let path = out_dir.join(format!("{method}_error.svg"));
+    let spec = sporadic_sim::figures::PlotSpec::new(
+        &format!("{method}: estimation error, {}", plant.name),
+        "time [s]",
+        "|x - x_hat|",
+    );
+    sporadic_sim::figures::plot_error_norm(&path, &spec, t, j, norms, None)
+        .map_err(|e| simulation_error(method)(format!("{}: {e}", path.display())))?;
+    Ok(path)
 }
 
 /// What an adapter's window search found: the fixed `T1`, the largest certified and the first
@@ -392,10 +417,7 @@ mod ferrante {
         out_dir: &Path,
         seed: u64,
     ) -> Result<SimulationSummary, MethodError> {
-        let err = |why: String| MethodError::Simulation {
-            method: Method::Ferrante2016,
-            why,
-        };
+        let err = simulation_error(Method::Ferrante2016);
         let (p, _) = plant_of(plant)?;
         let w = design.windows[0];
         let l = &design.gains[0].value;
@@ -411,14 +433,14 @@ mod ferrante {
         )
         .map_err(|e| err(e.to_string()))?;
         let norms = arc.norms();
-        let path = out_dir.join("ferrante2016_error.svg");
-        let spec = sim::figures::PlotSpec::new(
-            &format!("ferrante2016: estimation error, {}", plant.name),
-            "time [s]",
-            "|x - x_hat|",
-        );
-        sim::figures::plot_error_norm(&path, &spec, arc.times(), arc.jump_counters(), &norms, None)
-            .map_err(|e| err(format!("{}: {e}", path.display())))?;
+        let path = write_error_figure(
+            Method::Ferrante2016,
+            plant,
+            out_dir,
+            arc.times(),
+            arc.jump_counters(),
+            &norms,
+        )?;
         Ok(SimulationSummary {
             figure: path,
             setup: format!(
@@ -454,7 +476,6 @@ mod sferlazza {
     use super::*;
     use sporadic_sferlazza2021 as s;
     use sporadic_sferlazza2021::plant::{RoundRobinPlant, Window};
-    use sporadic_sim as sim;
 
     fn fail(why: String) -> MethodError {
         MethodError::NotCertified {
@@ -536,10 +557,7 @@ mod sferlazza {
         out_dir: &Path,
         seed: u64,
     ) -> Result<SimulationSummary, MethodError> {
-        let err = |why: String| MethodError::Simulation {
-            method: Method::Sferlazza2021,
-            why,
-        };
+        let err = simulation_error(Method::Sferlazza2021);
         let p = plant_of(plant)?;
         let ps: Vec<Mat<f64>> = design.certificate.iter().map(|c| c.value.clone()).collect();
         let schedule = s::gain::GainSchedule::new(p.clone(), ps).map_err(|e| err(e.to_string()))?;
@@ -555,14 +573,14 @@ mod sferlazza {
             .iter()
             .map(|x| x.iter().map(|v| v * v).sum::<f64>().sqrt())
             .collect();
-        let path = out_dir.join("sferlazza2021_error.svg");
-        let spec = sim::figures::PlotSpec::new(
-            &format!("sferlazza2021: estimation error, {}", plant.name),
-            "time [s]",
-            "|x - x_hat|",
-        );
-        sim::figures::plot_error_norm(&path, &spec, &run.t, &run.j, &norms, None)
-            .map_err(|e| err(format!("{}: {e}", path.display())))?;
+        let path = write_error_figure(
+            Method::Sferlazza2021,
+            plant,
+            out_dir,
+            &run.t,
+            &run.j,
+            &norms,
+        )?;
         let worst_ratio = run
             .jumps
             .iter()
@@ -856,10 +874,7 @@ mod rabehi {
         out_dir: &Path,
         seed: u64,
     ) -> Result<SimulationSummary, MethodError> {
-        let err = |why: String| MethodError::Simulation {
-            method: Method::Rabehi2021,
-            why,
-        };
+        let err = simulation_error(Method::Rabehi2021);
         let (p, _, bounds) = plant_of(plant)?;
         let w = design.windows[0];
         let n = p.n();

@@ -27,20 +27,21 @@ use std::time::Instant;
 use common::{dual_ray_defect, kkt, primal_ray_defect};
 use sporadic_sdp::{Settings, Status, read_sdpa_file, sdpa_objectives, solve};
 
-/// Problems of the default run (each solves in well under a second in release mode).
+/// Problems of the default run: every problem of the issue-3 list except [`OPEN`] (about
+/// 25 s in total in release mode).
 const DEFAULT: &[&str] = &[
-    "control1", "control2", "control3", "control4", "control5", "truss1", "truss2", "truss3",
-    "truss4", "truss5", "truss6", "truss7", "truss8", "theta1", "theta2", "hinf1", "hinf2",
-    "hinf3", "hinf4", "hinf5", "hinf6", "hinf7", "hinf8", "hinf9", "hinf10", "infp1", "infp2",
-    "infd1", "infd2",
+    "control1", "control2", "control3", "control4", "control5", "control6", "control7", "control8",
+    "truss1", "truss2", "truss3", "truss4", "truss5", "truss6", "truss7", "truss8", "theta1",
+    "theta2", "theta3", "theta4", "hinf1", "hinf2", "hinf3", "hinf4", "hinf5", "hinf6", "hinf7",
+    "hinf8", "hinf9", "hinf10", "hinf11", "hinf14", "qap5", "qap6", "qap7", "qap8", "mcp100",
+    "mcp124-1", "mcp124-2", "mcp124-3", "mcp124-4", "gpp100", "gpp124-1", "gpp124-2", "gpp124-3",
+    "gpp124-4", "arch0", "ss30", "infp1", "infp2", "infd1", "infd2",
 ];
 
-/// The rest of the issue's list (minutes in total).
-const SLOW: &[&str] = &[
-    "control6", "control7", "control8", "theta3", "theta4", "hinf11", "hinf12", "hinf13", "hinf14",
-    "hinf15", "qap5", "qap6", "qap7", "qap8", "mcp100", "mcp124-1", "mcp124-2", "mcp124-3",
-    "mcp124-4", "gpp100", "gpp124-1", "gpp124-2", "gpp124-3", "gpp124-4", "arch0", "ss30",
-];
+/// Problems on which the issue-3 goals are still open: hinf12 takes 51 iterations (> 40; CSDP
+/// 6.2 takes 66), hinf13 and hinf15 end about 4 % below the README values 46 and 25 (CSDP
+/// ends both with "partial success", dual objectives 44.75 and 24.38).
+const OPEN: &[&str] = &["hinf12", "hinf13", "hinf15"];
 
 const MAX_ITERATIONS: usize = 40;
 
@@ -271,7 +272,7 @@ fn sdplib_default() {
 }
 
 #[test]
-#[ignore = "slow: run with cargo test --release -- --ignored; covered by sdplib_default for the fast problems"]
-fn sdplib_slow() {
-    run(SLOW);
+#[ignore = "known open in issue 3 (see OPEN); run, not gating, by .ci/run: cargo test --release -p sporadic-sdp --test sdplib -- --ignored"]
+fn sdplib_open() {
+    run(OPEN);
 }

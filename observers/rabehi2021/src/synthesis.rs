@@ -317,6 +317,21 @@ impl Bmi44 {
         ])
     }
 
+    /// `Ψ_i ⪯ t I` of (44) at every vertex `i` of the polytope.
+    fn constrain_vertices(
+        &self,
+        m: &mut Model,
+        corner: &Expr,
+        coupling: &Expr,
+        c: &Common,
+    ) -> Result<(), Error> {
+        for (i, v) in self.vertices.iter().enumerate() {
+            let psi = Self::psi(corner, coupling, &c.p, v);
+            m.constrain(psi.le(&c.t).named(format!("Psi_{}", i + 1)))?;
+        }
+        Ok(())
+    }
+
     /// Model of the steps with `F` fixed (a parameter): convex restriction and `FixedF`.
     fn fixed_f_model(&self, o: &SynthesisOptions) -> Result<StepModel, Error> {
         let mut m = Model::new();
@@ -326,10 +341,7 @@ impl Bmi44 {
         let fk = m.param("F_k", dense_placeholder(two_n).as_ref())?;
         let corner = -fk.expr().he();
         let coupling = &fk * &gamma;
-        for (i, v) in self.vertices.iter().enumerate() {
-            let psi = Self::psi(&corner, &coupling, &c.p, v);
-            m.constrain(psi.le(&c.t).named(format!("Psi_{}", i + 1)))?;
-        }
+        self.constrain_vertices(&mut m, &corner, &coupling, &c)?;
         Ok(StepModel {
             compiled: m.compile(&o.solve)?,
             c: self.c.clone(),
@@ -352,10 +364,7 @@ impl Bmi44 {
         let gk = m.param("Gamma_k", dense_placeholder(two_n).as_ref())?;
         let corner = -f.expr().he();
         let coupling = &f * &gk;
-        for (i, v) in self.vertices.iter().enumerate() {
-            let psi = Self::psi(&corner, &coupling, &c.p, v);
-            m.constrain(psi.le(&c.t).named(format!("Psi_{}", i + 1)))?;
-        }
+        self.constrain_vertices(&mut m, &corner, &coupling, &c)?;
         Ok(StepModel {
             compiled: m.compile(&o.solve)?,
             c: self.c.clone(),
