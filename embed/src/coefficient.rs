@@ -22,6 +22,8 @@
 //!   `(ψ(T1), ψ(T2))`; each is bracketed and refined by safeguarded Newton. Nothing is sampled,
 //!   so no extremum can be missed (pitfall (iv) of the spec).
 
+use sporadic_linalg::InputError;
+use sporadic_linalg::input::{LowerEnd, check_window};
 use std::f64::consts::{FRAC_PI_2, PI};
 
 use crate::EmbedError;
@@ -118,13 +120,7 @@ impl CoefficientFunction {
     /// Exact range over `[t1, t2]` (`0 ≤ t1 ≤ t2`), rounded outward by a small relative margin
     /// that covers the rounding errors of the evaluation.
     pub fn range(&self, t1: f64, t2: f64) -> Result<CoefficientRange, EmbedError> {
-        if !(t1.is_finite() && t2.is_finite() && 0.0 <= t1 && t1 <= t2) {
-            return Err(EmbedError::InvalidInterval {
-                t1,
-                t2,
-                reason: "coefficient ranges need 0 ≤ T1 ≤ T2 < ∞",
-            });
-        }
+        check_window("coefficient range interval", t1, t2, LowerEnd::NonNegative)?;
         let mut candidates = vec![t1, t2];
         let mut critical = Vec::new();
         match *self {
@@ -148,9 +144,10 @@ impl CoefficientFunction {
         for &v in &candidates {
             let c = self.eval(v);
             if !c.is_finite() {
-                return Err(EmbedError::non_finite(format!(
+                return Err(InputError::non_finite(format!(
                     "coefficient function {self:?} at v = {v}"
-                )));
+                ))
+                .into());
             }
             if c < min {
                 (min, argmin) = (c, v);

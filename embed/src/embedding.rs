@@ -10,6 +10,7 @@
 //! ```
 
 use faer::{Mat, MatRef};
+use sporadic_linalg::InputError;
 use sporadic_linalg::expm_scaled;
 
 use crate::EmbedError;
@@ -283,7 +284,7 @@ impl Embedding {
 
     fn exp_at(&self, tau: f64) -> Result<Mat<f64>, EmbedError> {
         if !tau.is_finite() {
-            return Err(EmbedError::non_finite("τ"));
+            return Err(InputError::non_finite("τ").into());
         }
         Ok(expm_scaled(self.a.as_ref(), tau)?)
     }

@@ -1,6 +1,6 @@
 //! Typed errors of `sporadic-embed`.
 
-use sporadic_linalg::LinalgError;
+use sporadic_linalg::{InputError, LinalgError};
 
 /// Everything that can go wrong while building or querying an embedding.
 ///
@@ -8,48 +8,10 @@ use sporadic_linalg::LinalgError;
 /// a variant naming the offending quantity; it never panics.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum EmbedError {
-    /// The sampling window `[T1, T2]` is not a valid interval of `[0, ∞)`.
-    #[error("invalid sampling interval [T1, T2] = [{t1}, {t2}]: {reason}")]
-    InvalidInterval {
-        /// Lower end `T1` as given.
-        t1: f64,
-        /// Upper end `T2` as given.
-        t2: f64,
-        /// What is wrong (`T1 > T2`, `T1 < 0`, not finite).
-        reason: &'static str,
-    },
-    /// A square matrix was required.
-    #[error("{what} must be square, got {rows}×{cols}")]
-    NotSquare {
-        /// Which matrix.
-        what: &'static str,
-        /// Number of rows.
-        rows: usize,
-        /// Number of columns.
-        cols: usize,
-    },
-    /// An input had no entries where at least one is required.
-    #[error("empty input: {what}")]
-    Empty {
-        /// Which input was empty.
-        what: &'static str,
-    },
-    /// An input or an intermediate result contained NaN or ±∞.
-    #[error("non-finite value (NaN or ±Inf) in {what}")]
-    NonFinite {
-        /// Which quantity was not finite.
-        what: String,
-    },
-    /// Two operands have incompatible shapes.
-    #[error("dimension mismatch in {what}: expected {expected}, found {found}")]
-    DimensionMismatch {
-        /// Which dimension was checked.
-        what: String,
-        /// The dimension required by the other operand(s).
-        expected: usize,
-        /// The dimension actually supplied.
-        found: usize,
-    },
+    /// Bad input: a matrix not square or empty, mismatched dimensions, NaN/Inf, an invalid
+    /// sampling window `[T1, T2]`.
+    #[error(transparent)]
+    Input(#[from] InputError),
     /// A Jacobian entry has a lower bound above its upper bound.
     #[error("Jacobian bound for entry ({row},{col}): lower {lower} > upper {upper}")]
     InvalidBounds {
@@ -91,10 +53,4 @@ pub enum EmbedError {
     /// Error raised by a `sporadic-linalg` kernel (matrix exponential, …).
     #[error(transparent)]
     Linalg(#[from] LinalgError),
-}
-
-impl EmbedError {
-    pub(crate) fn non_finite(what: impl Into<String>) -> Self {
-        Self::NonFinite { what: what.into() }
-    }
 }

@@ -14,6 +14,7 @@
 
 use faer::linalg::solvers::SolveLstsq;
 use faer::{Mat, MatRef};
+use sporadic_linalg::InputError;
 
 use crate::EmbedError;
 
@@ -43,19 +44,20 @@ pub fn hull_distance(
     target: MatRef<'_, f64>,
 ) -> Result<HullDistance, EmbedError> {
     if vertices.is_empty() {
-        return Err(EmbedError::Empty { what: "vertex set" });
+        return Err(InputError::empty("vertex set").into());
     }
     let (r, c) = (target.nrows(), target.ncols());
     for (k, x) in vertices.iter().enumerate() {
         if x.nrows() != r || x.ncols() != c {
-            return Err(EmbedError::DimensionMismatch {
-                what: format!("vertex {k} (rows·cols) vs target"),
-                expected: r * c,
-                found: x.nrows() * x.ncols(),
-            });
+            return Err(InputError::mismatch(
+                format!("vertex {k} (rows·cols) vs target"),
+                r * c,
+                x.nrows() * x.ncols(),
+            )
+            .into());
         }
     }
-    crate::interval::check_finite(target, "hull target")?;
+    sporadic_linalg::input::check_finite(target, "hull target")?;
     let points: Vec<Vec<f64>> = vertices
         .iter()
         .map(|x| {
@@ -70,7 +72,7 @@ pub fn hull_distance(
         .collect();
     for (k, p) in points.iter().enumerate() {
         if p.iter().any(|v| !v.is_finite()) {
-            return Err(EmbedError::non_finite(format!("vertex {k}")));
+            return Err(InputError::non_finite(format!("vertex {k}")).into());
         }
     }
     let scale = points.iter().map(|p| dot(p, p)).fold(0.0, f64::max).sqrt();
@@ -345,12 +347,12 @@ mod tests {
     fn rejects_bad_shapes() {
         assert!(matches!(
             hull_distance(&[], scalar(0.0).as_ref()),
-            Err(EmbedError::Empty { .. })
+            Err(EmbedError::Input(InputError::Empty { .. }))
         ));
         let v = [Mat::<f64>::zeros(2, 2)];
         assert!(matches!(
             hull_distance(&v, scalar(0.0).as_ref()),
-            Err(EmbedError::DimensionMismatch { .. })
+            Err(EmbedError::Input(InputError::DimensionMismatch { .. }))
         ));
         assert!(hull_distance(&[scalar(0.0)], scalar(f64::NAN).as_ref()).is_err());
     }

@@ -4,7 +4,7 @@
 //! well defined for `T1 = 0` as well, so `T1 = 0` is accepted here and only `T1 < 0`, `T1 > T2`
 //! and non-finite ends are rejected.
 
-use faer::MatRef;
+use sporadic_linalg::input::{LowerEnd, check_window};
 
 use crate::EmbedError;
 
@@ -18,16 +18,7 @@ pub struct Interval {
 impl Interval {
     /// Validates `0 ≤ t1 ≤ t2`, both finite.
     pub fn new(t1: f64, t2: f64) -> Result<Self, EmbedError> {
-        let bad = |reason| Err(EmbedError::InvalidInterval { t1, t2, reason });
-        if !t1.is_finite() || !t2.is_finite() {
-            return bad("both ends must be finite");
-        }
-        if t1 < 0.0 {
-            return bad("T1 < 0");
-        }
-        if t1 > t2 {
-            return bad("T1 > T2");
-        }
+        check_window("sampling interval", t1, t2, LowerEnd::NonNegative)?;
         Ok(Self { t1, t2 })
     }
 
@@ -98,34 +89,10 @@ impl Interval {
     }
 }
 
-/// Checks that `a` is square, non-empty and finite; returns its order.
-pub(crate) fn check_square(a: MatRef<'_, f64>, what: &'static str) -> Result<usize, EmbedError> {
-    let (rows, cols) = (a.nrows(), a.ncols());
-    if rows != cols {
-        return Err(EmbedError::NotSquare { what, rows, cols });
-    }
-    if rows == 0 {
-        return Err(EmbedError::Empty { what });
-    }
-    check_finite(a, what)?;
-    Ok(rows)
-}
-
-/// Checks that every entry of `a` is finite.
-pub(crate) fn check_finite(a: MatRef<'_, f64>, what: &str) -> Result<(), EmbedError> {
-    for j in 0..a.ncols() {
-        for i in 0..a.nrows() {
-            if !a[(i, j)].is_finite() {
-                return Err(EmbedError::non_finite(format!("{what}, entry ({i},{j})")));
-            }
-        }
-    }
-    Ok(())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use sporadic_linalg::InputError;
 
     #[test]
     fn rejects_bad_intervals() {
@@ -137,7 +104,7 @@ mod tests {
         ] {
             assert!(matches!(
                 Interval::new(t1, t2),
-                Err(EmbedError::InvalidInterval { .. })
+                Err(EmbedError::Input(InputError::InvalidWindow { .. }))
             ));
         }
         assert!(Interval::new(0.0, 0.0).unwrap().is_point());

@@ -14,11 +14,13 @@
 //! `A + Σ_ij Θ_ij G_{:,i} H_{j,:}`.
 
 use faer::{Mat, MatRef};
+use sporadic_linalg::InputError;
 
 use crate::EmbedError;
 use crate::corners::box_vertices;
 use crate::hull::{HullDistance, hull_distance};
-use crate::interval::{check_finite, check_square};
+use sporadic_linalg::input::check_finite;
+use sporadic_linalg::input::check_square_finite;
 
 /// Largest number of free Jacobian entries accepted (`2^20` vertices).
 pub const MAX_FREE_ENTRIES: usize = 20;
@@ -59,14 +61,14 @@ pub fn jacobian_polytope(
     lower: MatRef<'_, f64>,
     upper: MatRef<'_, f64>,
 ) -> Result<JacobianPolytope, EmbedError> {
-    let n = check_square(a, "A")?;
+    let n = check_square_finite(a, "A")?;
     let m = g.ncols();
     let mismatch = |what: &str, expected: usize, found: usize| {
-        Err(EmbedError::DimensionMismatch {
+        Err(EmbedError::Input(InputError::DimensionMismatch {
             what: what.to_owned(),
             expected,
             found,
-        })
+        }))
     };
     if g.nrows() != n {
         return mismatch("rows of G", n, g.nrows());
@@ -150,11 +152,12 @@ impl JacobianPolytope {
     pub fn matrix_at(&self, theta: MatRef<'_, f64>) -> Result<Mat<f64>, EmbedError> {
         let m = self.g.ncols();
         if theta.nrows() != m || theta.ncols() != m {
-            return Err(EmbedError::DimensionMismatch {
-                what: "Θ (rows·cols)".into(),
-                expected: m * m,
-                found: theta.nrows() * theta.ncols(),
-            });
+            return Err(InputError::mismatch(
+                "Θ (rows·cols)",
+                m * m,
+                theta.nrows() * theta.ncols(),
+            )
+            .into());
         }
         check_finite(theta, "Θ")?;
         Ok(&self.a + &self.g * theta * &self.h)

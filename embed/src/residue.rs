@@ -33,6 +33,7 @@
 //! grid must both be below [`ResidueOptions::check_tolerance`] (default `1e-10`); otherwise the
 //! containment is not claimed (see [`crate::Containment`]).
 
+use sporadic_linalg::InputError;
 use std::f64::consts::PI;
 
 use faer::dyn_stack::{MemBuffer, MemStack};
@@ -45,7 +46,8 @@ use crate::EmbedError;
 use crate::coefficient::{CoefficientFunction, CoefficientRange};
 use crate::corners::box_vertices;
 use crate::embedding::{Containment, Embedding, HULL_TOLERANCE, Method};
-use crate::interval::{Interval, check_square};
+use crate::interval::Interval;
+use sporadic_linalg::input::check_square_finite;
 
 /// Tuning of the residue embedding. The defaults suit matrices up to `n ≈ 15`.
 #[derive(Debug, Clone, PartialEq)]
@@ -460,7 +462,7 @@ impl ResidueExpansion {
 
     /// Residue decomposition of `a` (square, non-empty, finite).
     pub fn with_options(a: MatRef<'_, f64>, options: ResidueOptions) -> Result<Self, EmbedError> {
-        let n = check_square(a, "A")?;
+        let n = check_square_finite(a, "A")?;
         options.validate()?;
         let sigma = a.norm_l2();
         let lambdas: Vec<c64> = if sigma == 0.0 {
@@ -473,7 +475,7 @@ impl ResidueExpansion {
             .iter()
             .any(|l| !(l.re.is_finite() && l.im.is_finite()))
         {
-            return Err(EmbedError::non_finite("eigenvalues of A"));
+            return Err(InputError::non_finite("eigenvalues of A").into());
         }
         let conj = conjugate_pairing(&lambdas);
         let mut uf = UnionFind((0..n).collect());
@@ -806,7 +808,7 @@ impl ResidueExpansion {
             expm_stepper(a, iv.t1(), iv.length() / (points - 1) as f64, points - 1)?.collect();
         let scale = exact.iter().map(|e| e.norm_l2()).fold(0.0, f64::max);
         if !scale.is_finite() {
-            return Err(EmbedError::non_finite("e^{Av} on the sampling window"));
+            return Err(InputError::non_finite("e^{Av} on the sampling window").into());
         }
         let truncated = self.truncate_with_scale(iv.t1(), iv.t2(), scale)?;
         let ranges: Vec<CoefficientRange> = truncated

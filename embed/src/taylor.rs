@@ -24,11 +24,13 @@
 //! requested bound.
 
 use faer::{Mat, MatRef, Scale};
+use sporadic_linalg::InputError;
 use sporadic_linalg::expm_scaled;
 
 use crate::EmbedError;
 use crate::embedding::{Containment, Embedding, Method};
-use crate::interval::{Interval, check_square};
+use crate::interval::Interval;
+use sporadic_linalg::input::check_square_finite;
 
 /// How the truncation order `N` is chosen.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -120,7 +122,7 @@ pub fn taylor_embedding(
     t2: f64,
     options: &TaylorOptions,
 ) -> Result<Embedding, EmbedError> {
-    let n = check_square(a, "A")?;
+    let n = check_square_finite(a, "A")?;
     let iv = Interval::new(t1, t2)?;
     if let TaylorOrder::Tolerance(tol) = options.order
         && !(tol.is_finite() && tol > 0.0)
@@ -172,7 +174,7 @@ pub fn taylor_embedding(
     };
     let remainder_bound = remainder(order);
     if !remainder_bound.is_finite() {
-        return Err(EmbedError::non_finite("Taylor remainder bound"));
+        return Err(InputError::non_finite("Taylor remainder bound").into());
     }
     let ah = Scale(h) * a;
     let mut term = Mat::<f64>::identity(n, n);

@@ -5,6 +5,7 @@ use sporadic_embed::{
     Containment, EmbedError, EmbeddingMethod, Method, ResidueExpansion, ResidueOptions,
     TaylorOptions, embed_split, residue_embedding, taylor_embedding,
 };
+use sporadic_linalg::InputError;
 use sporadic_linalg::expm_scaled;
 
 fn methods() -> [EmbeddingMethod; 2] {
@@ -44,16 +45,16 @@ fn invalid_windows_are_rejected() {
     ] {
         assert!(matches!(
             residue_embedding(a.as_ref(), t1, t2),
-            Err(EmbedError::InvalidInterval { .. })
+            Err(EmbedError::Input(InputError::InvalidWindow { .. }))
         ));
         assert!(matches!(
             taylor_embedding(a.as_ref(), t1, t2, &TaylorOptions::default()),
-            Err(EmbedError::InvalidInterval { .. })
+            Err(EmbedError::Input(InputError::InvalidWindow { .. }))
         ));
         for m in methods() {
             assert!(matches!(
                 embed_split(a.as_ref(), t1, t2, 2, &m),
-                Err(EmbedError::InvalidInterval { .. })
+                Err(EmbedError::Input(InputError::InvalidWindow { .. }))
             ));
         }
     }
@@ -61,14 +62,17 @@ fn invalid_windows_are_rejected() {
     let e = residue_embedding(a.as_ref(), 0.0, 1.0).unwrap();
     // Queries at a non-finite τ are errors, not panics or `false`.
     for tau in [f64::NAN, f64::INFINITY] {
-        assert!(matches!(e.contains(tau), Err(EmbedError::NonFinite { .. })));
+        assert!(matches!(
+            e.contains(tau),
+            Err(EmbedError::Input(InputError::NonFinite { .. }))
+        ));
         assert!(matches!(
             e.hull_distance(tau),
-            Err(EmbedError::NonFinite { .. })
+            Err(EmbedError::Input(InputError::NonFinite { .. }))
         ));
         assert!(matches!(
             e.max_violation(&[0.5, tau]),
-            Err(EmbedError::NonFinite { .. })
+            Err(EmbedError::Input(InputError::NonFinite { .. }))
         ));
     }
     for m in methods() {
@@ -88,23 +92,23 @@ fn invalid_matrices_are_rejected() {
     for m in methods() {
         assert!(matches!(
             embed_split(rect.as_ref(), 0.1, 1.0, 1, &m),
-            Err(EmbedError::NotSquare {
+            Err(EmbedError::Input(InputError::NotSquare {
                 rows: 2,
                 cols: 3,
                 ..
-            })
+            }))
         ));
         assert!(matches!(
             embed_split(empty.as_ref(), 0.1, 1.0, 1, &m),
-            Err(EmbedError::Empty { .. })
+            Err(EmbedError::Input(InputError::Empty { .. }))
         ));
         assert!(matches!(
             embed_split(nan.as_ref(), 0.1, 1.0, 1, &m),
-            Err(EmbedError::NonFinite { .. })
+            Err(EmbedError::Input(InputError::NonFinite { .. }))
         ));
         assert!(matches!(
             embed_split(inf.as_ref(), 0.1, 1.0, 1, &m),
-            Err(EmbedError::NonFinite { .. })
+            Err(EmbedError::Input(InputError::NonFinite { .. }))
         ));
     }
     let bad = ResidueOptions {

@@ -4,6 +4,7 @@
 use faer::{Mat, mat};
 use proptest::prelude::*;
 use sporadic_embed::{EmbedError, jacobian_polytope, lipschitz_box};
+use sporadic_linalg::InputError;
 
 fn robot_a() -> Mat<f64> {
     mat![
@@ -131,7 +132,7 @@ fn fixed_entries_and_bad_input() {
             lo.as_ref(),
             hi.as_ref()
         ),
-        Err(EmbedError::DimensionMismatch { .. })
+        Err(EmbedError::Input(InputError::DimensionMismatch { .. }))
     ));
     let nan = mat![[0.0, f64::NAN], [-1.0, 0.0]];
     assert!(matches!(
@@ -142,7 +143,7 @@ fn fixed_entries_and_bad_input() {
             nan.as_ref(),
             hi.as_ref()
         ),
-        Err(EmbedError::NonFinite { .. })
+        Err(EmbedError::Input(InputError::NonFinite { .. }))
     ));
     assert!(lipschitz_box(2, -1.0).is_err());
 }

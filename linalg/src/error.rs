@@ -1,35 +1,14 @@
 //! Typed errors of `sporadic-linalg`.
 
+use crate::InputError;
+
 /// Everything that can go wrong in this crate. Bad input is reported, never a panic.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum LinalgError {
-    /// A square matrix was required.
-    #[error("matrix must be square, got {rows}×{cols}")]
-    NotSquare {
-        /// Number of rows of the offending matrix.
-        rows: usize,
-        /// Number of columns of the offending matrix.
-        cols: usize,
-    },
-    /// An input had no entries where at least one is required.
-    #[error("empty input (0 rows or 0 columns)")]
-    Empty,
-    /// An input or an intermediate result contained NaN or ±∞.
-    #[error("non-finite value (NaN or ±Inf) in {what}")]
-    NonFinite {
-        /// Which quantity was not finite.
-        what: String,
-    },
-    /// Two operands have incompatible shapes.
-    #[error("dimension mismatch in {what}: expected {expected}, found {found}")]
-    DimensionMismatch {
-        /// Which dimension was checked.
-        what: String,
-        /// The dimension required by the other operand(s).
-        expected: usize,
-        /// The dimension actually supplied.
-        found: usize,
-    },
+    /// Bad input: what was wrong and where (a matrix not square or empty, mismatched
+    /// dimensions, NaN/Inf, a parameter out of range, an invalid sampling window).
+    #[error(transparent)]
+    Input(#[from] InputError),
     /// A matrix that must be inverted (or an equation that must have a unique solution) is singular.
     #[error("singular: {what}")]
     Singular {
@@ -54,11 +33,6 @@ pub enum LinalgError {
 }
 
 impl LinalgError {
-    pub(crate) fn non_finite(what: &str) -> Self {
-        Self::NonFinite {
-            what: what.to_owned(),
-        }
-    }
     pub(crate) fn singular(what: &str) -> Self {
         Self::Singular {
             what: what.to_owned(),
@@ -72,13 +46,6 @@ impl LinalgError {
     pub(crate) fn overflow(what: &str) -> Self {
         Self::Overflow {
             what: what.to_owned(),
-        }
-    }
-    pub(crate) fn mismatch(what: &str, expected: usize, found: usize) -> Self {
-        Self::DimensionMismatch {
-            what: what.to_owned(),
-            expected,
-            found,
         }
     }
 }

@@ -13,6 +13,7 @@
 mod check;
 mod error;
 mod expm;
+pub mod input;
 mod kronecker;
 mod lyapunov;
 mod normest;
@@ -25,6 +26,7 @@ mod van_loan;
 
 pub use error::LinalgError;
 pub use expm::{EXACT_NORM_MAX_ORDER, PadeParameters, expm, expm_parameters, expm_scaled};
+pub use input::InputError;
 pub use kronecker::kron;
 pub use lyapunov::{lyap_continuous, lyap_discrete};
 pub use spectral::spectral_radius;

@@ -14,6 +14,7 @@
 //! (discrete) for all eigenvalue pairs of A; a numerically zero pivot in a block solve
 //! (|pivot| ≤ 4ε times the magnitude of the terms forming the block matrix) is reported as [`LinalgError::Singular`].
 
+use crate::InputError;
 use faer::{Mat, MatRef};
 
 use crate::schur::real_schur;
@@ -160,11 +161,9 @@ fn lyap(
     let n = check::square_finite(a, &format!("{name}: A"))?;
     if q.nrows() != n || q.ncols() != n {
         let found = if q.nrows() != n { q.nrows() } else { q.ncols() };
-        return Err(LinalgError::mismatch(
-            &format!("{name}: order of Q (= order of A)"),
-            n,
-            found,
-        ));
+        return Err(
+            InputError::mismatch(format!("{name}: order of Q (= order of A)"), n, found).into(),
+        );
     }
     check::finite(q, &format!("{name}: Q"))?;
     let sch = real_schur(a)?;

@@ -21,6 +21,7 @@
 //! `next_into` never allocates: all matrices live in buffers created by [`expm_stepper`]
 //! (stack arrays for n ≤ 8).
 
+use crate::InputError;
 use faer::{Mat, MatMut, MatRef};
 
 use crate::expm::storage::SquareStorage;
@@ -203,11 +204,8 @@ impl ExpmStepper {
             } else {
                 out.ncols()
             };
-            self.error = Some(LinalgError::mismatch(
-                "ExpmStepper::next_into output order",
-                n,
-                found,
-            ));
+            self.error =
+                Some(InputError::mismatch("ExpmStepper::next_into output order", n, found).into());
             return None;
         }
         let tau = self.tau0 + self.k as f64 * self.h;

@@ -13,7 +13,7 @@ use crate::{LinalgError, check};
 /// the trivial kernel in ℝ⁰ (a 0×0 matrix).
 ///
 /// # Errors
-/// [`LinalgError::NonFinite`] for NaN/Inf entries; [`LinalgError::NoConvergence`] if the SVD
+/// [`LinalgError::Input`] (`NonFinite`) for NaN/Inf entries; [`LinalgError::NoConvergence`] if the SVD
 /// fails.
 pub fn null_space(m: MatRef<'_, f64>) -> Result<Mat<f64>, LinalgError> {
     let (rows, cols) = (m.nrows(), m.ncols());

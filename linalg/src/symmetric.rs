@@ -1,6 +1,7 @@
 //! Symmetric matrices: symmetric parts, extreme eigenvalues, definiteness tests and the
 //! isometric vectorisation `svec`/`smat` used by semidefinite programming.
 
+use crate::InputError;
 use faer::{Mat, MatRef, Side};
 
 use crate::{LinalgError, check};
@@ -117,14 +118,14 @@ pub fn svec(s: MatRef<'_, f64>) -> Result<Vec<f64>, LinalgError> {
 /// Inverse of [`svec`]: the symmetric matrix whose svec is `v`.
 ///
 /// # Errors
-/// [`LinalgError::Empty`] for an empty slice; [`LinalgError::InvalidArgument`] if `v.len()` is
-/// not a triangular number n(n+1)/2; [`LinalgError::NonFinite`] for NaN/Inf entries.
+/// [`LinalgError::Input`] (`Empty`) for an empty slice; [`LinalgError::InvalidArgument`] if `v.len()` is
+/// not a triangular number n(n+1)/2; [`LinalgError::Input`] (`NonFinite`) for NaN/Inf entries.
 pub fn smat(v: &[f64]) -> Result<Mat<f64>, LinalgError> {
     if v.is_empty() {
-        return Err(LinalgError::Empty);
+        return Err(InputError::empty("svec vector").into());
     }
     if v.iter().any(|x| !x.is_finite()) {
-        return Err(LinalgError::non_finite("smat: v"));
+        return Err(InputError::non_finite("smat: v").into());
     }
     // n = (√(8len + 1) − 1)/2, verified in integers.
     let len = v.len();
@@ -166,7 +167,11 @@ mod tests {
         assert_eq!(sym_part(a.as_ref()).unwrap(), mat![[1.0, 3.0], [3.0, 3.0]]);
         assert!(matches!(
             he(Mat::<f64>::zeros(2, 3).as_ref()),
-            Err(LinalgError::NotSquare { rows: 2, cols: 3 })
+            Err(LinalgError::Input(InputError::NotSquare {
+                rows: 2,
+                cols: 3,
+                ..
+            }))
         ));
     }
 
@@ -225,7 +230,7 @@ mod tests {
         assert!(is_positive_definite(indefinite.as_ref(), -1.001).unwrap());
         assert!(matches!(
             is_positive_definite(s.as_ref(), f64::NAN),
-            Err(LinalgError::NonFinite { .. })
+            Err(LinalgError::Input(InputError::NonFinite { .. }))
         ));
     }
 
@@ -254,10 +259,13 @@ mod tests {
             smat(&[1.0, 2.0]),
             Err(LinalgError::InvalidArgument(_))
         ));
-        assert_eq!(smat(&[]), Err(LinalgError::Empty));
+        assert!(matches!(
+            smat(&[]),
+            Err(LinalgError::Input(InputError::Empty { .. }))
+        ));
         assert!(matches!(
             smat(&[f64::NAN]),
-            Err(LinalgError::NonFinite { .. })
+            Err(LinalgError::Input(InputError::NonFinite { .. }))
         ));
         assert_eq!(smat(&[7.0]).unwrap(), mat![[7.0]]);
     }

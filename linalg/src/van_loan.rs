@@ -13,6 +13,7 @@
 //! larger than A would otherwise inflate d_k = ‖M^k‖₁^{1/k} of Al-Mohy & Higham's
 //! Algorithm 6.1 and force needless squarings (loss of accuracy in e^{At}).
 
+use crate::InputError;
 use faer::{Mat, MatRef};
 
 use crate::symmetric::check_symmetric;
@@ -58,11 +59,7 @@ pub fn zoh(
 ) -> Result<(Mat<f64>, Mat<f64>), LinalgError> {
     let n = check::square_finite(a, "zoh: A")?;
     if b.nrows() != n {
-        return Err(LinalgError::mismatch(
-            "zoh: rows of B (= order of A)",
-            n,
-            b.nrows(),
-        ));
+        return Err(InputError::mismatch("zoh: rows of B (= order of A)", n, b.nrows()).into());
     }
     check::finite(b, "zoh: B")?;
     check::finite_scalar(t, "zoh: t")?;
@@ -103,11 +100,9 @@ pub fn gramian_integral(
     let n = check::square_finite(a, "gramian_integral: A")?;
     if q.nrows() != n || q.ncols() != n {
         let found = if q.nrows() != n { q.nrows() } else { q.ncols() };
-        return Err(LinalgError::mismatch(
-            "gramian_integral: order of Q (= order of A)",
-            n,
-            found,
-        ));
+        return Err(
+            InputError::mismatch("gramian_integral: order of Q (= order of A)", n, found).into(),
+        );
     }
     check_symmetric(q, "gramian_integral: Q")?;
     check::finite_scalar(t, "gramian_integral: t")?;

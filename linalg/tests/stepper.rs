@@ -1,6 +1,7 @@
 //! ExpmStepper against direct `expm_scaled` along long grids.
 
 use faer::{Mat, mat};
+use sporadic_linalg::InputError;
 use sporadic_linalg::{DEFAULT_REANCHOR, LinalgError, expm_scaled, expm_stepper};
 
 /// max_k ‖X̂_k − e^{Aτ_k}‖_max / ‖e^{Aτ_k}‖_max over the grid points with k % `every` == 0.
@@ -85,11 +86,11 @@ fn iterator_and_edge_cases() {
     assert_eq!(st.next_into(wrong.as_mut()), None);
     assert!(matches!(
         st.error(),
-        Some(LinalgError::DimensionMismatch {
+        Some(LinalgError::Input(InputError::DimensionMismatch {
             expected: 2,
             found: 3,
             ..
-        })
+        }))
     ));
     assert!(matches!(
         expm_stepper(a.as_ref(), 0.0, 0.1, 3)
@@ -99,11 +100,11 @@ fn iterator_and_edge_cases() {
     ));
     assert!(matches!(
         expm_stepper(a.as_ref(), f64::NAN, 0.1, 3),
-        Err(LinalgError::NonFinite { .. })
+        Err(LinalgError::Input(InputError::NonFinite { .. }))
     ));
     assert!(matches!(
         expm_stepper(Mat::<f64>::zeros(2, 1).as_ref(), 0.0, 0.1, 3),
-        Err(LinalgError::NotSquare { .. })
+        Err(LinalgError::Input(InputError::NotSquare { .. }))
     ));
 }
 

@@ -2,6 +2,7 @@
 
 use faer::{Mat, mat};
 use proptest::prelude::*;
+use sporadic_linalg::InputError;
 use sporadic_linalg::{
     LinalgError, expm_integral, expm_scaled, gramian_integral, min_eigenvalue, zoh,
 };
@@ -100,19 +101,19 @@ fn error_paths() {
     let a = mat![[1.0, 0.0], [0.0, 1.0]];
     assert!(matches!(
         zoh(a.as_ref(), Mat::<f64>::zeros(3, 1).as_ref(), 1.0),
-        Err(LinalgError::DimensionMismatch {
+        Err(LinalgError::Input(InputError::DimensionMismatch {
             expected: 2,
             found: 3,
             ..
-        })
+        }))
     ));
     assert!(matches!(
         zoh(a.as_ref(), mat![[1.0], [f64::NAN]].as_ref(), 1.0),
-        Err(LinalgError::NonFinite { .. })
+        Err(LinalgError::Input(InputError::NonFinite { .. }))
     ));
     assert!(matches!(
         zoh(a.as_ref(), mat![[1.0], [0.0]].as_ref(), f64::INFINITY),
-        Err(LinalgError::NonFinite { .. })
+        Err(LinalgError::Input(InputError::NonFinite { .. }))
     ));
     assert!(matches!(
         gramian_integral(a.as_ref(), mat![[1.0, 2.0], [0.0, 1.0]].as_ref(), 1.0),
@@ -120,11 +121,11 @@ fn error_paths() {
     ));
     assert!(matches!(
         gramian_integral(a.as_ref(), mat![[1.0]].as_ref(), 1.0),
-        Err(LinalgError::DimensionMismatch { .. })
+        Err(LinalgError::Input(InputError::DimensionMismatch { .. }))
     ));
     assert!(matches!(
         expm_integral(Mat::<f64>::zeros(2, 3).as_ref(), 1.0),
-        Err(LinalgError::NotSquare { .. })
+        Err(LinalgError::Input(InputError::NotSquare { .. }))
     ));
     // B with no columns is allowed: Γ is n×0.
     let (_, g) = zoh(a.as_ref(), Mat::<f64>::zeros(2, 0).as_ref(), 1.0).unwrap();

@@ -6,51 +6,47 @@
 //! row-pivoted factorisation ΠQ = LU (Gaussian elimination with partial pivoting), X =
 //! P·U⁻¹·L⁻¹·Π:
 //!
-//! 1. ΠQ = LU by right-looking block elimination (Golub & Van Loan, *Matrix Computations*,
-//!    4th ed., §3.2.11 with partial pivoting, §3.4): each panel of [`PANEL`] columns is
-//!    eliminated column by column, its interchanges and L₁₁⁻¹ are applied to the block row to
-//!    its right, and the trailing matrix is updated by one faer GEMM, Q₂₂ ← Q₂₂ − L₂₁U₁₂;
+//! 1. ΠQ = LU by faer's recursive partial-pivoting LU (`lu_in_place`);
 //! 2. Y·U = P by column blocks from the left: P_J ← P_J − Y_{<J}·U_{<J,J} (GEMM), then
 //!    y_j = (p_j − Σ_{i∈J, i<j} u_ij·y_i)/u_jj within the block;
 //! 3. Z·L = Y by column blocks from the right, likewise with the unit lower factor;
 //! 4. X = Z·Π, a reordering of the columns.
 //!
 //! Solving from the right keeps the substitutions column-oriented: for a column-major
-//! right-hand side, every step combines whole contiguous columns (no transposition, full-width
-//! vector operations), and the O(n³) work is in GEMM calls with inner dimension up to n. For
-//! the orders this backend serves (n > 16) this is markedly faster than faer's `lu_in_place`
-//! followed by `solve_in_place` on the project machine. The backward error is that of an LU
-//! solve of the transposed system (Higham, *Accuracy and Stability of Numerical Algorithms*, 2nd ed.,
-//! Theorem 9.4).
+//! right-hand side, every step combines whole contiguous columns (no transposition, no row
+//! interchanges, full-width vector operations), and the O(n³) work is in GEMM calls with
+//! inner dimension up to n. For the orders this backend serves (n > 16) this is faster than
+//! faer's `solve_in_place` (row permutation and two triangular solves) on the project
+//! machine. The backward error is that of an LU solve of the transposed system (Higham,
+//! *Accuracy and Stability of Numerical Algorithms*, 2nd ed., Theorem 9.4).
 
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::lu::partial_pivoting::factor::{lu_in_place, lu_in_place_scratch};
 use faer::linalg::matmul::matmul;
 use faer::reborrow::IntoConst;
 use faer::{Accum, Mat, MatMut, MatRef, Par};
 
 use super::storage::SingularPivot;
 
-/// Panel width of the elimination and block width of the substitutions.
+/// Block width of the substitutions.
 const PANEL: usize = 8;
 
 /// Rows the column combinations accumulate at once (four AVX2 registers of f64).
 const ROWS: usize = 16;
 
-/// Right-hand-side columns the block-row kernel of the elimination processes together (two
-/// AVX2 registers of f64): every operation of its substitution is a full-width vector
-/// operation across the group.
-const GROUP: usize = 8;
-
-/// Buffers for one order n: Q, P and the pivot rows.
+/// Buffers for one order n: Q, P, the row permutation and faer's LU scratch.
 pub(crate) struct PadeSolver {
     n: usize,
     /// Q = V − U (overwritten by L and U), column-major with leading dimension n.
     q: Vec<f64>,
     /// P = V + U (overwritten by Y, then Z), column-major with leading dimension n.
     p: Vec<f64>,
-    /// `pivots[j]`: the row interchanged with row j at elimination step j.
-    pivots: Vec<usize>,
-    /// Column order of X = Z·Π.
-    order: Vec<usize>,
+    /// Row order of ΠQ: row i of ΠQ is row `perm[i]` of Q.
+    perm: Vec<usize>,
+    /// Inverse of `perm` (filled by faer, unused).
+    perm_inv: Vec<usize>,
+    /// Scratch of `lu_in_place`.
+    stack: MemBuffer,
 }
 
 impl PadeSolver {
@@ -60,8 +56,14 @@ impl PadeSolver {
             n,
             q: vec![0.0; n * n],
             p: vec![0.0; n * n],
-            pivots: vec![0; n],
-            order: vec![0; n],
+            perm: vec![0; n],
+            perm_inv: vec![0; n],
+            stack: MemBuffer::new(lu_in_place_scratch::<usize, f64>(
+                n,
+                n,
+                Par::Seq,
+                Default::default(),
+            )),
         }
     }
 
@@ -138,139 +140,35 @@ impl PadeSolver {
             }
             j1 = j0;
         }
-        // X = Z·Π with Π = S_{n−1}⋯S_0 (S_j interchanges rows j and pivots[j]): right
-        // multiplication by S_j interchanges columns, applied from S_{n−1} down to S_0.
-        for (k, o) in self.order.iter_mut().enumerate() {
-            *o = k;
-        }
-        for j in (0..n).rev() {
-            self.order.swap(j, self.pivots[j]);
-        }
-        for (k, &src) in self.order.iter().enumerate() {
-            x.col_as_slice_mut(k)
-                .copy_from_slice(&self.p[src * n..(src + 1) * n]);
+        // X = Z·Π: Π has its ones at (i, perm[i]), so column perm[i] of X is column i of Z.
+        for (i, &dst) in self.perm.iter().enumerate() {
+            x.col_as_slice_mut(dst)
+                .copy_from_slice(&self.p[i * n..(i + 1) * n]);
         }
         Ok(())
     }
 
-    /// ΠQ = LU in place, by panels; the interchanges are applied to the columns right of each
-    /// panel as it is eliminated, and to the columns of L at the end.
+    /// ΠQ = LU in place by faer's recursive partial-pivoting LU (`lu_in_place`); records the
+    /// row order of Π and rejects a zero or non-finite pivot u_jj.
     #[inline(always)]
     fn factor(&mut self, par: Par) -> Result<(), SingularPivot> {
         let n = self.n;
-        let mut k0 = 0;
-        while k0 < n {
-            let k1 = (k0 + PANEL).min(n);
-            self.factor_panel(k0, k1)?;
-            if k1 < n {
-                self.block_row(k0, k1);
-                let m = MatMut::from_column_major_slice_mut(&mut self.q, n, n);
-                let (_, top_right, bottom_left, bottom_right) = m.split_at_mut(k1, k1);
-                matmul(
-                    bottom_right,
-                    Accum::Add,
-                    bottom_left.into_const().get(.., k0..k1),
-                    top_right.into_const().get(k0..k1, ..),
-                    -1.0,
-                    par,
-                );
-            }
-            k0 = k1;
-        }
-        for (c, col) in self.q.chunks_exact_mut(n).enumerate() {
-            for j in (c / PANEL + 1) * PANEL..n {
-                col.swap(j, self.pivots[j]);
-            }
-        }
-        Ok(())
-    }
-
-    /// Unblocked right-looking elimination of the panel columns k0..k1 (rows k0..n): pivot
-    /// search, interchange within the panel, multipliers, rank-1 updates of the later panel
-    /// columns.
-    #[inline(always)]
-    fn factor_panel(&mut self, k0: usize, k1: usize) -> Result<(), SingularPivot> {
-        let n = self.n;
-        let q = &mut self.q[..k1 * n];
-        for j in k0..k1 {
-            let (head, tail) = q.split_at_mut((j + 1) * n);
-            let (left, col) = head.split_at_mut(j * n);
-            let mut piv = j;
-            let mut big = col[j].abs();
-            for i in j + 1..n {
-                if col[i].abs() > big {
-                    big = col[i].abs();
-                    piv = i;
-                }
-            }
-            if big == 0.0 || !big.is_finite() {
+        let q = MatMut::from_column_major_slice_mut(&mut self.q, n, n);
+        lu_in_place(
+            q,
+            &mut self.perm,
+            &mut self.perm_inv,
+            par,
+            MemStack::new(&mut self.stack),
+            Default::default(),
+        );
+        for j in 0..n {
+            let d = self.q[j * n + j];
+            if d == 0.0 || !d.is_finite() {
                 return Err(SingularPivot);
             }
-            self.pivots[j] = piv;
-            col.swap(j, piv);
-            for c in left[k0 * n..].chunks_exact_mut(n) {
-                c.swap(j, piv);
-            }
-            let inv = 1.0 / col[j];
-            let lj = &mut col[j + 1..];
-            for l in lj.iter_mut() {
-                *l *= inv;
-            }
-            let lj = &*lj;
-            for c in tail.chunks_exact_mut(n) {
-                c.swap(j, piv);
-                let ujc = c[j];
-                for (y, l) in c[j + 1..].iter_mut().zip(lj) {
-                    *y -= l * ujc;
-                }
-            }
         }
         Ok(())
-    }
-
-    /// For the columns right of the panel: the panel's row interchanges, then rows k0..k1 ←
-    /// L₁₁⁻¹·(same rows) = U₁₂, L₁₁ the unit lower triangular diagonal block of the panel.
-    #[inline(always)]
-    fn block_row(&mut self, k0: usize, k1: usize) {
-        let n = self.n;
-        let b = k1 - k0;
-        // l[i][j] = L[k0 + i, k0 + j] for j < i (row-major).
-        let mut l = [[0.0; PANEL]; PANEL];
-        for j in 0..b {
-            let col = &self.q[(k0 + j) * n + k0..(k0 + j) * n + k1];
-            for i in j + 1..b {
-                l[i][j] = col[i];
-            }
-        }
-        let pivots = &self.pivots[k0..k1];
-        for group in self.q[k1 * n..].chunks_mut(GROUP * n) {
-            let mut t = [[0.0; GROUP]; PANEL];
-            for (c, col) in group.chunks_exact_mut(n).enumerate() {
-                for (j, &p) in (k0..k1).zip(pivots) {
-                    col.swap(j, p);
-                }
-                for (i, v) in col[k0..k1].iter().enumerate() {
-                    t[i][c] = *v;
-                }
-            }
-            // Row-oriented substitution t_i ← t_i − Σ_{j<i} l_ij·t_j, vectorised across the
-            // columns of the group.
-            for i in 1..b {
-                let mut acc = t[i];
-                for j in 0..i {
-                    let lij = l[i][j];
-                    for c in 0..GROUP {
-                        acc[c] -= lij * t[j][c];
-                    }
-                }
-                t[i] = acc;
-            }
-            for (c, col) in group.chunks_exact_mut(n).enumerate() {
-                for (i, v) in col[k0..k1].iter_mut().enumerate() {
-                    *v = t[i][c];
-                }
-            }
-        }
     }
 }
 
@@ -326,7 +224,8 @@ mod tests {
     }
 
     /// For commuting V, U (polynomials in one matrix, as in the Padé approximant), against
-    /// faer's partial-pivoting LU solve of (V − U)X = V + U (an independent implementation).
+    /// faer's partial-pivoting LU solve of (V − U)X = V + U (the same factorisation, but faer's
+    /// own row permutation and left-side triangular solves).
     #[test]
     fn matches_faer_partial_piv_lu_for_commuting_factors() {
         for n in [1, 2, 5, 15, 16, 17, 31, 33, 64, 70] {

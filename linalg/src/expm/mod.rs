@@ -83,7 +83,7 @@ fn load_and_run<M: SquareStorage>(
 /// The error for a non-finite t·A: NaN/±∞ in A itself, or an overflow of the product.
 fn input_failure(a: MatRef<'_, f64>) -> LinalgError {
     match check::finite(a, "expm input A") {
-        Err(e) => e,
+        Err(e) => e.into(),
         Ok(()) => LinalgError::overflow("t·A in expm (entries beyond the double range)"),
     }
 }
@@ -267,7 +267,7 @@ fn expm_checked(a: MatRef<'_, f64>, t: f64) -> Result<(Mat<f64>, Choice), Linalg
 ///   the same algorithm code. (V − U)X = V + U is solved by LU with partial pivoting.
 ///
 /// # Errors
-/// [`LinalgError::NotSquare`], [`LinalgError::Empty`], [`LinalgError::NonFinite`] for bad input;
+/// [`LinalgError::Input`] (`NotSquare`), [`LinalgError::Input`] (`Empty`), [`LinalgError::Input`] (`NonFinite`) for bad input;
 /// [`LinalgError::Overflow`] if e^A is not representable in double precision;
 /// [`LinalgError::Singular`] if the Padé denominator is numerically singular.
 ///
@@ -283,7 +283,7 @@ pub fn expm(a: MatRef<'_, f64>) -> Result<Mat<f64>, LinalgError> {
 /// e^{At} for a scalar t (the product t·A is formed entrywise first; see [`expm`]).
 ///
 /// # Errors
-/// As [`expm`]; additionally [`LinalgError::NonFinite`] if `t` is NaN or infinite and
+/// As [`expm`]; additionally [`LinalgError::Input`] (`NonFinite`) if `t` is NaN or infinite and
 /// [`LinalgError::Overflow`] if t·A overflows.
 pub fn expm_scaled(a: MatRef<'_, f64>, t: f64) -> Result<Mat<f64>, LinalgError> {
     expm_checked(a, t).map(|r| r.0)

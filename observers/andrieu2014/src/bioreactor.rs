@@ -17,8 +17,10 @@
 //! `f2` is extended outside `M_x`; [`Scenario::placeholder`] holds the spec's placeholder choices and
 //! the extension is "evaluate at the projection of `x̂` onto `M_x`".
 
-use crate::error::{Error, check_finite};
+use crate::error::Error;
 use crate::observer::Tuning;
+use sporadic_linalg::InputError;
+use sporadic_linalg::input::check_finite_slice;
 use sporadic_sim::{Dopri5, Dopri5Options, NoiseSource, PiecewiseConstant};
 
 use crate::closed_loop::{Run, RunOptions, run};
@@ -35,13 +37,14 @@ pub fn phi(z: &[f64; 2]) -> [f64; 2] {
 
 /// `Φ^{-1}(x) = (x1, x1x2/(x1 − x2))`; errors unless `x1 > x2` and both are finite.
 pub fn phi_inverse(x: &[f64; 2]) -> Result<[f64; 2], Error> {
-    check_finite(x, "x for the inverse of Phi")?;
+    check_finite_slice(x, "x for the inverse of Phi")?;
     if x[0] <= x[1] {
-        return Err(Error::InvalidParameter {
-            name: "x1 - x2",
-            value: x[0] - x[1],
-            reason: "the inverse of Phi needs x1 > x2",
-        });
+        return Err(InputError::parameter(
+            "x1 - x2",
+            x[0] - x[1],
+            "the inverse of Phi needs x1 > x2",
+        )
+        .into());
     }
     Ok([x[0], x[0] * x[1] / (x[0] - x[1])])
 }
@@ -73,20 +76,18 @@ impl Domain {
 
     /// Validates `0 < u_min ≤ u_max < 1` and `ε1, ε2 > 0`, `ε1 + ε2 < 1`.
     pub fn new(u_min: f64, u_max: f64, eps1: f64, eps2: f64) -> Result<Self, Error> {
-        check_finite(&[u_min, u_max, eps1, eps2], "bioreactor domain")?;
+        check_finite_slice(&[u_min, u_max, eps1, eps2], "bioreactor domain")?;
         if !(0.0 < u_min && u_min <= u_max && u_max < 1.0) {
-            return Err(Error::InvalidParameter {
-                name: "u_min/u_max",
-                value: u_max,
-                reason: "need 0 < u_min <= u_max < 1",
-            });
+            return Err(
+                InputError::parameter("u_min/u_max", u_max, "need 0 < u_min <= u_max < 1").into(),
+            );
         }
         if !(eps1 > 0.0 && eps2 > 0.0 && eps1 + eps2 < 1.0) {
-            return Err(Error::InvalidParameter {
-                name: "eps1/eps2",
+            return Err(Error::Input(InputError::InvalidParameter {
+                name: "eps1/eps2".into(),
                 value: eps1,
-                reason: "need eps1, eps2 > 0 and eps1 + eps2 < 1",
-            });
+                reason: "need eps1, eps2 > 0 and eps1 + eps2 < 1".into(),
+            }));
         }
         Ok(Self {
             u_min,
@@ -187,14 +188,10 @@ impl BioreactorNormalForm {
     /// Builds the system with a grid of `grid_points ≥ 2` values of `x1` in `[ε1, 1−ε2]`.
     pub fn new(s_in: f64, domain: Domain, form: F2Form, grid_points: usize) -> Result<Self, Error> {
         if !(s_in.is_finite() && s_in > 0.0) {
-            return Err(Error::InvalidParameter {
-                name: "S_in",
-                value: s_in,
-                reason: "must be positive",
-            });
+            return Err(InputError::parameter("S_in", s_in, "must be positive").into());
         }
         if grid_points < 2 {
-            return Err(Error::mismatch("x1 grid points (at least)", 2, grid_points));
+            return Err(InputError::mismatch("x1 grid points (at least)", 2, grid_points).into());
         }
         let (a, b) = (domain.eps1, 1.0 - domain.eps2);
         let grid = (0..grid_points)

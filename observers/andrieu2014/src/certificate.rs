@@ -7,8 +7,9 @@
 
 use crate::closed_loop::Run;
 use crate::design::Design;
-use crate::error::{Error, check_len};
+use crate::error::Error;
 use crate::observer::Tuning;
+use sporadic_linalg::input::check_len;
 
 /// The decrease condition at one sample `k → k+1`.
 #[derive(Debug, Clone, Copy, PartialEq)]

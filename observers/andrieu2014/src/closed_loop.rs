@@ -26,6 +26,9 @@
 //! `[0, T]` has `samples.len()` corrections and `samples.len() + 1` sampling instants
 //! ([`Run::sampling_times`]).
 
+use sporadic_linalg::InputError;
+use sporadic_linalg::input::check_len;
+use sporadic_linalg::input::{check_dimension, check_finite_slice};
 use std::cell::{Cell, RefCell};
 
 use sporadic_sim::{
@@ -34,7 +37,7 @@ use sporadic_sim::{
     simulate,
 };
 
-use crate::error::{Error, check_finite, check_len};
+use crate::error::Error;
 use crate::observer::{Tuning, high_gain, jump, sampling_function};
 use crate::system::{Plant, TriangularSystem, vector_field};
 
@@ -292,9 +295,9 @@ impl SamplingRule for UpdatedSampling<'_> {
 /// `M(0) = 1`, under the input `input` and additive output noise `noise` (dimension 1; use
 /// `sporadic_sim::ZeroNoise::new(1)` for noise-free runs), on `[0, opts.horizon]`.
 ///
-/// Errors: dimension mismatches and non-finite inputs ([`Error::DimensionMismatch`],
-/// [`Error::NonFinite`]), `L(0) < 1`, a negative or non-finite `c(x̂, u)` at any evaluation
-/// ([`Error::NegativeLipschitz`] / [`Error::NonFinite`]), and simulator failures ([`Error::Sim`]).
+/// Errors: dimension mismatches and non-finite inputs ([`Error::Input`] (`DimensionMismatch`),
+/// [`Error::Input`] (`NonFinite`)), `L(0) < 1`, a negative or non-finite `c(x̂, u)` at any evaluation
+/// ([`Error::NegativeLipschitz`] / [`Error::Input`] (`NonFinite`)), and simulator failures ([`Error::Sim`]).
 pub fn run<P, S>(
     plant: &P,
     z0: &[f64],
@@ -312,36 +315,28 @@ where
     let n = system.order();
     let m = plant.dim();
     if n == 0 {
-        return Err(Error::mismatch("system order n (at least)", 1, 0));
+        return Err(InputError::mismatch("system order n (at least)", 1, 0).into());
     }
     check_len(tuning.gain(), n, "gain K")?;
-    check_len(z0, m, "initial plant state")?;
-    check_len(xhat0, n, "initial estimate")?;
-    check_finite(z0, "initial plant state")?;
-    check_finite(xhat0, "initial estimate")?;
+    check_dimension("initial plant state", m, z0.len())?;
+    check_dimension("initial estimate", n, xhat0.len())?;
+    check_finite_slice(z0, "initial plant state")?;
+    check_finite_slice(xhat0, "initial estimate")?;
     if input.dim() != system.input_dim() {
-        return Err(Error::mismatch(
-            "input dimension",
-            system.input_dim(),
-            input.dim(),
-        ));
+        return Err(
+            InputError::mismatch("input dimension", system.input_dim(), input.dim()).into(),
+        );
     }
     if noise.dim() != 1 {
-        return Err(Error::mismatch("output noise dimension", 1, noise.dim()));
+        return Err(InputError::mismatch("output noise dimension", 1, noise.dim()).into());
     }
     if !(opts.l0.is_finite() && opts.l0 >= 1.0) {
-        return Err(Error::InvalidParameter {
-            name: "L(0)",
-            value: opts.l0,
-            reason: "need a finite L(0) >= 1",
-        });
+        return Err(InputError::parameter("L(0)", opts.l0, "need a finite L(0) >= 1").into());
     }
     if !(opts.horizon.is_finite() && opts.horizon > 0.0) {
-        return Err(Error::InvalidParameter {
-            name: "horizon",
-            value: opts.horizon,
-            reason: "need a finite horizon > 0",
-        });
+        return Err(
+            InputError::parameter("horizon", opts.horizon, "need a finite horizon > 0").into(),
+        );
     }
     let mut x0 = vec![0.0; n];
     plant.to_normal_form(z0, &mut x0);
@@ -408,7 +403,7 @@ where
     };
     if let Some((c, t)) = observer_flow.bad_c.get() {
         return Err(if c.is_nan() || c.is_infinite() {
-            Error::non_finite(format!("Lipschitz estimate c(x̂, u) at t = {t}"))
+            InputError::non_finite(format!("Lipschitz estimate c(x̂, u) at t = {t}")).into()
         } else {
             Error::NegativeLipschitz { c, t }
         });

@@ -14,11 +14,13 @@
 //!   `2(N1+N2)/(p3p1)` drops the factor `n`, misprint §6.4 of the spec), with `N1, N2` of Lemma 5.
 
 use faer::{Mat, MatRef};
+use sporadic_linalg::InputError;
+use sporadic_linalg::input::{check_dimension, check_finite_slice};
 use sporadic_linalg::{
     is_positive_definite, lyap_continuous, max_eigenvalue, min_eigenvalue, sym_part,
 };
 
-use crate::error::{Error, check_finite, check_len};
+use crate::error::Error;
 use crate::observer::Tuning;
 use crate::pencil::{pencil_extremes, spectral_norm};
 use crate::system::shift_exponential;
@@ -57,12 +59,12 @@ pub fn correction_matrix(k: &[f64], alpha: f64) -> Mat<f64> {
 /// `Q(α) = (I + αKC) e^{Aα}`, the linear part of the scaled error map of the proof of Theorem 2 (after
 /// (14)). For `n = 2`, `det Q(α) = 1 + αK_1` (`= 1 − 2α` for `K = [−2, −1]'`).
 pub fn q_matrix(k: &[f64], alpha: f64) -> Result<Mat<f64>, Error> {
-    check_finite(k, "K")?;
+    check_finite_slice(k, "K")?;
     if !alpha.is_finite() {
-        return Err(Error::non_finite("alpha"));
+        return Err(InputError::non_finite("alpha").into());
     }
     if k.is_empty() {
-        return Err(Error::mismatch("K (order n ≥ 1)", 1, 0));
+        return Err(InputError::mismatch("K (order n ≥ 1)", 1, 0).into());
     }
     Ok(correction_matrix(k, alpha) * shift_exponential(k.len(), alpha))
 }
@@ -85,23 +87,19 @@ impl Design {
     /// (D1)–(D3) for the gain `k` (length `n ≥ 1`) and the diagonal weight `weights` (length `n`,
     /// positive): solves the Lyapunov equation, computes `p1..p4`, `a1` and scans for `α_m`.
     ///
-    /// Errors: [`Error::DimensionMismatch`], [`Error::NonFinite`], [`Error::InvalidParameter`] (weights),
+    /// Errors: [`Error::Input`] (`DimensionMismatch`), [`Error::Input`] (`NonFinite`), [`Error::Input`] (`InvalidParameter`) (weights),
     /// [`Error::NotHurwitz`] when `A + KC` is not Hurwitz (e.g. the paper's printed `K = [−2, 1]'`,
     /// poles −2.414 and +0.414), [`Error::NotDiagonallyDominated`] when `p3 ≤ 0`.
     pub fn new(k: &[f64], weights: &[f64]) -> Result<Self, Error> {
         let n = k.len();
         if n == 0 {
-            return Err(Error::mismatch("K (order n ≥ 1)", 1, 0));
+            return Err(InputError::mismatch("K (order n ≥ 1)", 1, 0).into());
         }
-        check_len(weights, n, "Lyapunov weights W")?;
-        check_finite(k, "K")?;
-        check_finite(weights, "Lyapunov weights W")?;
+        check_dimension("Lyapunov weights W", n, weights.len())?;
+        check_finite_slice(k, "K")?;
+        check_finite_slice(weights, "Lyapunov weights W")?;
         if let Some(&w) = weights.iter().find(|&&w| w <= 0.0) {
-            return Err(Error::InvalidParameter {
-                name: "W",
-                value: w,
-                reason: "Lyapunov weights must be positive",
-            });
+            return Err(InputError::parameter("W", w, "Lyapunov weights must be positive").into());
         }
         // A + KC: upper shift plus K in the first column.
         let acl = Mat::from_fn(n, n, |i, j| {
@@ -145,11 +143,7 @@ impl Design {
     /// The recipe of spec §3: binomial `K` and `W = diag(1, r, …, r^{n−1})`.
     pub fn binomial(n: usize, r: f64) -> Result<Self, Error> {
         if !(r.is_finite() && r > 0.0) {
-            return Err(Error::InvalidParameter {
-                name: "r",
-                value: r,
-                reason: "weight ratio must be positive",
-            });
+            return Err(InputError::parameter("r", r, "weight ratio must be positive").into());
         }
         Self::new(&binomial_gain(n), &geometric_weights(n, r))
     }
@@ -270,11 +264,9 @@ impl Design {
 
     fn lemma5_parts(&self, alpha: f64) -> Result<(f64, f64, f64, f64), Error> {
         if !(alpha > 0.0 && self.a1 * alpha < 1.0) {
-            return Err(Error::InvalidParameter {
-                name: "alpha",
-                value: alpha,
-                reason: "need 0 < alpha and a1*alpha < 1",
-            });
+            return Err(
+                InputError::parameter("alpha", alpha, "need 0 < alpha and a1*alpha < 1").into(),
+            );
         }
         let n = self.order();
         let norm_a = if n >= 2 { 1.0 } else { 0.0 };
@@ -294,7 +286,7 @@ impl Design {
     /// `a2 ≥ a2,min(α)` ([`Error::GainRateTooSmall`]); `a1` and `a3 = 2n` come from the design.
     pub fn tuning(&self, alpha: f64, a2: f64) -> Result<Tuning, Error> {
         if !alpha.is_finite() || !a2.is_finite() {
-            return Err(Error::non_finite("alpha / a2"));
+            return Err(InputError::non_finite("alpha / a2").into());
         }
         if !(alpha > 0.0 && alpha < self.alpha_m) {
             return Err(Error::AlphaNotAdmissible {
@@ -324,7 +316,7 @@ impl Design {
     /// The Lyapunov function `V(E) = E'PE` of the proof of Theorem 2.
     pub fn lyapunov(&self, e: &[f64]) -> Result<f64, Error> {
         let n = self.order();
-        check_len(e, n, "E")?;
+        check_dimension("E", n, e.len())?;
         let mut v = 0.0;
         for i in 0..n {
             for j in 0..n {

@@ -1,7 +1,7 @@
 //! Typed errors of `sporadic-andrieu2014`. Bad input is reported with what was wrong and where; nothing
 //! in this crate panics on user data.
 
-use sporadic_linalg::LinalgError;
+use sporadic_linalg::{InputError, LinalgError};
 use sporadic_sim::SimError;
 
 /// Everything that can go wrong while designing, running or reproducing the observer.
@@ -11,32 +11,10 @@ use sporadic_sim::SimError;
 /// ([`Error::Linalg`], [`Error::Sim`]), not restated.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
-    /// Two objects that must agree in size do not (e.g. `K` and the system order `n`).
-    #[error("dimension mismatch in {what}: expected {expected}, found {found}")]
-    DimensionMismatch {
-        /// Which quantity was checked.
-        what: String,
-        /// The size required by the other operand(s).
-        expected: usize,
-        /// The size actually supplied.
-        found: usize,
-    },
-    /// An input, or a state reached during a run, contained NaN or ±∞.
-    #[error("non-finite value (NaN or ±Inf) in {what}")]
-    NonFinite {
-        /// Which quantity was not finite (with the time, for run-time failures).
-        what: String,
-    },
-    /// A scalar parameter is outside its admissible range.
-    #[error("invalid parameter {name} = {value}: {reason}")]
-    InvalidParameter {
-        /// Name of the parameter, in the paper's notation.
-        name: &'static str,
-        /// The value supplied.
-        value: f64,
-        /// The condition it violates.
-        reason: &'static str,
-    },
+    /// Bad input: what was wrong and where (a matrix not square or empty, mismatched
+    /// dimensions, NaN/Inf, a parameter out of range, an invalid sampling window).
+    #[error(transparent)]
+    Input(#[from] InputError),
     /// The gain `K` does not make `A + KC` Hurwitz, so (9) has no solution `P ≻ 0` (Andrieu et al. 2014,
     /// proof of Theorem 2). Detected by the Lyapunov solution `P̃` of
     /// `(A+KC)'P̃ + P̃(A+KC) = −W` not being positive definite (or not existing).
@@ -109,35 +87,4 @@ pub enum Error {
         /// The underlying error.
         source: std::io::Error,
     },
-}
-
-impl Error {
-    pub(crate) fn mismatch(what: impl Into<String>, expected: usize, found: usize) -> Self {
-        Self::DimensionMismatch {
-            what: what.into(),
-            expected,
-            found,
-        }
-    }
-    pub(crate) fn non_finite(what: impl Into<String>) -> Self {
-        Self::NonFinite { what: what.into() }
-    }
-}
-
-/// Checks that every entry of a slice is finite.
-pub(crate) fn check_finite(x: &[f64], what: &str) -> Result<(), Error> {
-    if x.iter().all(|v| v.is_finite()) {
-        Ok(())
-    } else {
-        Err(Error::non_finite(what))
-    }
-}
-
-/// Checks that a slice has the expected length.
-pub(crate) fn check_len(x: &[f64], expected: usize, what: &str) -> Result<(), Error> {
-    if x.len() == expected {
-        Ok(())
-    } else {
-        Err(Error::mismatch(what, expected, x.len()))
-    }
 }

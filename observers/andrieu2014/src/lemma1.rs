@@ -9,6 +9,7 @@
 
 use crate::error::Error;
 use crate::observer::Tuning;
+use sporadic_linalg::InputError;
 
 /// The bounds of Lemma 1 for a given `c_m` and `L(0)`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -39,18 +40,10 @@ pub fn phi(tuning: &Tuning, c_m: f64, ell: f64) -> f64 {
 /// Computes the bounds of Lemma 1 for `c_m ≥ 0` and `L(0) ≥ 1` (bisection on `log ℓ`).
 pub fn lemma1_bound(tuning: &Tuning, c_m: f64, l0: f64) -> Result<Lemma1Bound, Error> {
     if !(c_m.is_finite() && c_m >= 0.0) {
-        return Err(Error::InvalidParameter {
-            name: "c_m",
-            value: c_m,
-            reason: "need a finite c_m >= 0",
-        });
+        return Err(InputError::parameter("c_m", c_m, "need a finite c_m >= 0").into());
     }
     if !(l0.is_finite() && l0 >= 1.0) {
-        return Err(Error::InvalidParameter {
-            name: "L(0)",
-            value: l0,
-            reason: "need a finite L(0) >= 1",
-        });
+        return Err(InputError::parameter("L(0)", l0, "need a finite L(0) >= 1").into());
     }
     let f = |ell: f64| phi(tuning, c_m, ell) - 1.0;
     let (mut lo, mut hi) = (1.0f64, 1.0f64);

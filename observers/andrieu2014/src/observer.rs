@@ -12,7 +12,9 @@
 //!   `𝓛(t_k^-)` with `δ_k`; the proof (12) and causality need the period that ends at the sample);
 //!   then `L ← (1 − a1α) L^- + a1α` (6c) and `M ← 1` (6d).
 
-use crate::error::{Error, check_finite, check_len};
+use crate::error::Error;
+use sporadic_linalg::InputError;
+use sporadic_linalg::input::{check_dimension, check_finite_slice};
 
 /// Observer parameters `(K, α, a1, a2, a3)` of (5)–(7). [`Tuning::new`] only checks that the observer
 /// is well defined (`α, a1, a2, a3 > 0`, `a1α < 1`, finite `K`); whether Theorem 2 covers the choice is
@@ -31,27 +33,24 @@ impl Tuning {
     /// Validates and stores the parameters.
     pub fn new(k: Vec<f64>, alpha: f64, a1: f64, a2: f64, a3: f64) -> Result<Self, Error> {
         if k.is_empty() {
-            return Err(Error::mismatch("K (order n ≥ 1)", 1, 0));
+            return Err(InputError::mismatch("K (order n ≥ 1)", 1, 0).into());
         }
-        check_finite(&k, "K")?;
+        check_finite_slice(&k, "K")?;
         for (name, v) in [("alpha", alpha), ("a1", a1), ("a2", a2), ("a3", a3)] {
             if !v.is_finite() {
-                return Err(Error::non_finite(name));
+                return Err(InputError::non_finite(name).into());
             }
             if v <= 0.0 {
-                return Err(Error::InvalidParameter {
-                    name,
-                    value: v,
-                    reason: "must be positive",
-                });
+                return Err(InputError::parameter(name, v, "must be positive").into());
             }
         }
         if a1 * alpha >= 1.0 {
-            return Err(Error::InvalidParameter {
-                name: "a1*alpha",
-                value: a1 * alpha,
-                reason: "the jump (6c) needs a1*alpha < 1",
-            });
+            return Err(InputError::parameter(
+                "a1*alpha",
+                a1 * alpha,
+                "the jump (6c) needs a1*alpha < 1",
+            )
+            .into());
         }
         Ok(Self {
             k,
@@ -132,15 +131,16 @@ pub fn jump(
     y: f64,
 ) -> Result<Jump, Error> {
     let n = tuning.order();
-    check_len(xhat_minus, n, "x̂(t^-)")?;
-    check_finite(xhat_minus, "x̂(t^-)")?;
-    check_finite(&[l_minus, delta, y], "L^-, δ or y at a jump")?;
+    check_dimension("x̂(t^-)", n, xhat_minus.len())?;
+    check_finite_slice(xhat_minus, "x̂(t^-)")?;
+    check_finite_slice(&[l_minus, delta, y], "L^-, δ or y at a jump")?;
     if l_minus < 1.0 || delta <= 0.0 {
-        return Err(Error::InvalidParameter {
-            name: "L^- / delta",
-            value: if l_minus < 1.0 { l_minus } else { delta },
-            reason: "a jump needs L^- >= 1 and delta > 0",
-        });
+        return Err(InputError::parameter(
+            "L^- / delta",
+            if l_minus < 1.0 { l_minus } else { delta },
+            "a jump needs L^- >= 1 and delta > 0",
+        )
+        .into());
     }
     let innovation = xhat_minus[0] - y;
     let mut correction = Vec::with_capacity(n);
@@ -154,7 +154,7 @@ pub fn jump(
         .zip(&correction)
         .map(|(a, b)| a + b)
         .collect();
-    check_finite(&xhat, "corrected estimate")?;
+    check_finite_slice(&xhat, "corrected estimate")?;
     Ok(Jump {
         xhat,
         l: gain_jump(tuning, l_minus),
@@ -177,22 +177,19 @@ mod tests {
         assert!(Tuning::new(vec![f64::NAN], 0.5, 1.0, 0.1, 0.1).is_err());
         assert!(matches!(
             Tuning::new(vec![-1.0], 0.0, 1.0, 0.1, 0.1),
-            Err(Error::InvalidParameter { name: "alpha", .. })
+            Err(Error::Input(InputError::InvalidParameter { name, .. })) if name == "alpha"
         ));
         assert!(matches!(
             Tuning::new(vec![-1.0], 0.5, 2.0, 0.1, 0.1),
-            Err(Error::InvalidParameter {
-                name: "a1*alpha",
-                ..
-            })
+            Err(Error::Input(InputError::InvalidParameter { name, .. })) if name == "a1*alpha"
         ));
         assert!(matches!(
             Tuning::new(vec![-1.0], 0.5, 1.0, -0.1, 0.1),
-            Err(Error::InvalidParameter { name: "a2", .. })
+            Err(Error::Input(InputError::InvalidParameter { name, .. })) if name == "a2"
         ));
         assert!(matches!(
             Tuning::new(vec![-1.0], 0.5, 1.0, 0.1, f64::INFINITY),
-            Err(Error::NonFinite { .. })
+            Err(Error::Input(InputError::NonFinite { .. }))
         ));
     }
 

@@ -3,8 +3,10 @@
 //! output `y_k = C x(t_k)` with `C = [1 0 … 0]`, eq. (2), and the incremental bound of Assumption 1, (3).
 
 use faer::Mat;
+use sporadic_linalg::input::check_len;
+use sporadic_linalg::input::{check_dimension, check_finite_slice};
 
-use crate::error::{Error, check_finite, check_len};
+use crate::error::Error;
 
 /// A plant in the observability normal form (1) of Andrieu et al. (2014), implemented by the user.
 ///
@@ -63,12 +65,12 @@ pub fn incremental_bound_ratio<S: TriangularSystem + ?Sized>(
     u: &[f64],
 ) -> Result<f64, Error> {
     let n = sys.order();
-    check_len(xhat, n, "x̂")?;
-    check_len(e, n, "e")?;
+    check_dimension("x̂", n, xhat.len())?;
+    check_dimension("e", n, e.len())?;
     check_len(u, sys.input_dim(), "u")?;
-    check_finite(xhat, "x̂")?;
-    check_finite(e, "e")?;
-    check_finite(u, "u")?;
+    check_finite_slice(xhat, "x̂")?;
+    check_finite_slice(e, "e")?;
+    check_finite_slice(u, "u")?;
     let x: Vec<f64> = xhat.iter().zip(e).map(|(a, b)| a - b).collect();
     let (mut fa, mut fb) = (vec![0.0; n], vec![0.0; n]);
     sys.nonlinearity(xhat, u, &mut fa);
@@ -101,8 +103,8 @@ pub fn triangularity_defect<S: TriangularSystem + ?Sized>(
     u: &[f64],
 ) -> Result<f64, Error> {
     let n = sys.order();
-    check_len(x, n, "x")?;
-    check_len(dx, n, "dx")?;
+    check_dimension("x", n, x.len())?;
+    check_dimension("dx", n, dx.len())?;
     check_len(u, sys.input_dim(), "u")?;
     let (mut f0, mut f1) = (vec![0.0; n], vec![0.0; n]);
     sys.nonlinearity(x, u, &mut f0);

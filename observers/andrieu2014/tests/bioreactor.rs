@@ -10,6 +10,7 @@ use sporadic_andrieu2014::bioreactor::{
 };
 use sporadic_andrieu2014::system::{incremental_bound_ratio, triangularity_defect};
 use sporadic_andrieu2014::{Error, Run, RunOptions, TriangularSystem, Tuning, run};
+use sporadic_linalg::InputError;
 use sporadic_sim::{BoundedUniform, NoiseSource, PiecewiseConstant, ZeroNoise};
 
 fn system(form: F2Form) -> (Scenario, BioreactorNormalForm) {
@@ -180,21 +181,21 @@ fn bad_inputs_give_typed_errors() {
               o: &RunOptions| { run(&plant, z0, &sys, xhat0, input, t, noise, o) };
     assert!(matches!(
         go(&[0.06], &sc.xhat0, &sc.input, &tuning, &mut z, &opts),
-        Err(Error::DimensionMismatch { .. })
+        Err(Error::Input(InputError::DimensionMismatch { .. }))
     ));
     assert!(matches!(
         go(&sc.z0, &[0.1, f64::NAN], &sc.input, &tuning, &mut z, &opts),
-        Err(Error::NonFinite { .. })
+        Err(Error::Input(InputError::NonFinite { .. }))
     ));
     let t3 = Tuning::new(vec![-3.0, -3.0, -1.0], 0.5, 1.0, 0.1, 0.1).unwrap();
     assert!(matches!(
         go(&sc.z0, &sc.xhat0, &sc.input, &t3, &mut z, &opts),
-        Err(Error::DimensionMismatch { .. })
+        Err(Error::Input(InputError::DimensionMismatch { .. }))
     ));
     let no_input = PiecewiseConstant::constant(vec![]).unwrap();
     assert!(matches!(
         go(&sc.z0, &sc.xhat0, &no_input, &tuning, &mut z, &opts),
-        Err(Error::DimensionMismatch { .. })
+        Err(Error::Input(InputError::DimensionMismatch { .. }))
     ));
     assert!(matches!(
         go(
@@ -205,7 +206,7 @@ fn bad_inputs_give_typed_errors() {
             &mut ZeroNoise::new(2),
             &opts
         ),
-        Err(Error::DimensionMismatch { .. })
+        Err(Error::Input(InputError::DimensionMismatch { .. }))
     ));
     let bad_l0 = RunOptions {
         l0: 0.5,
@@ -213,12 +214,12 @@ fn bad_inputs_give_typed_errors() {
     };
     assert!(matches!(
         go(&sc.z0, &sc.xhat0, &sc.input, &tuning, &mut z, &bad_l0),
-        Err(Error::InvalidParameter { .. })
+        Err(Error::Input(InputError::InvalidParameter { .. }))
     ));
     let bad_h = RunOptions::new(f64::NAN);
     assert!(matches!(
         go(&sc.z0, &sc.xhat0, &sc.input, &tuning, &mut z, &bad_h),
-        Err(Error::InvalidParameter { .. })
+        Err(Error::Input(InputError::InvalidParameter { .. }))
     ));
 
     /// A system whose "Lipschitz estimate" goes negative: must be rejected with a typed error.
@@ -281,7 +282,10 @@ fn bad_inputs_give_typed_errors() {
         &opts,
     );
     assert!(
-        matches!(r, Err(Error::Sim(_)) | Err(Error::NonFinite { .. })),
+        matches!(
+            r,
+            Err(Error::Sim(_)) | Err(Error::Input(InputError::NonFinite { .. }))
+        ),
         "{r:?}"
     );
 }

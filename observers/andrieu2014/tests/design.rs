@@ -4,6 +4,7 @@
 use approx::assert_relative_eq;
 use proptest::prelude::*;
 use sporadic_andrieu2014::{Design, Error, binomial_gain, q_matrix};
+use sporadic_linalg::InputError;
 use sporadic_linalg::{max_eigenvalue, min_eigenvalue, spectral_radius};
 
 fn n2_design() -> Design {
@@ -135,23 +136,23 @@ fn inadmissible_choices_give_typed_errors() {
     ));
     assert!(matches!(
         Design::new(&[-2.0, -1.0], &[1.0]),
-        Err(Error::DimensionMismatch { .. })
+        Err(Error::Input(InputError::DimensionMismatch { .. }))
     ));
     assert!(matches!(
         Design::new(&[], &[]),
-        Err(Error::DimensionMismatch { .. })
+        Err(Error::Input(InputError::DimensionMismatch { .. }))
     ));
     assert!(matches!(
         Design::new(&[-2.0, f64::NAN], &[1.0, 1.0]),
-        Err(Error::NonFinite { .. })
+        Err(Error::Input(InputError::NonFinite { .. }))
     ));
     assert!(matches!(
         Design::new(&[-2.0, -1.0], &[1.0, 0.0]),
-        Err(Error::InvalidParameter { .. })
+        Err(Error::Input(InputError::InvalidParameter { .. }))
     ));
     assert!(matches!(
         Design::binomial(2, -1.0),
-        Err(Error::InvalidParameter { .. })
+        Err(Error::Input(InputError::InvalidParameter { .. }))
     ));
     let d = n2_design();
     assert!(matches!(
@@ -168,7 +169,7 @@ fn inadmissible_choices_give_typed_errors() {
     ));
     assert!(matches!(
         d.tuning(f64::NAN, 100.0),
-        Err(Error::NonFinite { .. })
+        Err(Error::Input(InputError::NonFinite { .. }))
     ));
     assert!(matches!(
         d.tuning(0.2, 50.0),
@@ -179,7 +180,7 @@ fn inadmissible_choices_give_typed_errors() {
     assert_eq!(t.a3(), 4.0);
     assert!(matches!(
         d.lyapunov(&[1.0]),
-        Err(Error::DimensionMismatch { .. })
+        Err(Error::Input(InputError::DimensionMismatch { .. }))
     ));
 }
 

@@ -22,6 +22,7 @@ use crate::design::{Design, DesignOptions, MarginSolution, finish};
 use crate::error::Error;
 use crate::lmi::{Condition, GainTerm, Lmi20};
 use crate::system::{Plant, Window};
+use sporadic_linalg::InputError;
 
 /// Options of [`max_tau_bar`] and [`max_period`].
 #[derive(Debug, Clone)]
@@ -92,13 +93,7 @@ impl MaxTauBar {
 }
 
 fn check_options(o: &BisectionOptions) -> Result<(), Error> {
-    let bad = |name, value, reason| {
-        Err(Error::InvalidParameter {
-            name,
-            value,
-            reason,
-        })
-    };
+    let bad = |name, value, reason| Err(InputError::parameter(name, value, reason).into());
     if !(o.threshold >= 0.0 && o.threshold.is_finite()) {
         return bad("threshold", o.threshold, "must be finite and ≥ 0");
     }
@@ -223,18 +218,21 @@ pub fn max_tau_bar(
 ) -> Result<MaxTauBar, Error> {
     check_options(options)?;
     if condition == Condition::Remark6 {
-        return Err(Error::InvalidParameter {
-            name: "condition",
-            value: f64::NAN,
-            reason: "the periodic case (Remark 6) is searched by max_period",
-        });
+        return Err(InputError::parameter(
+            "condition",
+            f64::NAN,
+            "the periodic case (Remark 6) is searched by max_period",
+        )
+        .into());
     }
     if !(tau_low.is_finite() && tau_low >= 0.0) {
-        return Err(Error::InvalidWindow {
+        return Err(InputError::window(
+            "sampling window [τ_low, τ̄]",
             tau_low,
-            tau_bar: f64::NAN,
-            reason: "τ_low must be finite and ≥ 0",
-        });
+            f64::NAN,
+            "τ_low must be finite and ≥ 0",
+        )
+        .into());
     }
     let start = options.start.unwrap_or(if tau_low > 0.0 {
         2.0 * tau_low
@@ -242,11 +240,13 @@ pub fn max_tau_bar(
         4.0 * options.tolerance
     });
     if start <= tau_low {
-        return Err(Error::InvalidWindow {
+        return Err(InputError::window(
+            "sampling window [τ_low, τ̄]",
             tau_low,
-            tau_bar: start,
-            reason: "the first trial τ̄ must exceed τ_low",
-        });
+            start,
+            "the first trial τ̄ must exceed τ_low",
+        )
+        .into());
     }
     let first = Window::new(tau_low, start)?;
     let lmi = Lmi20::new(

@@ -20,28 +20,26 @@
 
 use faer::linalg::solvers::Solve;
 use faer::{Mat, MatRef};
+use sporadic_linalg::InputError;
 use sporadic_linalg::he;
+use sporadic_linalg::input::{check_finite, check_shape};
 
-use crate::error::{Error, check_finite, check_shape};
+use crate::error::Error;
 use crate::system::Window;
 
 /// Checks that `x` is `n×n` and finite.
 fn check_square(x: MatRef<'_, f64>, n: usize, what: &str) -> Result<(), Error> {
     check_shape(x, n, n, what)?;
-    check_finite(x, what)
+    Ok(check_finite(x, what)?)
 }
 
 /// Checks `τ̄ > 0` and `τ` finite.
 fn check_times(tau_bar: f64, tau: f64) -> Result<(), Error> {
     if !(tau_bar.is_finite() && tau_bar > 0.0) {
-        return Err(Error::InvalidParameter {
-            name: "tau_bar",
-            value: tau_bar,
-            reason: "τ̄ must be finite and > 0",
-        });
+        return Err(InputError::parameter("tau_bar", tau_bar, "τ̄ must be finite and > 0").into());
     }
     if !tau.is_finite() {
-        return Err(Error::NonFinite { what: "τ".into() });
+        return Err(InputError::non_finite("τ").into());
     }
     Ok(())
 }
@@ -55,7 +53,7 @@ fn check_pair(
 ) -> Result<usize, Error> {
     let n = p.nrows();
     if n == 0 {
-        return Err(Error::Empty { what: names.0 });
+        return Err(InputError::empty(names.0).into());
     }
     check_square(p, n, names.0)?;
     check_square(other, n, names.1)?;
@@ -138,9 +136,7 @@ fn gain_times_output(
     what: &str,
 ) -> Result<Mat<f64>, Error> {
     if c.nrows() == 0 {
-        return Err(Error::Empty {
-            what: "C (no measured output, q = 0)",
-        });
+        return Err(InputError::empty("C (no measured output, q = 0)").into());
     }
     check_shape(c, c.nrows(), n, "C")?;
     check_shape(x, n, c.nrows(), what)?;
@@ -170,9 +166,7 @@ pub fn jump_decrease(
 pub fn reset_matrix(k: MatRef<'_, f64>, c: MatRef<'_, f64>) -> Result<Mat<f64>, Error> {
     let n = k.nrows();
     if n == 0 {
-        return Err(Error::Empty {
-            what: "gain K (n = 0)",
-        });
+        return Err(InputError::empty("gain K (n = 0)").into());
     }
     Ok(Mat::<f64>::identity(n, n) - gain_times_output(k, c, n, "K")?)
 }
@@ -212,7 +206,7 @@ pub fn interpolate(
     check_finite(x0, "X0")?;
     check_finite(x1, "X1")?;
     if !tau.is_finite() {
-        return Err(Error::NonFinite { what: "τ".into() });
+        return Err(InputError::non_finite("τ").into());
     }
     Ok(interpolate_checked(x0, x1, window, tau))
 }
@@ -236,7 +230,7 @@ pub(crate) fn interpolate_checked(
 pub fn gain_from(p1: MatRef<'_, f64>, l: MatRef<'_, f64>) -> Result<Mat<f64>, Error> {
     let n = p1.nrows();
     if n == 0 {
-        return Err(Error::Empty { what: "P1 (n = 0)" });
+        return Err(InputError::empty("P1 (n = 0)").into());
     }
     check_square(p1, n, "P1")?;
     check_shape(l, n, l.ncols(), "L")?;

@@ -1,57 +1,16 @@
 //! Typed errors of `sporadic-etienne2017`. Bad input is reported with what was wrong and where;
 //! nothing in this crate panics on user data.
 
-use faer::MatRef;
-use sporadic_linalg::LinalgError;
+use sporadic_linalg::{InputError, LinalgError};
 
 /// Everything that can go wrong while building the plant, designing or certifying a gain,
 /// searching the largest sampling interval or simulating the observer.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
-    /// The sampling interval bounds violate `0 ≤ τ_low ≤ τ̄ < ∞` with `τ̄ > 0` (the class
-    /// `S[τ_low, τ̄]` of Etienne et al. 2017, §2), or a condition needs a stricter relation
-    /// (Theorem 3: `τ_low < τ̄`; Remark 6: `τ_low = τ̄`).
-    #[error("invalid sampling interval bounds [τ_low, τ̄] = [{tau_low}, {tau_bar}]: {reason}")]
-    InvalidWindow {
-        /// Shortest inter-sample time `τ_low` as given.
-        tau_low: f64,
-        /// Longest inter-sample time `τ̄` as given.
-        tau_bar: f64,
-        /// Which condition is violated.
-        reason: &'static str,
-    },
-    /// A matrix that must be square is not (`A`).
-    #[error("{what} must be square, got {rows}×{cols}")]
-    NotSquare {
-        /// Which matrix.
-        what: &'static str,
-        /// Number of rows.
-        rows: usize,
-        /// Number of columns.
-        cols: usize,
-    },
-    /// An input has no entries (`n = 0`, `q = 0` or `m = 0`).
-    #[error("empty input: {what}")]
-    Empty {
-        /// Which input.
-        what: &'static str,
-    },
-    /// Two objects that must agree in size do not.
-    #[error("dimension mismatch in {what}: expected {expected}, found {found}")]
-    DimensionMismatch {
-        /// Which dimension was checked.
-        what: String,
-        /// The size required by the other operand(s).
-        expected: usize,
-        /// The size actually supplied.
-        found: usize,
-    },
-    /// An input (or a quantity computed from it) contains NaN or ±∞.
-    #[error("non-finite value (NaN or ±Inf) in {what}")]
-    NonFinite {
-        /// Which quantity.
-        what: String,
-    },
+    /// Bad input: what was wrong and where (a matrix not square or empty, mismatched
+    /// dimensions, NaN/Inf, a parameter out of range, an invalid sampling window).
+    #[error(transparent)]
+    Input(#[from] InputError),
     /// A Jacobian entry has a lower bound above its upper bound.
     #[error("Jacobian bound of entry ({row},{col}): lower {lower} > upper {upper}")]
     InvalidJacobianBounds {
@@ -63,16 +22,6 @@ pub enum Error {
         lower: f64,
         /// Upper bound given.
         upper: f64,
-    },
-    /// A scalar option is outside its admissible range.
-    #[error("invalid parameter {name} = {value}: {reason}")]
-    InvalidParameter {
-        /// Name of the parameter.
-        name: &'static str,
-        /// The value supplied.
-        value: f64,
-        /// The condition it violates.
-        reason: &'static str,
     },
     /// The LMIs (20) are not strictly feasible: the optimal common margin `t*` of formulation F
     /// (spec §3.6) is not above the threshold, or the solver certified infeasibility. Theorem 3
@@ -138,48 +87,4 @@ pub enum Error {
     /// An error from the hybrid simulator or the figure writer.
     #[error("simulation: {0}")]
     Sim(#[from] sporadic_sim::SimError),
-}
-
-impl Error {
-    pub(crate) fn mismatch(what: impl Into<String>, expected: usize, found: usize) -> Self {
-        Self::DimensionMismatch {
-            what: what.into(),
-            expected,
-            found,
-        }
-    }
-}
-
-/// Checks that every entry of `a` is finite.
-pub(crate) fn check_finite(a: MatRef<'_, f64>, what: &str) -> Result<(), Error> {
-    for j in 0..a.ncols() {
-        for i in 0..a.nrows() {
-            if !a[(i, j)].is_finite() {
-                return Err(Error::NonFinite {
-                    what: format!("{what} at entry ({i},{j})"),
-                });
-            }
-        }
-    }
-    Ok(())
-}
-
-/// Checks `rows × cols`.
-pub(crate) fn check_shape(
-    a: MatRef<'_, f64>,
-    rows: usize,
-    cols: usize,
-    what: &str,
-) -> Result<(), Error> {
-    if a.nrows() != rows {
-        return Err(Error::mismatch(format!("rows of {what}"), rows, a.nrows()));
-    }
-    if a.ncols() != cols {
-        return Err(Error::mismatch(
-            format!("columns of {what}"),
-            cols,
-            a.ncols(),
-        ));
-    }
-    Ok(())
 }

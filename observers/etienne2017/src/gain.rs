@@ -8,9 +8,11 @@
 //! so `K(τ_low) = K0` and `K(τ̄) = K1`; constant (`K0 = K1`) for Corollary 2 and Remark 6.
 
 use faer::{Mat, MatRef};
+use sporadic_linalg::InputError;
+use sporadic_linalg::input::{check_finite, check_shape};
 
 use crate::conditions::interpolate_checked;
-use crate::error::{Error, check_finite, check_shape};
+use crate::error::Error;
 use crate::system::Window;
 
 /// The gain schedule `τ ↦ K(τ)` on a window `[τ_low, τ̄]`.
@@ -35,17 +37,13 @@ impl GainSchedule {
         window: Window,
     ) -> Result<Self, Error> {
         if k0.nrows() == 0 || k0.ncols() == 0 {
-            return Err(Error::Empty { what: "gain K0" });
+            return Err(InputError::empty("gain K0").into());
         }
         check_shape(k1, k0.nrows(), k0.ncols(), "K1 (vs K0)")?;
         check_finite(k0, "K0")?;
         check_finite(k1, "K1")?;
         if window.is_periodic() && k0 != k1 {
-            return Err(Error::InvalidWindow {
-                tau_low: window.tau_low(),
-                tau_bar: window.tau_bar(),
-                reason: "a time-varying gain needs τ_low < τ̄ (Remark 6: periodic sampling uses a static gain)",
-            });
+            return Err(InputError::window("sampling window [τ_low, τ̄]", window.tau_low(), window.tau_bar(), "a time-varying gain needs τ_low < τ̄ (Remark 6: periodic sampling uses a static gain)").into());
         }
         Ok(Self {
             k0: k0.to_owned(),

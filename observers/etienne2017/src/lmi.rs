@@ -24,6 +24,8 @@
 //! without rebuilding it or re-analysing the solver structure (used by the bisection of
 //! [`crate::bisection`]).
 
+use sporadic_linalg::InputError;
+use sporadic_linalg::input::{check_finite, check_shape};
 use std::time::Duration;
 
 use faer::{Mat, MatRef, mat};
@@ -32,7 +34,7 @@ use sporadic_sdp::lmi::{
     Compiled, Expr, FeasibilityOptions, Model, Normalisation, Outcome, Param, Var,
 };
 
-use crate::error::{Error, check_finite, check_shape};
+use crate::error::Error;
 use crate::gain::GainSchedule;
 use crate::system::{Plant, Window};
 
@@ -61,11 +63,13 @@ impl Condition {
     /// `τ_low = τ̄`).
     pub fn check_window(self, window: &Window) -> Result<(), Error> {
         let err = |reason| {
-            Err(Error::InvalidWindow {
-                tau_low: window.tau_low(),
-                tau_bar: window.tau_bar(),
+            Err(InputError::window(
+                "sampling window [τ_low, τ̄]",
+                window.tau_low(),
+                window.tau_bar(),
                 reason,
-            })
+            )
+            .into())
         };
         match self {
             Condition::Theorem3 if window.is_periodic() => err(

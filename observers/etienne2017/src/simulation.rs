@@ -16,6 +16,9 @@
 //! [`worst_case_sampling`] builds the greedy adversary of `sporadic-sim` for a design (with the
 //! `τ`-dependent reset `I − K(τ)C`).
 
+use sporadic_linalg::InputError;
+use sporadic_linalg::input::check_finite;
+use sporadic_linalg::input::{check_dimension, check_finite_slice};
 use std::cell::RefCell;
 
 use faer::{Mat, MatRef};
@@ -25,7 +28,7 @@ use sporadic_sim::{
 };
 
 use crate::conditions::reset_matrix;
-use crate::error::{Error, check_finite};
+use crate::error::Error;
 use crate::gain::GainSchedule;
 use crate::system::Plant;
 
@@ -106,19 +109,16 @@ pub fn simulate_observer<R: SamplingRule + ?Sized>(
 ) -> Result<Simulation, Error> {
     let n = plant.n();
     for (x, what) in [(&setup.x0, "x(0)"), (&setup.xhat0, "x̂(0)")] {
-        if x.len() != n {
-            return Err(Error::mismatch(what, n, x.len()));
-        }
-        if x.iter().any(|v| !v.is_finite()) {
-            return Err(Error::NonFinite { what: what.into() });
-        }
+        check_dimension(what, n, x.len())?;
+        check_finite_slice(x, what)?;
     }
     if gain.k0().nrows() != n || gain.k0().ncols() != plant.q() {
-        return Err(Error::mismatch(
+        return Err(InputError::mismatch(
             "rows·columns of the observer gain",
             n * plant.q(),
             gain.k0().nrows() * gain.k0().ncols(),
-        ));
+        )
+        .into());
     }
     let c = plant.c().to_owned();
     let mut sys = SampledPlant {
@@ -166,11 +166,7 @@ pub fn lyapunov_at_samples(
 ) -> Result<Vec<(f64, f64)>, Error> {
     let n = error.dim();
     if p1.nrows() != n || p1.ncols() != n {
-        return Err(Error::mismatch(
-            "order of P1 vs error dimension",
-            n,
-            p1.nrows(),
-        ));
+        return Err(InputError::mismatch("order of P1 vs error dimension", n, p1.nrows()).into());
     }
     check_finite(p1, "P1")?;
     let first = (!error.is_empty()).then_some(0);
@@ -199,24 +195,22 @@ pub fn worst_case_sampling(
     grid: usize,
 ) -> Result<Adversarial, Error> {
     let n = plant.n();
-    let r = plant
-        .vertices()
-        .get(vertex)
-        .ok_or(Error::DimensionMismatch {
-            what: "vertex index (number of vertices)".into(),
-            expected: plant.vertices().len(),
-            found: vertex,
-        })?;
+    let r = plant.vertices().get(vertex).ok_or(InputError::mismatch(
+        "vertex index (number of vertices)",
+        plant.vertices().len(),
+        vertex,
+    ))?;
     if p1.nrows() != n || p1.ncols() != n {
-        return Err(Error::mismatch("order of P1", n, p1.nrows()));
+        return Err(InputError::mismatch("order of P1", n, p1.nrows()).into());
     }
     check_finite(p1, "P1")?;
     if gain.k0().nrows() != n || gain.k0().ncols() != plant.q() {
-        return Err(Error::mismatch(
+        return Err(InputError::mismatch(
             "rows·columns of the observer gain",
             n * plant.q(),
             gain.k0().nrows() * gain.k0().ncols(),
-        ));
+        )
+        .into());
     }
     let w = *gain.window();
     let augmented = Mat::from_fn(n + 2, n + 2, |i, j| match (i < n, j < n) {

@@ -16,8 +16,10 @@
 
 use faer::{Mat, MatRef};
 use sporadic_embed::{JacobianPolytope, jacobian_polytope, lipschitz_box};
+use sporadic_linalg::InputError;
+use sporadic_linalg::input::{LowerEnd, check_finite, check_shape, check_window};
 
-use crate::error::{Error, check_finite, check_shape};
+use crate::error::Error;
 
 /// Plant (1)–(2) with Jacobian bounds on `φ`, and its Lemma 1 vertices `R_p`.
 #[derive(Debug, Clone)]
@@ -44,25 +46,21 @@ impl Plant {
         jacobian_upper: MatRef<'_, f64>,
     ) -> Result<Self, Error> {
         if a.nrows() != a.ncols() {
-            return Err(Error::NotSquare {
-                what: "A",
+            return Err(Error::Input(InputError::NotSquare {
+                what: "A".into(),
                 rows: a.nrows(),
                 cols: a.ncols(),
-            });
+            }));
         }
         let n = a.nrows();
         if n == 0 {
-            return Err(Error::Empty { what: "A (n = 0)" });
+            return Err(InputError::empty("A (n = 0)").into());
         }
         if c.nrows() == 0 {
-            return Err(Error::Empty {
-                what: "C (no measured output, q = 0)",
-            });
+            return Err(InputError::empty("C (no measured output, q = 0)").into());
         }
         if g.ncols() == 0 {
-            return Err(Error::Empty {
-                what: "G (no nonlinearity, m = 0)",
-            });
+            return Err(InputError::empty("G (no nonlinearity, m = 0)").into());
         }
         let m = g.ncols();
         check_shape(b, n, b.ncols(), "B")?;
@@ -117,16 +115,15 @@ impl Plant {
         gamma: f64,
     ) -> Result<Self, Error> {
         if !gamma.is_finite() {
-            return Err(Error::NonFinite {
-                what: "Lipschitz constant γ".into(),
-            });
+            return Err(InputError::non_finite("Lipschitz constant γ").into());
         }
         if gamma < 0.0 {
-            return Err(Error::InvalidParameter {
-                name: "gamma",
-                value: gamma,
-                reason: "a Lipschitz constant is nonnegative",
-            });
+            return Err(InputError::parameter(
+                "gamma",
+                gamma,
+                "a Lipschitz constant is nonnegative",
+            )
+            .into());
         }
         let (lo, hi) = lipschitz_box(g.ncols(), gamma)?;
         Self::new(a, b, c, g, h, lo.as_ref(), hi.as_ref())
@@ -198,24 +195,10 @@ pub struct Window {
 impl Window {
     /// Validates `0 ≤ τ_low ≤ τ̄ < ∞`, `τ̄ > 0`.
     pub fn new(tau_low: f64, tau_bar: f64) -> Result<Self, Error> {
-        let err = |reason| {
-            Err(Error::InvalidWindow {
-                tau_low,
-                tau_bar,
-                reason,
-            })
-        };
-        if !(tau_low.is_finite() && tau_bar.is_finite()) {
-            return err("bounds must be finite");
-        }
-        if tau_low < 0.0 {
-            return err("τ_low must be ≥ 0");
-        }
+        const WHAT: &str = "sampling window [τ_low, τ̄]";
+        check_window(WHAT, tau_low, tau_bar, LowerEnd::NonNegative)?;
         if tau_bar <= 0.0 {
-            return err("τ̄ must be > 0");
-        }
-        if tau_low > tau_bar {
-            return err("τ_low must not exceed τ̄");
+            return Err(InputError::window(WHAT, tau_low, tau_bar, "τ̄ must be > 0").into());
         }
         Ok(Self { tau_low, tau_bar })
     }
@@ -253,7 +236,7 @@ mod tests {
         for (lo, hi) in [(0.3, 0.2), (-0.1, 0.2), (0.0, 0.0), (0.1, f64::NAN)] {
             assert!(matches!(
                 Window::new(lo, hi),
-                Err(Error::InvalidWindow { .. })
+                Err(Error::Input(InputError::InvalidWindow { .. }))
             ));
         }
     }
@@ -284,7 +267,7 @@ mod tests {
                 h.as_ref(),
                 1.0
             ),
-            Err(Error::DimensionMismatch { .. })
+            Err(Error::Input(InputError::DimensionMismatch { .. }))
         ));
         assert!(matches!(
             Plant::new(
@@ -296,7 +279,7 @@ mod tests {
                 mat![[f64::NEG_INFINITY]].as_ref(),
                 mat![[1.0]].as_ref()
             ),
-            Err(Error::NonFinite { .. })
+            Err(Error::Input(InputError::NonFinite { .. }))
         ));
         assert!(matches!(
             Plant::new(

@@ -22,13 +22,15 @@
 //! values. The margins of the example are `~1e-4`, the tolerances `~1e-11`.
 
 use faer::{Mat, MatRef};
+use sporadic_linalg::InputError;
+use sporadic_linalg::input::{check_finite, check_shape};
 use sporadic_linalg::{expm_stepper, max_eigenvalue, min_eigenvalue, spectral_radius};
 
 use crate::conditions::{
     flow_block, interpolate_checked, jump_block, jump_block_high, jump_block_low, lyapunov_matrix,
     reset_matrix,
 };
-use crate::error::{Error, check_finite, check_shape};
+use crate::error::Error;
 use crate::gain::GainSchedule;
 use crate::lmi::Condition;
 use crate::system::{Plant, Window};
@@ -76,19 +78,21 @@ impl CheckOptions {
             (self.discrete_grid, "discrete_grid"),
         ] {
             if v < 2 {
-                return Err(Error::InvalidParameter {
+                return Err(InputError::parameter(
                     name,
-                    value: v as f64,
-                    reason: "a τ grid needs at least 2 points",
-                });
+                    v as f64,
+                    "a τ grid needs at least 2 points",
+                )
+                .into());
             }
         }
         if !(self.safety >= 1.0 && self.safety.is_finite()) {
-            return Err(Error::InvalidParameter {
-                name: "safety",
-                value: self.safety,
-                reason: "the safety factor must be finite and ≥ 1",
-            });
+            return Err(InputError::parameter(
+                "safety",
+                self.safety,
+                "the safety factor must be finite and ≥ 1",
+            )
+            .into());
         }
         Ok(())
     }

@@ -5,6 +5,7 @@ use sporadic_etienne2017::{
     BisectionOptions, Condition, DesignOptions, Error, GainSchedule, Plant, SimulationSetup,
     Window, design, example, max_tau_bar, simulate_observer, solve_margin,
 };
+use sporadic_linalg::InputError;
 use sporadic_sim::Periodic;
 
 /// `A, B, C, G, H` of a valid plant (n = 2, no input, q = m = 1).
@@ -22,15 +23,15 @@ fn data() -> [Mat<f64>; 5] {
 fn windows() {
     assert!(matches!(
         Window::new(0.3, 0.2),
-        Err(Error::InvalidWindow { .. })
+        Err(Error::Input(InputError::InvalidWindow { .. }))
     ));
     assert!(matches!(
         Window::new(f64::NAN, 0.2),
-        Err(Error::InvalidWindow { .. })
+        Err(Error::Input(InputError::InvalidWindow { .. }))
     ));
     assert!(matches!(
         Window::new(0.0, f64::INFINITY),
-        Err(Error::InvalidWindow { .. })
+        Err(Error::Input(InputError::InvalidWindow { .. }))
     ));
     let plant = example::flexible_joint().unwrap();
     let o = DesignOptions::default();
@@ -42,7 +43,7 @@ fn windows() {
             &Window::periodic(0.1).unwrap(),
             &o
         ),
-        Err(Error::InvalidWindow { .. })
+        Err(Error::Input(InputError::InvalidWindow { .. }))
     ));
     assert!(matches!(
         design(
@@ -51,16 +52,16 @@ fn windows() {
             &Window::new(0.01, 0.1).unwrap(),
             &o
         ),
-        Err(Error::InvalidWindow { .. })
+        Err(Error::Input(InputError::InvalidWindow { .. }))
     ));
     let b = BisectionOptions::default();
     assert!(matches!(
         max_tau_bar(&plant, Condition::Corollary2, -0.1, &b),
-        Err(Error::InvalidWindow { .. })
+        Err(Error::Input(InputError::InvalidWindow { .. }))
     ));
     assert!(matches!(
         max_tau_bar(&plant, Condition::Remark6, 0.01, &b),
-        Err(Error::InvalidParameter { .. })
+        Err(Error::Input(InputError::InvalidParameter { .. }))
     ));
     let bad_tol = BisectionOptions {
         tolerance: 0.0,
@@ -68,7 +69,7 @@ fn windows() {
     };
     assert!(matches!(
         max_tau_bar(&plant, Condition::Corollary2, 0.01, &bad_tol),
-        Err(Error::InvalidParameter { .. })
+        Err(Error::Input(InputError::InvalidParameter { .. }))
     ));
     let bad_start = BisectionOptions {
         start: Some(0.005),
@@ -76,7 +77,7 @@ fn windows() {
     };
     assert!(matches!(
         max_tau_bar(&plant, Condition::Corollary2, 0.01, &bad_start),
-        Err(Error::InvalidWindow { .. })
+        Err(Error::Input(InputError::InvalidWindow { .. }))
     ));
 }
 
@@ -97,7 +98,7 @@ fn plant_data() {
                 mat![[bad]].as_ref(),
                 mat![[1.0]].as_ref()
             ),
-            Err(Error::NonFinite { .. })
+            Err(Error::Input(InputError::NonFinite { .. }))
         ));
         assert!(matches!(
             Plant::new(
@@ -109,16 +110,16 @@ fn plant_data() {
                 mat![[-1.0]].as_ref(),
                 mat![[bad]].as_ref()
             ),
-            Err(Error::NonFinite { .. })
+            Err(Error::Input(InputError::NonFinite { .. }))
         ));
         assert!(matches!(
             Plant::lipschitz(ar, br, cr, gr, hr, bad),
-            Err(Error::NonFinite { .. })
+            Err(Error::Input(InputError::NonFinite { .. }))
         ));
     }
     assert!(matches!(
         Plant::lipschitz(ar, br, cr, gr, hr, -1.0),
-        Err(Error::InvalidParameter { .. })
+        Err(Error::Input(InputError::InvalidParameter { .. }))
     ));
     assert!(matches!(
         Plant::new(
@@ -136,15 +137,15 @@ fn plant_data() {
     let three = mat![[1.0, 0.0, 0.0]];
     assert!(matches!(
         Plant::lipschitz(ar, br, three.as_ref(), gr, hr, 1.0),
-        Err(Error::DimensionMismatch { .. })
+        Err(Error::Input(InputError::DimensionMismatch { .. }))
     ));
     assert!(matches!(
         Plant::lipschitz(ar, Mat::<f64>::zeros(3, 1).as_ref(), cr, gr, hr, 1.0),
-        Err(Error::DimensionMismatch { .. })
+        Err(Error::Input(InputError::DimensionMismatch { .. }))
     ));
     assert!(matches!(
         Plant::lipschitz(ar, br, cr, gr, three.as_ref(), 1.0),
-        Err(Error::DimensionMismatch { .. })
+        Err(Error::Input(InputError::DimensionMismatch { .. }))
     ));
     assert!(matches!(
         Plant::new(
@@ -156,15 +157,15 @@ fn plant_data() {
             Mat::<f64>::zeros(2, 2).as_ref(),
             mat![[1.0]].as_ref()
         ),
-        Err(Error::DimensionMismatch { .. })
+        Err(Error::Input(InputError::DimensionMismatch { .. }))
     ));
     assert!(matches!(
         Plant::lipschitz(mat![[1.0, 2.0]].as_ref(), br, cr, gr, hr, 1.0),
-        Err(Error::NotSquare { .. })
+        Err(Error::Input(InputError::NotSquare { .. }))
     ));
     assert!(matches!(
         Plant::lipschitz(ar, br, Mat::<f64>::zeros(0, 2).as_ref(), gr, hr, 1.0),
-        Err(Error::Empty { .. })
+        Err(Error::Input(InputError::Empty { .. }))
     ));
     assert!(matches!(
         Plant::lipschitz(
@@ -175,7 +176,7 @@ fn plant_data() {
             hr,
             1.0
         ),
-        Err(Error::NonFinite { .. })
+        Err(Error::Input(InputError::NonFinite { .. }))
     ));
 }
 
@@ -184,11 +185,11 @@ fn gains_and_simulation() {
     let w = Window::new(0.01, 0.2).unwrap();
     assert!(matches!(
         GainSchedule::interpolated(mat![[1.0]].as_ref(), mat![[1.0, 2.0]].as_ref(), w),
-        Err(Error::DimensionMismatch { .. })
+        Err(Error::Input(InputError::DimensionMismatch { .. }))
     ));
     assert!(matches!(
         GainSchedule::constant(mat![[f64::NAN]].as_ref(), w),
-        Err(Error::NonFinite { .. })
+        Err(Error::Input(InputError::NonFinite { .. }))
     ));
     assert!(matches!(
         GainSchedule::interpolated(
@@ -196,7 +197,7 @@ fn gains_and_simulation() {
             mat![[2.0]].as_ref(),
             Window::periodic(0.1).unwrap()
         ),
-        Err(Error::InvalidWindow { .. })
+        Err(Error::Input(InputError::InvalidWindow { .. }))
     ));
     let plant = example::flexible_joint().unwrap();
     // Gain of the wrong shape for the plant.
@@ -212,11 +213,11 @@ fn gains_and_simulation() {
             &mut rule,
             &setup
         ),
-        Err(Error::DimensionMismatch { .. })
+        Err(Error::Input(InputError::DimensionMismatch { .. }))
     ));
     assert!(matches!(
         sporadic_etienne2017::analyse(&plant, &wrong, &DesignOptions::default()),
-        Err(Error::DimensionMismatch { .. })
+        Err(Error::Input(InputError::DimensionMismatch { .. }))
     ));
     let k = example::paper_static_schedule(w).unwrap();
     let short = SimulationSetup::new(vec![0.0; 3], vec![1.0; 4], 1.0);
@@ -229,12 +230,12 @@ fn gains_and_simulation() {
             &mut rule,
             &short
         ),
-        Err(Error::DimensionMismatch { .. })
+        Err(Error::Input(InputError::DimensionMismatch { .. }))
     ));
     let nan = SimulationSetup::new(vec![0.0; 4], vec![f64::NAN; 4], 1.0);
     assert!(matches!(
         simulate_observer(&plant, &example::phi, &example::input, &k, &mut rule, &nan),
-        Err(Error::NonFinite { .. })
+        Err(Error::Input(InputError::NonFinite { .. }))
     ));
 }
 
@@ -251,7 +252,9 @@ fn condition_matrices_and_checks() {
     let i3 = Mat::<f64>::identity(3, 3);
     let c = mat![[1.0, 0.0]];
     let l = mat![[1.0], [0.0]];
-    let mismatch = |r: Result<Mat<f64>, Error>| matches!(r, Err(Error::DimensionMismatch { .. }));
+    let mismatch = |r: Result<Mat<f64>, Error>| {
+        matches!(r, Err(Error::Input(InputError::DimensionMismatch { .. })))
+    };
     // P1, P2 of different orders; R of the wrong order; L, C, K of the wrong shapes.
     assert!(mismatch(lyapunov_matrix(
         i2.as_ref(),
@@ -301,15 +304,15 @@ fn condition_matrices_and_checks() {
     let nan = mat![[f64::NAN, 0.0], [0.0, 1.0]];
     assert!(matches!(
         lyapunov_matrix(nan.as_ref(), i2.as_ref(), 0.2, 0.1),
-        Err(Error::NonFinite { .. })
+        Err(Error::Input(InputError::NonFinite { .. }))
     ));
     assert!(matches!(
         interpolate(l.as_ref(), l.as_ref(), &w, f64::NAN),
-        Err(Error::NonFinite { .. })
+        Err(Error::Input(InputError::NonFinite { .. }))
     ));
     assert!(matches!(
         lyapunov_matrix(i2.as_ref(), i2.as_ref(), 0.0, 0.1),
-        Err(Error::InvalidParameter { .. })
+        Err(Error::Input(InputError::InvalidParameter { .. }))
     ));
     assert!(matches!(
         gain_from((-&i2).as_ref(), l.as_ref()),
@@ -317,7 +320,7 @@ fn condition_matrices_and_checks() {
     ));
     assert!(matches!(
         reset_matrix(Mat::<f64>::zeros(0, 1).as_ref(), c.as_ref()),
-        Err(Error::Empty { .. })
+        Err(Error::Input(InputError::Empty { .. }))
     ));
 
     // Check options and the adversary.
@@ -340,19 +343,19 @@ fn condition_matrices_and_checks() {
     ] {
         assert!(matches!(
             discrete_check(&plant, &k, Some(p1.as_ref()), &bad),
-            Err(Error::InvalidParameter { .. })
+            Err(Error::Input(InputError::InvalidParameter { .. }))
         ));
     }
     assert!(matches!(
         discrete_check(&plant, &k, Some(i2.as_ref()), &CheckOptions::default()),
-        Err(Error::DimensionMismatch { .. })
+        Err(Error::Input(InputError::DimensionMismatch { .. }))
     ));
     assert!(matches!(
         worst_case_sampling(&plant, &k, p1.as_ref(), 2, 10),
-        Err(Error::DimensionMismatch { .. })
+        Err(Error::Input(InputError::DimensionMismatch { .. }))
     ));
     assert!(matches!(
         worst_case_sampling(&plant, &k, i2.as_ref(), 0, 10),
-        Err(Error::DimensionMismatch { .. })
+        Err(Error::Input(InputError::DimensionMismatch { .. }))
     ));
 }

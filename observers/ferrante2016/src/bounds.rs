@@ -32,6 +32,7 @@
 //! §4), not rigorous global optimisation.
 
 use faer::{Mat, MatRef};
+use sporadic_linalg::InputError;
 use sporadic_linalg::{max_eigenvalue, min_eigenvalue};
 
 use crate::error::Error;
@@ -165,11 +166,12 @@ pub fn bound_constants(
     plant.check_lyapunov_matrix(p)?;
     let reset = plant.reset_matrix(l)?;
     if options.grid_points < 2 {
-        return Err(Error::InvalidParameter {
-            name: "grid_points",
-            value: options.grid_points as f64,
-            reason: "at least 2 grid points are needed",
-        });
+        return Err(InputError::parameter(
+            "grid_points",
+            options.grid_points as f64,
+            "at least 2 grid points are needed",
+        )
+        .into());
     }
     let a = plant.a();
     let (t1, t2) = (window.t1(), window.t2());

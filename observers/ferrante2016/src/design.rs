@@ -11,6 +11,7 @@
 //! [`min_trace_certificate`] solves the same LMI for the certificate with the smallest `tr P`
 //! (the reference certificate of the bound constants in spec 000 §5).
 
+use sporadic_linalg::InputError;
 use std::time::{Duration, Instant};
 
 use faer::{Mat, MatRef};
@@ -113,11 +114,12 @@ pub struct Analysis {
 
 fn check_pieces(pieces: usize) -> Result<(), Error> {
     if pieces == 0 {
-        return Err(Error::InvalidParameter {
-            name: "pieces",
-            value: 0.0,
-            reason: "the window must be split into at least one piece",
-        });
+        return Err(InputError::parameter(
+            "pieces",
+            0.0,
+            "the window must be split into at least one piece",
+        )
+        .into());
     }
     Ok(())
 }

@@ -15,6 +15,7 @@
 //! The rank test is numerical: the two block rows are normalised (`(μI − e^{Av})/‖e^{Av}‖_F`,
 //! `M/‖M‖_F`) and the smallest singular value (the *PBH margin*) is compared with a tolerance.
 
+use sporadic_linalg::InputError;
 use std::f64::consts::TAU;
 
 use faer::{Mat, c64};
@@ -71,20 +72,21 @@ pub fn check_detectability(
     options: &DetectabilityOptions,
 ) -> Result<DetectabilityReport, Error> {
     if !(options.tolerance.is_finite() && options.tolerance > 0.0) {
-        return Err(Error::InvalidParameter {
-            name: "tolerance",
-            value: options.tolerance,
-            reason: "must be a positive number",
-        });
+        return Err(InputError::parameter(
+            "tolerance",
+            options.tolerance,
+            "must be a positive number",
+        )
+        .into());
     }
     if !(options.unit_circle_tolerance.is_finite()
         && (0.0..1.0).contains(&options.unit_circle_tolerance))
     {
-        return Err(Error::InvalidParameter {
-            name: "unit_circle_tolerance",
+        return Err(Error::Input(InputError::InvalidParameter {
+            name: "unit_circle_tolerance".into(),
             value: options.unit_circle_tolerance,
-            reason: "must lie in [0, 1)",
-        });
+            reason: "must lie in [0, 1)".into(),
+        }));
     }
     let a = plant.a();
     let n = plant.n();
@@ -174,12 +176,13 @@ fn aliasing_instants(
             let k_lo = (window.t1() * d / TAU).ceil().max(1.0);
             let k_hi = (window.t2() * d / TAU).floor();
             if k_hi - k_lo + 1.0 + out.len() as f64 > MAX_ALIASING_INSTANTS as f64 {
-                return Err(Error::InvalidParameter {
-                    name: "T2 - T1",
-                    value: window.t2() - window.t1(),
-                    reason: "the window spans more than 100000 aliasing instants of the \
+                return Err(InputError::parameter(
+                    "T2 - T1",
+                    window.t2() - window.t1(),
+                    "the window spans more than 100000 aliasing instants of the \
                              non-decaying modes; split it",
-                });
+                )
+                .into());
             }
             let mut k = k_lo;
             while k <= k_hi {

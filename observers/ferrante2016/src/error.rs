@@ -1,64 +1,15 @@
 //! Typed errors of `sporadic-ferrante2016`. Bad input is reported with what was wrong and where;
 //! nothing in this crate panics on user data.
 
-use faer::MatRef;
-use sporadic_linalg::LinalgError;
+use sporadic_linalg::{InputError, LinalgError};
 
 /// Everything that can go wrong while designing, certifying, bounding or simulating the observer.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
-    /// The sampling window violates `0 < T1 ≤ T2 < ∞` (Ferrante et al. 2016, eq. (2)).
-    #[error("invalid sampling window [T1, T2] = [{t1}, {t2}]: {reason}")]
-    InvalidWindow {
-        /// Lower bound `T1` as given.
-        t1: f64,
-        /// Upper bound `T2` as given.
-        t2: f64,
-        /// Which condition is violated.
-        reason: &'static str,
-    },
-    /// A matrix that must be square is not (`A`, `P`).
-    #[error("{what} must be square, got {rows}×{cols}")]
-    NotSquare {
-        /// Which matrix.
-        what: &'static str,
-        /// Number of rows.
-        rows: usize,
-        /// Number of columns.
-        cols: usize,
-    },
-    /// An input has no entries (`n = 0` or `q = 0`).
-    #[error("empty input: {what}")]
-    Empty {
-        /// Which input.
-        what: &'static str,
-    },
-    /// Two objects that must agree in size do not (e.g. the columns of `M` and the order of `A`).
-    #[error("dimension mismatch in {what}: expected {expected}, found {found}")]
-    DimensionMismatch {
-        /// Which dimension was checked.
-        what: String,
-        /// The size required by the other operand(s).
-        expected: usize,
-        /// The size actually supplied.
-        found: usize,
-    },
-    /// An input (or a quantity computed from it) contains NaN or ±∞.
-    #[error("non-finite value (NaN or ±Inf) in {what}")]
-    NonFinite {
-        /// Which quantity.
-        what: String,
-    },
-    /// A scalar option is outside its admissible range.
-    #[error("invalid parameter {name} = {value}: {reason}")]
-    InvalidParameter {
-        /// Name of the parameter.
-        name: &'static str,
-        /// The value supplied.
-        value: f64,
-        /// The condition it violates.
-        reason: &'static str,
-    },
+    /// Bad input: what was wrong and where (a matrix not square or empty, mismatched
+    /// dimensions, NaN/Inf, a parameter out of range, an invalid sampling window).
+    #[error(transparent)]
+    Input(#[from] InputError),
     /// The necessary condition of Remark 3 fails: the sampled pair `(e^{Av}, M)` is not detectable at
     /// the inter-sample time `v`, so no `(P, L)` can satisfy (12). The eigenvalue `μ` of `e^{Av}` with
     /// `|μ| ≥ 1` has an (almost) unobservable eigenvector: the smallest singular value of
@@ -145,29 +96,4 @@ pub enum Error {
     /// An error from the hybrid simulator or the figure writer.
     #[error("simulation: {0}")]
     Sim(#[from] sporadic_sim::SimError),
-}
-
-impl Error {
-    pub(crate) fn mismatch(what: impl Into<String>, expected: usize, found: usize) -> Self {
-        Self::DimensionMismatch {
-            what: what.into(),
-            expected,
-            found,
-        }
-    }
-    pub(crate) fn non_finite(what: impl Into<String>) -> Self {
-        Self::NonFinite { what: what.into() }
-    }
-}
-
-/// Checks that every entry of `a` is finite.
-pub(crate) fn check_finite(a: MatRef<'_, f64>, what: &str) -> Result<(), Error> {
-    for j in 0..a.ncols() {
-        for i in 0..a.nrows() {
-            if !a[(i, j)].is_finite() {
-                return Err(Error::non_finite(format!("{what} at entry ({i},{j})")));
-            }
-        }
-    }
-    Ok(())
 }

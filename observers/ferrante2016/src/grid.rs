@@ -8,6 +8,7 @@
 
 use faer::{Mat, MatRef};
 use sporadic_embed::Interval;
+use sporadic_linalg::InputError;
 use sporadic_linalg::{expm_scaled, expm_stepper};
 
 use crate::error::Error;
@@ -66,11 +67,13 @@ where
         let mut stepper = expm_stepper(a, lo, h, grid.len() - 1)?;
         for (k, &v) in grid.iter().enumerate() {
             if stepper.next_into(e.as_mut()).is_none() {
-                return Err(Error::non_finite(format!("e^(Av) on the grid at v = {v}")));
+                return Err(
+                    InputError::non_finite(format!("e^(Av) on the grid at v = {v}")).into(),
+                );
             }
             let value = f(v, e.as_ref())?;
             if !value.is_finite() {
-                return Err(Error::non_finite(format!("grid function at v = {v}")));
+                return Err(InputError::non_finite(format!("grid function at v = {v}")).into());
             }
             if k == 0 || better(value, best.value) {
                 best = Extremum { value, at: v };
@@ -79,10 +82,7 @@ where
         }
     }
     if !best.value.is_finite() {
-        return Err(Error::non_finite(format!(
-            "grid function at v = {}",
-            best.at
-        )));
+        return Err(InputError::non_finite(format!("grid function at v = {}", best.at)).into());
     }
     if grid.len() > 1 {
         let left = grid[best_k.saturating_sub(1)];
@@ -116,7 +116,7 @@ where
         if value.is_finite() {
             Ok(sign * value)
         } else {
-            Err(Error::non_finite(format!("grid function at v = {v}")))
+            Err(InputError::non_finite(format!("grid function at v = {v}")).into())
         }
     };
     let r = 0.5 * (5f64.sqrt() - 1.0);

@@ -46,6 +46,7 @@
 //! `(Σμ_i X_i)'P(Σμ_i X_i) ⪯ Σμ_i X_i'PX_i`. Only the margin `t*` is measured on different matrices.
 //! Embeddings with a remainder always use the robust (41) form above.
 
+use sporadic_linalg::InputError;
 use std::time::Duration;
 
 use faer::{Mat, MatRef};
@@ -162,9 +163,7 @@ impl Lmi41 {
     ) -> Result<Self, Error> {
         let n = plant.n();
         if vertices.is_empty() {
-            return Err(Error::Empty {
-                what: "vertex set of the embedding",
-            });
+            return Err(InputError::empty("vertex set of the embedding").into());
         }
         let mut m = Model::new();
         let p = m.symmetric("P", n);
@@ -250,11 +249,12 @@ impl Lmi41 {
     /// Replaces the vertices (and remainder) without rebuilding the model.
     pub fn set_vertices(&mut self, vertices: &[Mat<f64>], delta: f64) -> Result<(), Error> {
         if !self.fits(vertices.len(), delta) {
-            return Err(Error::mismatch(
+            return Err(InputError::mismatch(
                 "vertex count of a re-solved LMI (41)",
                 self.vertices.len(),
                 vertices.len(),
-            ));
+            )
+            .into());
         }
         for (param, x) in self.vertices.iter().zip(vertices) {
             self.compiled.set_param(param, x.as_ref())?;

@@ -3,6 +3,7 @@
 //! Theorem 1 bound along a simulated solution.
 
 use faer::{Mat, MatRef};
+use sporadic_linalg::InputError;
 use sporadic_sim::{
     HybridArc, HybridObserver, InputSignal, LinearCorrection, LinearJump, LinearOutputs, LtiFlow,
     SampledPlant, SamplingRule, SimOptions, Simulation, simulate, simulate_hybrid,
@@ -42,7 +43,7 @@ pub fn simulate_observer<R: SamplingRule + ?Sized>(
 ) -> Result<Simulation, Error> {
     plant.check_gain(l)?;
     if b.nrows() != plant.n() {
-        return Err(Error::mismatch("rows of B vs n", plant.n(), b.nrows()));
+        return Err(InputError::mismatch("rows of B vs n", plant.n(), b.nrows()).into());
     }
     let flow = LtiFlow::new(plant.a())?.with_input(b, input)?;
     let m: Mat<f64> = plant.m().to_owned();
@@ -81,16 +82,15 @@ pub struct BoundCheck {
 /// `(0, 0)`; `ε(0,0)` is its first state).
 pub fn check_bound(arc: &HybridArc, bound: &Theorem1Bound) -> Result<BoundCheck, Error> {
     let Some((t0, _)) = arc.iter().next() else {
-        return Err(Error::Empty {
-            what: "hybrid arc of the error",
-        });
+        return Err(InputError::empty("hybrid arc of the error").into());
     };
     if t0.t != 0.0 || t0.j != 0 {
-        return Err(Error::InvalidParameter {
-            name: "arc start time",
-            value: t0.t,
-            reason: "the bound (21) is stated for arcs starting at (t, j) = (0, 0)",
-        });
+        return Err(InputError::parameter(
+            "arc start time",
+            t0.t,
+            "the bound (21) is stated for arcs starting at (t, j) = (0, 0)",
+        )
+        .into());
     }
     let norm = |x: &[f64]| x.iter().map(|v| v * v).sum::<f64>().sqrt();
     let eps0 = norm(arc.state(0));

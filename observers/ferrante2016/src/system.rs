@@ -6,8 +6,11 @@
 
 use faer::{Mat, MatRef};
 use sporadic_embed::Interval;
+use sporadic_linalg::InputError;
 
-use crate::error::{Error, check_finite};
+use sporadic_linalg::input::{LowerEnd, check_finite, check_window};
+
+use crate::error::Error;
 
 /// The pair `(A, M)` of plant (1): `ż = Az + Bu`, `y = Mz`, with `A ∈ R^{n×n}`, `M ∈ R^{q×n}`.
 #[derive(Debug, Clone, PartialEq)]
@@ -20,26 +23,22 @@ impl Plant {
     /// Validates `A` (square, non-empty, finite) and `M` (`q × n` with `q ≥ 1`, finite).
     pub fn new(a: MatRef<'_, f64>, m: MatRef<'_, f64>) -> Result<Self, Error> {
         if a.nrows() != a.ncols() {
-            return Err(Error::NotSquare {
-                what: "A",
+            return Err(Error::Input(InputError::NotSquare {
+                what: "A".into(),
                 rows: a.nrows(),
                 cols: a.ncols(),
-            });
+            }));
         }
         if a.nrows() == 0 {
-            return Err(Error::Empty { what: "A (n = 0)" });
+            return Err(InputError::empty("A (n = 0)").into());
         }
         if m.nrows() == 0 {
-            return Err(Error::Empty {
-                what: "M (no measured output, q = 0)",
-            });
+            return Err(InputError::empty("M (no measured output, q = 0)").into());
         }
         if m.ncols() != a.nrows() {
-            return Err(Error::mismatch(
-                "columns of M vs order of A",
-                a.nrows(),
-                m.ncols(),
-            ));
+            return Err(
+                InputError::mismatch("columns of M vs order of A", a.nrows(), m.ncols()).into(),
+            );
         }
         check_finite(a, "A")?;
         check_finite(m, "M")?;
@@ -72,36 +71,37 @@ impl Plant {
     /// Checks that `L` is a finite `n × q` matrix.
     pub fn check_gain(&self, l: MatRef<'_, f64>) -> Result<(), Error> {
         if l.nrows() != self.n() {
-            return Err(Error::mismatch("rows of L vs n", self.n(), l.nrows()));
+            return Err(InputError::mismatch("rows of L vs n", self.n(), l.nrows()).into());
         }
         if l.ncols() != self.q() {
-            return Err(Error::mismatch("columns of L vs q", self.q(), l.ncols()));
+            return Err(InputError::mismatch("columns of L vs q", self.q(), l.ncols()).into());
         }
-        check_finite(l, "L")
+        Ok(check_finite(l, "L")?)
     }
 
     /// Checks that `P` is a finite symmetric `n × n` matrix (relative asymmetry at most `1e-10`).
     pub fn check_lyapunov_matrix(&self, p: MatRef<'_, f64>) -> Result<(), Error> {
         if p.nrows() != p.ncols() {
-            return Err(Error::NotSquare {
-                what: "P",
+            return Err(Error::Input(InputError::NotSquare {
+                what: "P".into(),
                 rows: p.nrows(),
                 cols: p.ncols(),
-            });
+            }));
         }
         if p.nrows() != self.n() {
-            return Err(Error::mismatch("order of P vs n", self.n(), p.nrows()));
+            return Err(InputError::mismatch("order of P vs n", self.n(), p.nrows()).into());
         }
         check_finite(p, "P")?;
         let scale = p.norm_max().max(f64::MIN_POSITIVE);
         for j in 0..p.ncols() {
             for i in 0..j {
                 if (p[(i, j)] - p[(j, i)]).abs() > 1e-10 * scale {
-                    return Err(Error::InvalidParameter {
-                        name: "P",
-                        value: p[(i, j)] - p[(j, i)],
-                        reason: "P must be symmetric (the value is P_ij − P_ji)",
-                    });
+                    return Err(InputError::parameter(
+                        "P",
+                        p[(i, j)] - p[(j, i)],
+                        "P must be symmetric (the value is P_ij − P_ji)",
+                    )
+                    .into());
                 }
             }
         }
@@ -127,16 +127,7 @@ pub struct Window {
 impl Window {
     /// Validates `0 < T1 ≤ T2 < ∞` (`T1 > 0` excludes Zeno behaviour, §2.1).
     pub fn new(t1: f64, t2: f64) -> Result<Self, Error> {
-        let bad = |reason| Err(Error::InvalidWindow { t1, t2, reason });
-        if !t1.is_finite() || !t2.is_finite() {
-            return bad("T1 and T2 must be finite numbers");
-        }
-        if t1 <= 0.0 {
-            return bad("T1 must be positive (T1 > 0 excludes Zeno behaviour)");
-        }
-        if t1 > t2 {
-            return bad("T1 must not exceed T2");
-        }
+        check_window("sampling window", t1, t2, LowerEnd::Positive)?;
         Ok(Self {
             interval: Interval::new(t1, t2)?,
         })

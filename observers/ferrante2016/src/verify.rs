@@ -9,6 +9,7 @@
 //! Both are reported; a design is only declared valid when both pass.
 
 use faer::MatRef;
+use sporadic_linalg::InputError;
 use sporadic_linalg::{max_eigenvalue, spectral_radius};
 
 use crate::bounds::congruence;
@@ -75,11 +76,12 @@ pub fn verify(
     plant.check_lyapunov_matrix(p)?;
     let reset = plant.reset_matrix(l)?;
     if !(options.tolerance.is_finite() && options.tolerance >= 0.0) {
-        return Err(Error::InvalidParameter {
-            name: "tolerance",
-            value: options.tolerance,
-            reason: "must be a nonnegative number",
-        });
+        return Err(InputError::parameter(
+            "tolerance",
+            options.tolerance,
+            "must be a nonnegative number",
+        )
+        .into());
     }
     let (a, t1, t2) = (plant.a(), window.t1(), window.t2());
     let pts = options.grid_points.max(1);

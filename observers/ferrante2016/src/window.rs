@@ -17,6 +17,7 @@ use crate::design::{DesignOptions, design_cached};
 use crate::error::Error;
 use crate::lmi::Lmi41;
 use crate::system::{Plant, Window};
+use sporadic_linalg::InputError;
 
 /// Options of the window searches.
 #[derive(Debug, Clone)]
@@ -111,18 +112,17 @@ fn search(
     options: &WindowSearchOptions,
 ) -> Result<WindowSearch, Error> {
     if options.scan_points == 0 {
-        return Err(Error::InvalidParameter {
-            name: "scan_points",
-            value: 0.0,
-            reason: "at least one scan point is needed",
-        });
+        return Err(
+            InputError::parameter("scan_points", 0.0, "at least one scan point is needed").into(),
+        );
     }
     if !(options.rel_tolerance.is_finite() && options.rel_tolerance > 0.0) {
-        return Err(Error::InvalidParameter {
-            name: "rel_tolerance",
-            value: options.rel_tolerance,
-            reason: "must be a positive number",
-        });
+        return Err(InputError::parameter(
+            "rel_tolerance",
+            options.rel_tolerance,
+            "must be a positive number",
+        )
+        .into());
     }
     let mut cache: Option<Lmi41> = None;
     let mut probes: Vec<Probe> = Vec::new();

@@ -1,5 +1,6 @@
 //! Remark 3 precheck: detectability (not observability) of (e^{Av}, M) on [T1, T2].
 
+use sporadic_linalg::InputError;
 use std::f64::consts::PI;
 
 use faer::mat;
@@ -109,9 +110,6 @@ fn bad_options_are_typed_errors() {
     };
     assert!(matches!(
         check_detectability(&ex.plant, &ex.window, &opts),
-        Err(Error::InvalidParameter {
-            name: "tolerance",
-            ..
-        })
+        Err(Error::Input(InputError::InvalidParameter { name, .. })) if name == "tolerance"
     ));
 }

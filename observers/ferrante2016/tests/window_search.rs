@@ -1,5 +1,6 @@
 //! Largest certifiable window (bisection on T2 for given T1, on T1 for given T2).
 
+use sporadic_linalg::InputError;
 use std::f64::consts::PI;
 
 use faer::mat;
@@ -86,11 +87,11 @@ fn bad_search_input_is_a_typed_error() {
     let o = WindowSearchOptions::default();
     assert!(matches!(
         largest_t2(&oscillator(), 1.0, 0.5, &o),
-        Err(Error::InvalidWindow { .. })
+        Err(Error::Input(InputError::InvalidWindow { .. }))
     ));
     assert!(matches!(
         smallest_t1(&oscillator(), 1.0, 0.0, &o),
-        Err(Error::InvalidWindow { .. })
+        Err(Error::Input(InputError::InvalidWindow { .. }))
     ));
     let o = WindowSearchOptions {
         scan_points: 0,
@@ -98,6 +99,6 @@ fn bad_search_input_is_a_typed_error() {
     };
     assert!(matches!(
         largest_t2(&oscillator(), 0.5, 1.0, &o),
-        Err(Error::InvalidParameter { .. })
+        Err(Error::Input(InputError::InvalidParameter { .. }))
     ));
 }

@@ -23,9 +23,11 @@
 //! checks pass.
 
 use faer::{Mat, MatRef};
+use sporadic_linalg::InputError;
+use sporadic_linalg::input::check_square_finite;
 use sporadic_sdp::lmi::{Expr, FeasibilityOptions, Model, Outcome};
 
-use crate::error::{Error, check_square};
+use crate::error::Error;
 use crate::ipr::{MetzlerDecomposition, gamma_of_gain};
 use crate::polytope::{PolytopeOptions, norm2, taylor_polytope};
 use crate::system::{Plant, Window};
@@ -80,10 +82,10 @@ pub fn analyse(
     window: &Window,
     options: &AnalysisOptions,
 ) -> Result<Analysis, Error> {
-    let n = check_square(a_bar, "A-bar")?;
-    let k = check_square(gamma, "Gamma")?;
+    let n = check_square_finite(a_bar, "A-bar")?;
+    let k = check_square_finite(gamma, "Gamma")?;
     if k != n {
-        return Err(Error::mismatch("order of Gamma (= order of A-bar)", n, k));
+        return Err(InputError::mismatch("order of Gamma (= order of A-bar)", n, k).into());
     }
     let poly = taylor_polytope(a_bar, window, &options.polytope)?;
     let delta = poly.remainder_bound();

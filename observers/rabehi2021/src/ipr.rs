@@ -16,8 +16,10 @@
 //! *centre* error evolve separately.
 
 use faer::{Mat, MatRef};
+use sporadic_linalg::InputError;
+use sporadic_linalg::input::check_square_finite;
 
-use crate::error::{Error, check_square};
+use crate::error::Error;
 use crate::system::Plant;
 
 /// `A⁺ = max(A, 0)` elementwise.
@@ -59,16 +61,17 @@ pub fn pair_matrix(x: MatRef<'_, f64>, y: MatRef<'_, f64>) -> Mat<f64> {
 /// `TMT = diag(X + Y, X − Y)`, `T = (1/√2)[[I, I], [I, −I]]` (see the module docs).
 ///
 /// # Errors
-/// [`Error::NotSquare`]/[`Error::Empty`]/[`Error::NonFinite`] for bad input;
-/// [`Error::InvalidParameter`] for an odd order or when `M` does not have the pair structure (`max|M11 − M22| + max|M12 − M21|` above `1e-12·max|M|`).
+/// [`Error::Input`] (`NotSquare`)/[`Error::Input`] (`Empty`)/[`Error::Input`] (`NonFinite`) for bad input;
+/// [`Error::Input`] (`InvalidParameter`) for an odd order or when `M` does not have the pair structure (`max|M11 − M22| + max|M12 − M21|` above `1e-12·max|M|`).
 pub fn pair_blocks(m: MatRef<'_, f64>) -> Result<(Mat<f64>, Mat<f64>), Error> {
-    let two_n = check_square(m, "pair matrix [[X, Y], [Y, X]]")?;
+    let two_n = check_square_finite(m, "pair matrix [[X, Y], [Y, X]]")?;
     if two_n % 2 != 0 {
-        return Err(Error::InvalidParameter {
-            name: "order of a pair matrix",
-            value: two_n as f64,
-            reason: "must be even (2n)",
-        });
+        return Err(InputError::parameter(
+            "order of a pair matrix",
+            two_n as f64,
+            "must be even (2n)",
+        )
+        .into());
     }
     let n = two_n / 2;
     let scale = m.norm_max();
@@ -80,11 +83,11 @@ pub fn pair_blocks(m: MatRef<'_, f64>) -> Result<(Mat<f64>, Mat<f64>), Error> {
         }
     }
     if defect > 1e-12 * scale {
-        return Err(Error::InvalidParameter {
-            name: "pair-structure defect of M",
+        return Err(Error::Input(InputError::InvalidParameter {
+            name: "pair-structure defect of M".into(),
             value: defect,
-            reason: "M must be of the form [[X, Y], [Y, X]]",
-        });
+            reason: "M must be of the form [[X, Y], [Y, X]]".into(),
+        }));
     }
     let x = m.submatrix(0, 0, n, n);
     let y = m.submatrix(0, n, n, n);
@@ -106,9 +109,9 @@ impl MetzlerDecomposition {
     /// Builds `A^M`, `A^N`, `Ā` from a square finite `A`.
     ///
     /// # Errors
-    /// [`Error::NotSquare`], [`Error::Empty`], [`Error::NonFinite`].
+    /// [`Error::Input`] (`NotSquare`), [`Error::Input`] (`Empty`), [`Error::Input`] (`NonFinite`).
     pub fn new(a: MatRef<'_, f64>) -> Result<Self, Error> {
-        let n = check_square(a, "A")?;
+        let n = check_square_finite(a, "A")?;
         let a_m = Mat::from_fn(n, n, |i, j| {
             if i == j {
                 a[(i, j)]
@@ -137,17 +140,15 @@ impl MetzlerDecomposition {
     /// The equilibrium `ξ_ueq = −Ā⁻¹Ξ̄` of the comparison system (11) (Assumption 4).
     ///
     /// # Errors
-    /// [`Error::DimensionMismatch`] for `Ξ̄` not of length `2n`, [`Error::SingularABar`] when `Ā`
+    /// [`Error::Input`] (`DimensionMismatch`) for `Ξ̄` not of length `2n`, [`Error::SingularABar`] when `Ā`
     /// is numerically singular (A4 fails).
     pub fn xi_ueq(&self, xi_bar: &[f64]) -> Result<Vec<f64>, Error> {
         use faer::linalg::solvers::Solve;
         let two_n = self.a_bar.nrows();
         if xi_bar.len() != two_n {
-            return Err(Error::mismatch(
-                "length of Xi-bar (= 2n)",
-                two_n,
-                xi_bar.len(),
-            ));
+            return Err(
+                InputError::mismatch("length of Xi-bar (= 2n)", two_n, xi_bar.len()).into(),
+            );
         }
         let rcond = assumption_a4(self.a_bar.as_ref())?;
         let rhs = Mat::from_fn(two_n, 1, |i, _| -xi_bar[i]);
@@ -167,7 +168,7 @@ impl MetzlerDecomposition {
 pub fn assumption_a4(a_bar: MatRef<'_, f64>) -> Result<f64, Error> {
     let sv = a_bar
         .singular_values()
-        .map_err(|_| Error::non_finite("singular values of A-bar (no convergence)"))?;
+        .map_err(|_| InputError::non_finite("singular values of A-bar (no convergence)"))?;
     let max = sv.iter().copied().fold(0.0, f64::max);
     let min = sv.iter().copied().fold(f64::INFINITY, f64::min);
     let rcond = if max > 0.0 { min / max } else { 0.0 };

@@ -13,9 +13,11 @@
 //!   (derived from the above; the paper leaves them implicit).
 
 use faer::{Mat, MatRef};
+use sporadic_linalg::InputError;
+use sporadic_linalg::input::check_square_finite;
 use sporadic_linalg::{expm_scaled, expm_stepper, max_eigenvalue, min_eigenvalue, sym_part};
 
-use crate::error::{Error, check_square};
+use crate::error::Error;
 use crate::system::Window;
 use crate::verify::{GridOptions, verify_theorem1};
 
@@ -58,7 +60,7 @@ impl Theorem1Constants {
 ///
 /// # Errors
 /// Bad shapes or non-finite input, `P` not positive definite on the grid (`l1 ≤ 0`), or (19) not
-/// certified on the grid (`η ≤ 0`): [`Error::InvalidParameter`] naming the quantity.
+/// certified on the grid (`η ≤ 0`): [`Error::Input`] (`InvalidParameter`) naming the quantity.
 pub fn theorem1_constants(
     a_bar: MatRef<'_, f64>,
     gamma: MatRef<'_, f64>,
@@ -67,22 +69,18 @@ pub fn theorem1_constants(
     points: usize,
     grid: &GridOptions,
 ) -> Result<Theorem1Constants, Error> {
-    let n = check_square(a_bar, "A-bar")?;
+    let n = check_square_finite(a_bar, "A-bar")?;
     if points < 2 {
-        return Err(Error::InvalidParameter {
-            name: "points",
-            value: points as f64,
-            reason: "need at least 2",
-        });
+        return Err(InputError::parameter("points", points as f64, "need at least 2").into());
     }
     let check = verify_theorem1(a_bar, gamma, p, window, grid)?;
     let eta = -check.bound;
     if !(eta > 0.0) {
-        return Err(Error::InvalidParameter {
-            name: "eta (grid bound of (19))",
+        return Err(Error::Input(InputError::InvalidParameter {
+            name: "eta (grid bound of (19))".into(),
             value: eta,
-            reason: "(19) is not certified for this P, so Theorem 1 gives no constants",
-        });
+            reason: "(19) is not certified for this P, so Theorem 1 gives no constants".into(),
+        }));
     }
     let h = window.tau_max() / (points - 1) as f64;
     let mut stepper = expm_stepper(a_bar, 0.0, h, points - 1)?;
@@ -98,11 +96,7 @@ pub fn theorem1_constants(
         return Err(err.clone().into());
     }
     if !(l1 > 0.0) {
-        return Err(Error::InvalidParameter {
-            name: "l1",
-            value: l1,
-            reason: "P is not positive definite",
-        });
+        return Err(InputError::parameter("l1", l1, "P is not positive definite").into());
     }
     let theta1 = (1.0 - eta / l2).ln();
     let tau_max = window.tau_max();
@@ -131,9 +125,9 @@ pub fn lyapunov_value(
     xi: &[f64],
     tau: f64,
 ) -> Result<f64, Error> {
-    let n = check_square(a_bar, "A-bar")?;
+    let n = check_square_finite(a_bar, "A-bar")?;
     if xi.len() != n {
-        return Err(Error::mismatch("length of xi (= 2n)", n, xi.len()));
+        return Err(InputError::mismatch("length of xi (= 2n)", n, xi.len()).into());
     }
     let e = expm_scaled(a_bar, tau)?;
     let z: Vec<f64> = (0..n)

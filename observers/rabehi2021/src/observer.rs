@@ -12,9 +12,11 @@
 //! the interval (its width staying bounded) is what Theorem 1 adds.
 
 use faer::{Mat, MatRef};
+use sporadic_linalg::InputError;
+use sporadic_linalg::input::check_finite_slice;
 use sporadic_sim::{Flow, InputSignal, LtiFlow, Observer, SampleEvent, SimError};
 
-use crate::error::{Error, check_finite_vec};
+use crate::error::Error;
 use crate::ipr::{MetzlerDecomposition, abs, negative_part, positive_part, reset_matrix};
 use crate::system::{Bounds, Plant};
 
@@ -129,7 +131,7 @@ impl IntervalObserver {
     pub fn correct(&self, lower: &mut [f64], upper: &mut [f64], y: &[f64]) -> Result<(), Error> {
         let (n, p) = (self.plant.n(), self.plant.p());
         if lower.len() != n || upper.len() != n {
-            return Err(Error::mismatch(
+            return Err(InputError::mismatch(
                 "length of the bounds (= n)",
                 n,
                 if lower.len() != n {
@@ -137,16 +139,15 @@ impl IntervalObserver {
                 } else {
                     upper.len()
                 },
-            ));
+            )
+            .into());
         }
         if y.len() != p {
-            return Err(Error::mismatch(
-                "length of the measurement y (= p)",
-                p,
-                y.len(),
-            ));
+            return Err(
+                InputError::mismatch("length of the measurement y (= p)", p, y.len()).into(),
+            );
         }
-        check_finite_vec(y, "measurement y")?;
+        check_finite_slice(y, "measurement y")?;
         let (gp, gm) = (&self.g_plus, &self.g_minus);
         let mut new_lower = vec![0.0; n];
         let mut new_upper = vec![0.0; n];

@@ -16,6 +16,7 @@
 
 use faer::MatRef;
 use sporadic_embed::{Embedding, EmbeddingMethod, TaylorOptions, TaylorOrder, embed_split};
+use sporadic_linalg::InputError;
 
 use crate::error::Error;
 use crate::system::Window;
@@ -58,25 +59,23 @@ impl PolytopeOptions {
         if let TaylorOrder::Tolerance(tol) = self.order
             && !(tol > 0.0 && tol.is_finite())
         {
-            return Err(Error::InvalidParameter {
-                name: "Taylor remainder tolerance",
-                value: tol,
-                reason: "must be finite and > 0",
-            });
+            return Err(InputError::parameter(
+                "Taylor remainder tolerance",
+                tol,
+                "must be finite and > 0",
+            )
+            .into());
         }
         if !(self.max_piece_spread > 0.0 && self.max_piece_spread.is_finite()) {
-            return Err(Error::InvalidParameter {
-                name: "max_piece_spread",
-                value: self.max_piece_spread,
-                reason: "must be finite and > 0",
-            });
+            return Err(InputError::parameter(
+                "max_piece_spread",
+                self.max_piece_spread,
+                "must be finite and > 0",
+            )
+            .into());
         }
         if self.pieces == Some(0) {
-            return Err(Error::InvalidParameter {
-                name: "pieces",
-                value: 0.0,
-                reason: "must be at least 1",
-            });
+            return Err(InputError::parameter("pieces", 0.0, "must be at least 1").into());
         }
         Ok(())
     }

@@ -7,6 +7,7 @@
 //! `x̄(0) = x(0) + 3·1`, horizon 20 s, inter-sample times i.i.d. uniform in `[0.04, 0.3]`, the
 //! disturbance piecewise constant, resampled every 0.1 s uniformly in `[−1, 1]²` (seeded).
 
+use sporadic_linalg::InputError;
 use std::path::{Path, PathBuf};
 
 use faer::Mat;
@@ -139,7 +140,7 @@ fn ipr_claims(plant: &Plant, rep: &mut Reproduction) -> Result<(), Error> {
     let eig = d
         .a_bar
         .eigenvalues()
-        .map_err(|_| Error::non_finite("eigenvalues of A-bar (no convergence)"))?;
+        .map_err(|_| InputError::non_finite("eigenvalues of A-bar (no convergence)"))?;
     let abscissa = eig.iter().map(|z| z.re).fold(f64::NEG_INFINITY, f64::max);
     rep.claims.push(Claim::not_in_paper(
         "ipr.A-bar.spectral_abscissa",

@@ -10,12 +10,15 @@
 //! checked up to round-off, not up to an integration tolerance.
 
 use faer::Mat;
+use sporadic_linalg::InputError;
+use sporadic_linalg::input::check_dimension;
+use sporadic_linalg::input::check_finite_slice;
 use sporadic_sim::{
     BoundedUniform, Exosystem, InputSignal, LtiFlow, PiecewiseConstant, Record, SampledPlant,
     SimError, SimOptions, Simulation, UniformRandom, simulate,
 };
 
-use crate::error::{Error, check_finite_vec};
+use crate::error::Error;
 use crate::observer::IntervalObserver;
 use crate::system::Window;
 
@@ -181,10 +184,8 @@ fn check_inclusion(sim: &Simulation, n: usize) -> Inclusion {
 }
 
 fn check_len(v: &[f64], n: usize, what: &str) -> Result<(), Error> {
-    if v.len() != n {
-        return Err(Error::mismatch(format!("length of {what}"), n, v.len()));
-    }
-    check_finite_vec(v, what)
+    check_dimension(&format!("length of {what}"), n, v.len())?;
+    Ok(check_finite_slice(v, what)?)
 }
 
 /// Simulates the plant and the interval observer under `scenario` and checks the inclusion.
@@ -215,18 +216,16 @@ pub fn simulate_interval(
         }
     }
     if !(scenario.horizon > 0.0 && scenario.horizon.is_finite()) {
-        return Err(Error::InvalidParameter {
-            name: "horizon",
-            value: scenario.horizon,
-            reason: "must be finite and > 0",
-        });
+        return Err(
+            InputError::parameter("horizon", scenario.horizon, "must be finite and > 0").into(),
+        );
     }
     let (amplitude, omega) = match &scenario.noise {
         Noise::Zero => (vec![0.0; p], 0.0),
         Noise::Cosine { amplitude, omega } => {
             check_len(amplitude, p, "noise amplitude")?;
             if !omega.is_finite() {
-                return Err(Error::non_finite("noise frequency"));
+                return Err(InputError::non_finite("noise frequency").into());
             }
             (amplitude.clone(), *omega)
         }

@@ -53,6 +53,8 @@
 //! (polytope with remainder, plus the grid bound); a design is [`DesignStatus::Certified`] only
 //! when it passes.
 
+use sporadic_linalg::InputError;
+use sporadic_linalg::input::check_finite;
 use std::time::{Duration, Instant};
 
 use faer::{Mat, MatRef};
@@ -119,11 +121,7 @@ impl SynthesisOptions {
             if value > 0.0 && value.is_finite() {
                 Ok(())
             } else {
-                Err(Error::InvalidParameter {
-                    name,
-                    value,
-                    reason: "must be finite and > 0",
-                })
+                Err(InputError::parameter(name, value, "must be finite and > 0"))
             }
         };
         positive("p_min", self.p_min)?;
@@ -131,18 +129,12 @@ impl SynthesisOptions {
         positive("g_max", self.g_max)?;
         positive("stall_tolerance", self.stall_tolerance)?;
         if self.p_min >= self.p_max {
-            return Err(Error::InvalidParameter {
-                name: "p_min",
-                value: self.p_min,
-                reason: "must be below p_max",
-            });
+            return Err(InputError::parameter("p_min", self.p_min, "must be below p_max").into());
         }
         if !(self.safety >= 1.0 && self.safety.is_finite()) {
-            return Err(Error::InvalidParameter {
-                name: "safety",
-                value: self.safety,
-                reason: "must be finite and >= 1",
-            });
+            return Err(
+                InputError::parameter("safety", self.safety, "must be finite and >= 1").into(),
+            );
         }
         self.polytope.validate()
     }
@@ -599,13 +591,11 @@ pub fn synthesise_from(
     let two_n = 2 * n;
     if let Some(f) = initial_f {
         if f.nrows() != two_n || f.ncols() != two_n {
-            return Err(Error::mismatch(
-                "order of the initial F (= 2n)",
-                two_n,
-                f.nrows(),
-            ));
+            return Err(
+                InputError::mismatch("order of the initial F (= 2n)", two_n, f.nrows()).into(),
+            );
         }
-        crate::error::check_finite(f, "initial F")?;
+        check_finite(f, "initial F")?;
     }
     let decomposition = MetzlerDecomposition::new(plant.a())?;
     let poly = taylor_polytope(decomposition.a_bar.as_ref(), window, &options.polytope)?;
@@ -789,9 +779,10 @@ impl Run<'_> {
 
     fn finish(self, vertices: usize, remainder: f64) -> Result<Design, Error> {
         let (Some(best), Some(check)) = (self.best, self.best_check) else {
-            return Err(Error::non_finite(
+            return Err(InputError::non_finite(
                 "every LMI step of the Proposition 1 pipeline returned a non-finite point",
-            ));
+            )
+            .into());
         };
         let status = if self.done {
             DesignStatus::Certified

@@ -2,8 +2,12 @@
 //! Assumption 1 and the disturbance/noise bounds of Assumptions 2–3.
 
 use faer::{Mat, MatRef};
+use sporadic_linalg::InputError;
+use sporadic_linalg::input::check_square_finite;
+use sporadic_linalg::input::{LowerEnd, check_window};
+use sporadic_linalg::input::{check_finite, check_finite_slice};
 
-use crate::error::{Error, check_finite, check_finite_vec, check_square};
+use crate::error::Error;
 
 /// The plant (2)–(3): `ẋ = Ax + Bu + d(t)`, `y(t_k) = Cx(t_k) + v(t_k)`, with `x ∈ Rⁿ`, `u ∈ Rᵐ`,
 /// `y ∈ Rᵖ`. The disturbance enters every state directly.
@@ -18,20 +22,18 @@ impl Plant {
     /// Checks shapes (`A` n×n, `B` n×m, `C` p×n with n, p ≥ 1; `m = 0` is allowed) and finiteness.
     ///
     /// # Errors
-    /// [`Error::NotSquare`], [`Error::Empty`], [`Error::DimensionMismatch`], [`Error::NonFinite`].
+    /// [`Error::Input`] (`NotSquare`), [`Error::Input`] (`Empty`), [`Error::Input`] (`DimensionMismatch`), [`Error::Input`] (`NonFinite`).
     pub fn new(a: MatRef<'_, f64>, b: MatRef<'_, f64>, c: MatRef<'_, f64>) -> Result<Self, Error> {
-        let n = check_square(a, "A")?;
+        let n = check_square_finite(a, "A")?;
         if b.nrows() != n {
-            return Err(Error::mismatch("rows of B (= order of A)", n, b.nrows()));
+            return Err(InputError::mismatch("rows of B (= order of A)", n, b.nrows()).into());
         }
         check_finite(b, "B")?;
         if c.nrows() == 0 {
-            return Err(Error::Empty {
-                what: "C (no measured output)",
-            });
+            return Err(InputError::empty("C (no measured output)").into());
         }
         if c.ncols() != n {
-            return Err(Error::mismatch("columns of C (= order of A)", n, c.ncols()));
+            return Err(InputError::mismatch("columns of C (= order of A)", n, c.ncols()).into());
         }
         check_finite(c, "C")?;
         Ok(Self {
@@ -74,12 +76,12 @@ impl Plant {
     /// Checks that `l` is an `n × p` finite gain.
     pub(crate) fn check_gain(&self, l: MatRef<'_, f64>) -> Result<(), Error> {
         if l.nrows() != self.n() {
-            return Err(Error::mismatch("rows of L (= n)", self.n(), l.nrows()));
+            return Err(InputError::mismatch("rows of L (= n)", self.n(), l.nrows()).into());
         }
         if l.ncols() != self.p() {
-            return Err(Error::mismatch("columns of L (= p)", self.p(), l.ncols()));
+            return Err(InputError::mismatch("columns of L (= p)", self.p(), l.ncols()).into());
         }
-        check_finite(l, "L")
+        Ok(check_finite(l, "L")?)
     }
 }
 
@@ -92,24 +94,15 @@ pub struct Window {
 
 impl Window {
     /// # Errors
-    /// [`Error::InvalidWindow`] for non-finite ends, `τmin ≤ 0` or `τmin > τmax`.
+    /// [`InputError::InvalidWindow`] for non-finite ends, `τmin ≤ 0` (Assumption 1 excludes Zeno
+    /// solutions) or `τmin > τmax`.
     pub fn new(tau_min: f64, tau_max: f64) -> Result<Self, Error> {
-        let bad = |reason| {
-            Err(Error::InvalidWindow {
-                tau_min,
-                tau_max,
-                reason,
-            })
-        };
-        if !(tau_min.is_finite() && tau_max.is_finite()) {
-            return bad("both ends must be finite");
-        }
-        if tau_min <= 0.0 {
-            return bad("tau_min must be > 0 (Assumption 1; excludes Zeno solutions)");
-        }
-        if tau_min > tau_max {
-            return bad("tau_min must not exceed tau_max");
-        }
+        check_window(
+            "sampling window [τmin, τmax]",
+            tau_min,
+            tau_max,
+            LowerEnd::Positive,
+        )?;
         Ok(Self { tau_min, tau_max })
     }
 
@@ -158,19 +151,20 @@ pub struct Bounds {
 
 impl Bounds {
     /// # Errors
-    /// [`Error::DimensionMismatch`] when `d_lower`/`d_upper` have different lengths,
-    /// [`Error::NonFinite`], [`Error::InvalidBounds`] for `d̲_i > d̄_i` or `v̄_i < 0`.
+    /// [`Error::Input`] (`DimensionMismatch`) when `d_lower`/`d_upper` have different lengths,
+    /// [`Error::Input`] (`NonFinite`), [`Error::InvalidBounds`] for `d̲_i > d̄_i` or `v̄_i < 0`.
     pub fn new(d_lower: Vec<f64>, d_upper: Vec<f64>, v_bar: Vec<f64>) -> Result<Self, Error> {
         if d_lower.len() != d_upper.len() {
-            return Err(Error::mismatch(
+            return Err(InputError::mismatch(
                 "length of d_upper (= length of d_lower)",
                 d_lower.len(),
                 d_upper.len(),
-            ));
+            )
+            .into());
         }
-        check_finite_vec(&d_lower, "d_lower")?;
-        check_finite_vec(&d_upper, "d_upper")?;
-        check_finite_vec(&v_bar, "v_bar")?;
+        check_finite_slice(&d_lower, "d_lower")?;
+        check_finite_slice(&d_upper, "d_upper")?;
+        check_finite_slice(&v_bar, "v_bar")?;
         if let Some(i) = (0..d_lower.len()).find(|&i| d_lower[i] > d_upper[i]) {
             return Err(Error::InvalidBounds {
                 what: "d_lower/d_upper",
@@ -219,18 +213,20 @@ impl Bounds {
     /// Checks the dimensions against a plant (`n` disturbance and `p` noise components).
     pub fn check_against(&self, plant: &Plant) -> Result<(), Error> {
         if self.d_lower.len() != plant.n() {
-            return Err(Error::mismatch(
+            return Err(InputError::mismatch(
                 "length of the disturbance bounds (= n)",
                 plant.n(),
                 self.d_lower.len(),
-            ));
+            )
+            .into());
         }
         if self.v_bar.len() != plant.p() {
-            return Err(Error::mismatch(
+            return Err(InputError::mismatch(
                 "length of the noise bound v_bar (= p)",
                 plant.p(),
                 self.v_bar.len(),
-            ));
+            )
+            .into());
         }
         Ok(())
     }

@@ -18,9 +18,11 @@
 //! `e^{Āμ}Γ` (Remark 5: (19) forces it below 1) is reported alongside.
 
 use faer::{Mat, MatRef};
+use sporadic_linalg::InputError;
+use sporadic_linalg::input::check_square_finite;
 use sporadic_linalg::{expm_stepper, max_eigenvalue, spectral_radius, sym_part};
 
-use crate::error::{Error, check_square};
+use crate::error::Error;
 use crate::polytope::norm2;
 use crate::system::Window;
 
@@ -74,15 +76,13 @@ fn check_operands(
     gamma: MatRef<'_, f64>,
     p: MatRef<'_, f64>,
 ) -> Result<usize, Error> {
-    let n = check_square(a_bar, "A-bar")?;
+    let n = check_square_finite(a_bar, "A-bar")?;
     for (m, what) in [(gamma, "Gamma"), (p, "P")] {
-        let k = check_square(m, what)?;
+        let k = check_square_finite(m, what)?;
         if k != n {
-            return Err(Error::mismatch(
-                format!("order of {what} (= order of A-bar)"),
-                n,
-                k,
-            ));
+            return Err(
+                InputError::mismatch(format!("order of {what} (= order of A-bar)"), n, k).into(),
+            );
         }
     }
     Ok(n)
@@ -121,7 +121,7 @@ fn pass(
         if stepper.next_into(e.as_mut()).is_none() {
             return Err(match stepper.error() {
                 Some(err) => err.clone().into(),
-                None => Error::non_finite(format!("e^(A-bar mu) at mu = {mu}")),
+                None => InputError::non_finite(format!("e^(A-bar mu) at mu = {mu}")).into(),
             });
         }
         let eg = &e * gamma;
@@ -168,11 +168,9 @@ pub fn verify_theorem1(
 ) -> Result<GridCheck, Error> {
     check_operands(a_bar, gamma, p)?;
     if options.points < 2 {
-        return Err(Error::InvalidParameter {
-            name: "grid points",
-            value: options.points as f64,
-            reason: "need at least 2",
-        });
+        return Err(
+            InputError::parameter("grid points", options.points as f64, "need at least 2").into(),
+        );
     }
     let mut points = options.points;
     loop {

@@ -18,9 +18,11 @@
 //!   derivative of the flow is `e^{Sμ}(SU + c)` and `0 ≤ e^{S(μ−μ_k)} ≤ e^{|S|h}`).
 
 use faer::{Mat, MatRef};
+use sporadic_linalg::InputError;
+use sporadic_linalg::input::check_finite_slice;
 use sporadic_linalg::{expm_scaled, zoh};
 
-use crate::error::{Error, check_finite_vec};
+use crate::error::Error;
 use crate::ipr::{MetzlerDecomposition, abs, reset_matrix};
 use crate::system::{Bounds, Plant, Window};
 
@@ -134,11 +136,7 @@ impl WidthDynamics {
     pub fn periodic_pre_jump(&self, period: f64) -> Result<Vec<f64>, Error> {
         use faer::linalg::solvers::Solve;
         if !(period > 0.0 && period.is_finite()) {
-            return Err(Error::InvalidParameter {
-                name: "period",
-                value: period,
-                reason: "must be finite and > 0",
-            });
+            return Err(InputError::parameter("period", period, "must be finite and > 0").into());
         }
         let n = self.n();
         let (e, g) = self.flow_parts(period)?;
@@ -148,7 +146,7 @@ impl WidthDynamics {
         let rhs = Mat::from_fn(n, 1, |i, _| eb[i] + g[i]);
         let w = lhs.full_piv_lu().solve(&rhs);
         let out: Vec<f64> = (0..n).map(|i| w[(i, 0)]).collect();
-        check_finite_vec(&out, "periodic width (I - e^(ST)|G| singular)")?;
+        check_finite_slice(&out, "periodic width (I - e^(ST)|G| singular)")?;
         Ok(out)
     }
 
@@ -232,13 +230,14 @@ impl WidthDynamics {
     ) -> Result<WidthBound, Error> {
         let n = self.n();
         if initial.len() != n {
-            return Err(Error::mismatch(
+            return Err(InputError::mismatch(
                 "length of the initial width (= n)",
                 n,
                 initial.len(),
-            ));
+            )
+            .into());
         }
-        check_finite_vec(initial, "initial width")?;
+        check_finite_slice(initial, "initial width")?;
         if let Some(i) = initial.iter().position(|&w| w < 0.0) {
             return Err(Error::InvalidBounds {
                 what: "initial width",
@@ -247,11 +246,7 @@ impl WidthDynamics {
             });
         }
         if points < 2 {
-            return Err(Error::InvalidParameter {
-                name: "points",
-                value: points as f64,
-                reason: "need at least 2",
-            });
+            return Err(InputError::parameter("points", points as f64, "need at least 2").into());
         }
         let (lo, hi) = (window.tau_min(), window.tau_max());
         let sampled = self.flow_grid(lo, hi, points)?;
@@ -264,7 +259,7 @@ impl WidthDynamics {
         let mut running = current.clone();
         for iteration in 1..=MAX_ITERATIONS {
             let next = post_map(&current);
-            check_finite_vec(&next, "width bound iteration")?;
+            check_finite_slice(&next, "width bound iteration")?;
             let change = next
                 .iter()
                 .zip(&current)
@@ -303,10 +298,11 @@ impl WidthDynamics {
                 iterations: iteration,
             });
         }
-        Err(Error::InvalidParameter {
-            name: "width bound iterations",
-            value: MAX_ITERATIONS as f64,
-            reason: "no invariant width bound found: the width dynamics is not contractive on the window",
-        })
+        Err(InputError::parameter(
+            "width bound iterations",
+            MAX_ITERATIONS as f64,
+            "no invariant width bound found: the width dynamics is not contractive on the window",
+        )
+        .into())
     }
 }

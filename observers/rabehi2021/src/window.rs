@@ -23,6 +23,7 @@
 //! sub-window), which holds for the problem itself but not necessarily for a local BMI method:
 //! the result is the largest *certified* `τmax` the bisection found, not a proven supremum.
 
+use sporadic_linalg::InputError;
 use std::time::{Duration, Instant};
 
 use faer::MatRef;
@@ -53,18 +54,12 @@ fn blocks_every_gain(m: MatRef<'_, f64>, unmeasured: &[usize]) -> bool {
 
 fn check_range(tau_min: f64, horizon: f64) -> Result<(), Error> {
     if !(tau_min > 0.0 && tau_min.is_finite()) {
-        return Err(Error::InvalidParameter {
-            name: "tau_min",
-            value: tau_min,
-            reason: "must be finite and > 0",
-        });
+        return Err(InputError::parameter("tau_min", tau_min, "must be finite and > 0").into());
     }
     if !(horizon > tau_min && horizon.is_finite()) {
-        return Err(Error::InvalidParameter {
-            name: "horizon",
-            value: horizon,
-            reason: "must be finite and > tau_min",
-        });
+        return Err(
+            InputError::parameter("horizon", horizon, "must be finite and > tau_min").into(),
+        );
     }
     Ok(())
 }
@@ -245,11 +240,12 @@ pub fn largest_tau_max(
     options: &WindowSearchOptions,
 ) -> Result<WindowSearch, Error> {
     if !(options.resolution > 0.0 && options.resolution.is_finite()) {
-        return Err(Error::InvalidParameter {
-            name: "resolution",
-            value: options.resolution,
-            reason: "must be finite and > 0",
-        });
+        return Err(InputError::parameter(
+            "resolution",
+            options.resolution,
+            "must be finite and > 0",
+        )
+        .into());
     }
     Window::new(tau_min, options.upper)?;
     let exact_limit = necessary_tau_max(plant, tau_min, options.upper)?;
@@ -328,11 +324,9 @@ pub fn largest_tau_max_for_gain(
     options: &AnalysisOptions,
 ) -> Result<GainWindow, Error> {
     if !(resolution > 0.0 && resolution.is_finite()) {
-        return Err(Error::InvalidParameter {
-            name: "resolution",
-            value: resolution,
-            reason: "must be finite and > 0",
-        });
+        return Err(
+            InputError::parameter("resolution", resolution, "must be finite and > 0").into(),
+        );
     }
     Window::new(tau_min, upper)?;
     let top = necessary_tau_max(plant, tau_min, upper)?.unwrap_or(upper);

@@ -13,6 +13,7 @@
 //!   screen only, not a proof over the continuum (spec 001 §2).
 
 use faer::{Mat, c64};
+use sporadic_linalg::InputError;
 use sporadic_linalg::expm_scaled;
 
 use crate::error::Error;
@@ -96,7 +97,7 @@ pub fn pbh(
 ) -> Result<PbhCheck, Error> {
     let n_s = plant.num_sensors();
     if intervals.len() != n_s {
-        return Err(Error::mismatch("number of intervals", n_s, intervals.len()));
+        return Err(InputError::mismatch("number of intervals", n_s, intervals.len()).into());
     }
     if intervals.iter().any(|t| !t.is_finite() || *t < 0.0) {
         return Err(Error::invalid(format!(

@@ -1,6 +1,6 @@
 //! Typed errors of the round-robin observer crate.
 
-use sporadic_linalg::LinalgError;
+use sporadic_linalg::{InputError, LinalgError};
 use sporadic_sdp::lmi::ModelError;
 use sporadic_sim::SimError;
 
@@ -25,22 +25,10 @@ pub enum Error {
     /// Writing a figure or a report failed.
     #[error("I/O: {0}")]
     Io(#[from] std::io::Error),
-    /// Two operands have incompatible shapes.
-    #[error("dimension mismatch in {what}: expected {expected}, found {found}")]
-    DimensionMismatch {
-        /// Which dimension was checked.
-        what: String,
-        /// The dimension required by the other operand(s).
-        expected: usize,
-        /// The dimension actually supplied.
-        found: usize,
-    },
-    /// An input contained NaN or ±∞.
-    #[error("non-finite value (NaN or ±Inf) in {what}")]
-    NonFinite {
-        /// Which input was not finite.
-        what: String,
-    },
+    /// Bad input: what was wrong and where (a matrix not square or empty, mismatched
+    /// dimensions, NaN/Inf, a parameter out of range, an invalid sampling window).
+    #[error(transparent)]
+    Input(#[from] InputError),
     /// Any other invalid argument.
     #[error("invalid argument: {0}")]
     InvalidArgument(String),
@@ -55,18 +43,6 @@ pub enum Error {
         rank: usize,
         /// Number of rows of `C_σ`.
         rows: usize,
-    },
-    /// Assumption 2 fails: the window is not `0 < T_mσ ≤ T_Mσ`.
-    #[error(
-        "sensor {sigma}: sampling window [{t_min}, {t_max}] violates 0 < T_m ≤ T_M (Assumption 2)"
-    )]
-    InvalidWindow {
-        /// Sensor (1-based).
-        sigma: usize,
-        /// Lower bound `T_mσ`.
-        t_min: f64,
-        /// Upper bound `T_Mσ`.
-        t_max: f64,
     },
     /// A supplied complement `C_σ^⊥` is not a basis of `ker C_σ`.
     #[error("sensor {sigma}: the given C_σ^⊥ is not a basis of ker C_σ ({reason})")]
@@ -154,17 +130,5 @@ pub enum Error {
 impl Error {
     pub(crate) fn invalid(msg: impl Into<String>) -> Self {
         Self::InvalidArgument(msg.into())
-    }
-    pub(crate) fn mismatch(what: &str, expected: usize, found: usize) -> Self {
-        Self::DimensionMismatch {
-            what: what.to_owned(),
-            expected,
-            found,
-        }
-    }
-    pub(crate) fn non_finite(what: &str) -> Self {
-        Self::NonFinite {
-            what: what.to_owned(),
-        }
     }
 }

@@ -16,6 +16,7 @@
 
 use faer::linalg::solvers::Solve;
 use faer::{Mat, MatRef, Side};
+use sporadic_linalg::InputError;
 use sporadic_linalg::{expm_scaled, sym_part};
 
 use crate::error::Error;
@@ -32,18 +33,16 @@ pub(crate) fn congruence(e: MatRef<'_, f64>, p: MatRef<'_, f64>) -> Result<Mat<f
 /// Checks that `p` is a finite, symmetric `n × n` matrix.
 pub(crate) fn check_sym(p: MatRef<'_, f64>, n: usize, what: &str) -> Result<(), Error> {
     if p.nrows() != n || p.ncols() != n {
-        return Err(Error::mismatch(
-            &format!("order of {what}"),
-            n,
-            p.nrows().max(p.ncols()),
-        ));
+        return Err(
+            InputError::mismatch(format!("order of {what}"), n, p.nrows().max(p.ncols())).into(),
+        );
     }
     let mut scale = 0.0f64;
     for j in 0..n {
         for i in 0..n {
             let v = p[(i, j)];
             if !v.is_finite() {
-                return Err(Error::non_finite(what));
+                return Err(InputError::non_finite(what).into());
             }
             scale = scale.max(v.abs());
         }
@@ -64,7 +63,7 @@ fn check_tau(tau: f64) -> Result<(), Error> {
     if tau.is_finite() {
         Ok(())
     } else {
-        Err(Error::non_finite("τ"))
+        Err(InputError::non_finite("τ").into())
     }
 }
 
@@ -176,11 +175,7 @@ impl GainSchedule {
     /// Wrong count or shape, non-finite, non-symmetric or not positive definite `P_σ`.
     pub fn new(plant: RoundRobinPlant, p: Vec<Mat<f64>>) -> Result<Self, Error> {
         if p.len() != plant.num_sensors() {
-            return Err(Error::mismatch(
-                "number of P_σ",
-                plant.num_sensors(),
-                p.len(),
-            ));
+            return Err(InputError::mismatch("number of P_σ", plant.num_sensors(), p.len()).into());
         }
         for (k, pk) in p.iter().enumerate() {
             check_sym(pk.as_ref(), plant.n(), &format!("P_{}", k + 1))?;

@@ -8,6 +8,7 @@
 //! with the single point `T_σ`, so the design reuses [`crate::synthesis`].
 
 use faer::Mat;
+use sporadic_linalg::InputError;
 use sporadic_linalg::{expm_scaled, spectral_radius};
 use sporadic_sdp::lmi::{Expr, FeasibilityOptions, LmiSolution, Model, SolveOptions, Var};
 
@@ -41,21 +42,23 @@ pub fn monodromy(
 ) -> Result<Mat<f64>, Error> {
     let (n, n_s) = (plant.n(), plant.num_sensors());
     if gains.len() != n_s || intervals.len() != n_s {
-        return Err(Error::mismatch(
+        return Err(InputError::mismatch(
             "number of gains/intervals",
             n_s,
             gains.len().min(intervals.len()),
-        ));
+        )
+        .into());
     }
     let mut j = Mat::<f64>::identity(n, n);
     for (s, (k, &t)) in gains.iter().zip(intervals).enumerate() {
         let c = plant.sensor(s).c();
         if k.nrows() != n || k.ncols() != c.nrows() {
-            return Err(Error::mismatch(
-                &format!("shape of K̄_{}", s + 1),
+            return Err(InputError::mismatch(
+                format!("shape of K̄_{}", s + 1),
                 n * c.nrows(),
                 k.nrows() * k.ncols(),
-            ));
+            )
+            .into());
         }
         j = jump_matrix(k.as_ref(), c) * expm_scaled(plant.a(), t)? * &j;
     }
@@ -166,7 +169,7 @@ pub fn analysis_feasibility(
     let t = intervals(plant)?;
     let (n, n_s) = (plant.n(), plant.num_sensors());
     if gains.len() != n_s {
-        return Err(Error::mismatch("number of gains", n_s, gains.len()));
+        return Err(InputError::mismatch("number of gains", n_s, gains.len()).into());
     }
     let mut m = Model::new();
     let p: Vec<Var> = (0..n_s)
@@ -175,11 +178,12 @@ pub fn analysis_feasibility(
     for s in 0..n_s {
         let c = plant.sensor(s).c();
         if gains[s].nrows() != n || gains[s].ncols() != c.nrows() {
-            return Err(Error::mismatch(
-                &format!("shape of K̄_{}", s + 1),
+            return Err(InputError::mismatch(
+                format!("shape of K̄_{}", s + 1),
                 n * c.nrows(),
                 gains[s].nrows() * gains[s].ncols(),
-            ));
+            )
+            .into());
         }
         let e = expm_scaled(plant.a(), -t[s])?;
         let nx = &p[plant.next(s)];

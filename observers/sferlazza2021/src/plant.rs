@@ -13,6 +13,8 @@
 
 use faer::{Mat, MatRef};
 use sporadic_embed::Interval;
+use sporadic_linalg::InputError;
+use sporadic_linalg::input::{LowerEnd, check_finite, check_window};
 use sporadic_linalg::null_space;
 
 use crate::error::Error;
@@ -36,6 +38,16 @@ impl Window {
     /// A jitter-free window `[t, t]` (12).
     pub fn fixed(t: f64) -> Self {
         Self { t_min: t, t_max: t }
+    }
+
+    /// Checks Assumption 2, `0 < T_mσ ≤ T_Mσ < ∞`, for sensor `sigma` (1-based).
+    pub fn check(&self, sigma: usize) -> Result<(), InputError> {
+        check_window(
+            &format!("sampling window of sensor {sigma} (Assumption 2)"),
+            self.t_min,
+            self.t_max,
+            LowerEnd::Positive,
+        )
     }
 
     /// Whether the window is a single point (jitter-free sensor, Definition 1).
@@ -101,17 +113,6 @@ pub struct RoundRobinPlant {
     sensors: Vec<Sensor>,
 }
 
-fn check_finite(m: MatRef<'_, f64>, what: &str) -> Result<(), Error> {
-    for j in 0..m.ncols() {
-        for i in 0..m.nrows() {
-            if !m[(i, j)].is_finite() {
-                return Err(Error::non_finite(what));
-            }
-        }
-    }
-    Ok(())
-}
-
 impl RoundRobinPlant {
     /// Builds the plant from `A` (`n × n`) and the sensors `(C_σ, window_σ)` in round-robin order.
     /// Each `C_σ^⊥` is the orthonormal basis of `ker C_σ` returned by
@@ -119,11 +120,11 @@ impl RoundRobinPlant {
     ///
     /// # Errors
     /// Empty sensor list, non-square or non-finite `A`, `C_σ` with the wrong number of columns or
-    /// rank-deficient ([`Error::RankDeficientOutput`]), invalid windows ([`Error::InvalidWindow`]).
+    /// rank-deficient ([`Error::RankDeficientOutput`]), invalid windows ([`InputError::InvalidWindow`]).
     pub fn new(a: Mat<f64>, sensors: Vec<(Mat<f64>, Window)>) -> Result<Self, Error> {
         let n = a.nrows();
         if a.ncols() != n {
-            return Err(Error::mismatch("columns of A", n, a.ncols()));
+            return Err(InputError::mismatch("columns of A", n, a.ncols()).into());
         }
         if n == 0 {
             return Err(Error::invalid("A is empty"));
@@ -136,27 +137,15 @@ impl RoundRobinPlant {
         for (k, (c, window)) in sensors.into_iter().enumerate() {
             let sigma = k + 1;
             if c.ncols() != n {
-                return Err(Error::mismatch(
-                    &format!("columns of C_{sigma}"),
-                    n,
-                    c.ncols(),
-                ));
+                return Err(
+                    InputError::mismatch(format!("columns of C_{sigma}"), n, c.ncols()).into(),
+                );
             }
             if c.nrows() == 0 {
                 return Err(Error::invalid(format!("C_{sigma} has no rows")));
             }
             check_finite(c.as_ref(), &format!("C_{sigma}"))?;
-            if !(window.t_min.is_finite()
-                && window.t_max.is_finite()
-                && window.t_min > 0.0
-                && window.t_min <= window.t_max)
-            {
-                return Err(Error::InvalidWindow {
-                    sigma,
-                    t_min: window.t_min,
-                    t_max: window.t_max,
-                });
-            }
+            window.check(sigma)?;
             let c_perp = null_space(c.as_ref())?;
             let rank = n - c_perp.ncols();
             if rank < c.nrows() {
@@ -275,22 +264,16 @@ impl RoundRobinPlant {
     /// Wrong number of windows or an invalid window.
     pub fn with_windows(&self, windows: &[Window]) -> Result<Self, Error> {
         if windows.len() != self.num_sensors() {
-            return Err(Error::mismatch(
+            return Err(InputError::mismatch(
                 "number of windows",
                 self.num_sensors(),
                 windows.len(),
-            ));
+            )
+            .into());
         }
         let mut out = self.clone();
         for (k, (s, w)) in out.sensors.iter_mut().zip(windows).enumerate() {
-            if !(w.t_min.is_finite() && w.t_max.is_finite() && w.t_min > 0.0 && w.t_min <= w.t_max)
-            {
-                return Err(Error::InvalidWindow {
-                    sigma: k + 1,
-                    t_min: w.t_min,
-                    t_max: w.t_max,
-                });
-            }
+            w.check(k + 1)?;
             s.window = *w;
         }
         Ok(out)
@@ -353,13 +336,21 @@ mod tests {
             })
         ));
         let e = RoundRobinPlant::new(a.clone(), vec![(mat![[1.0, 0.0]], Window::new(0.2, 0.1))]);
-        assert!(matches!(e, Err(Error::InvalidWindow { sigma: 1, .. })));
+        assert!(
+            matches!(e, Err(Error::Input(InputError::InvalidWindow { what, .. })) if what.contains("sensor 1"))
+        );
         let e = RoundRobinPlant::new(a.clone(), vec![(mat![[1.0, 0.0]], Window::new(0.0, 0.1))]);
-        assert!(matches!(e, Err(Error::InvalidWindow { .. })));
+        assert!(matches!(
+            e,
+            Err(Error::Input(InputError::InvalidWindow { .. }))
+        ));
         let e = RoundRobinPlant::new(a.clone(), vec![(mat![[1.0, f64::NAN]], Window::fixed(0.1))]);
-        assert!(matches!(e, Err(Error::NonFinite { .. })));
+        assert!(matches!(e, Err(Error::Input(InputError::NonFinite { .. }))));
         let e = RoundRobinPlant::new(a.clone(), vec![(mat![[1.0, 0.0, 0.0]], Window::fixed(0.1))]);
-        assert!(matches!(e, Err(Error::DimensionMismatch { .. })));
+        assert!(matches!(
+            e,
+            Err(Error::Input(InputError::DimensionMismatch { .. }))
+        ));
         let e = RoundRobinPlant::new(a.clone(), vec![]);
         assert!(matches!(e, Err(Error::InvalidArgument(_))));
         let p = RoundRobinPlant::new(a, vec![(mat![[1.0, 0.0]], Window::fixed(0.1))]).unwrap();

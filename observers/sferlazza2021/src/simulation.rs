@@ -14,6 +14,7 @@
 //! of its noise generators), so the flow is propagated exactly (block-triangular exponentials).
 
 use faer::Mat;
+use sporadic_linalg::InputError;
 use sporadic_sim::{
     BoundedUniform, InputSignal, LtiFlow, NoiseSource, PiecewiseConstant, Record, RoundRobin,
     SampleEvent, SimError, SimOptions, simulate_hybrid,
@@ -112,7 +113,7 @@ pub fn simulate_error(
     let plant = gains.plant();
     let n = plant.n();
     if settings.x0.len() != n {
-        return Err(Error::mismatch("initial error x̃(0)", n, settings.x0.len()));
+        return Err(InputError::mismatch("initial error x̃(0)", n, settings.x0.len()).into());
     }
     if !(settings.horizon > 0.0 && settings.horizon.is_finite()) {
         return Err(Error::invalid(format!(
@@ -132,7 +133,7 @@ pub fn simulate_error(
     let mut d_sup = 0.0f64;
     if let Some(bounds) = &settings.disturbance {
         if bounds.len() != n {
-            return Err(Error::mismatch("disturbance bounds", n, bounds.len()));
+            return Err(InputError::mismatch("disturbance bounds", n, bounds.len()).into());
         }
         let mut src = BoundedUniform::symmetric(bounds.clone(), settings.seed.wrapping_add(1))?;
         let count = (settings.horizon / settings.disturbance_period).ceil() as usize + 1;
@@ -155,19 +156,18 @@ pub fn simulate_error(
     match &settings.noise {
         Some(b) => {
             if b.len() != plant.num_sensors() {
-                return Err(Error::mismatch(
-                    "noise bound sets",
-                    plant.num_sensors(),
-                    b.len(),
-                ));
+                return Err(
+                    InputError::mismatch("noise bound sets", plant.num_sensors(), b.len()).into(),
+                );
             }
             for (s, bs) in b.iter().enumerate() {
                 if bs.len() != plant.sensor(s).outputs() {
-                    return Err(Error::mismatch(
-                        &format!("noise bounds of sensor {}", s + 1),
+                    return Err(InputError::mismatch(
+                        format!("noise bounds of sensor {}", s + 1),
                         plant.sensor(s).outputs(),
                         bs.len(),
-                    ));
+                    )
+                    .into());
                 }
                 noise.push(Some(BoundedUniform::symmetric(
                     bs.clone(),

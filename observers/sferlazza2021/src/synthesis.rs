@@ -13,6 +13,7 @@
 //! Infeasibility of (47) certifies infeasibility of (44): (47) relaxes "Ξ ⪰ 2μI on the whole window",
 //! and by homogeneity any strict solution of (44) can be scaled into (47).
 
+use sporadic_linalg::InputError;
 use std::time::Duration;
 
 use faer::Mat;
@@ -53,7 +54,7 @@ pub fn xi_expr(plant: &RoundRobinPlant, p: &[Var], sigma: usize, tau: f64) -> Re
         )));
     }
     if !tau.is_finite() {
-        return Err(Error::non_finite("τ"));
+        return Err(InputError::non_finite("τ").into());
     }
     let cp = plant.sensor(sigma).c_perp();
     let g = expm_scaled(plant.a(), -tau)? * cp; // E(τ) C^⊥
@@ -256,11 +257,12 @@ pub fn design_margin(
     options: &FeasibilityOptions,
 ) -> Result<(LmiSolution, Vec<Var>), Error> {
     if points.len() != plant.num_sensors() {
-        return Err(Error::mismatch(
+        return Err(InputError::mismatch(
             "number of point sets",
             plant.num_sensors(),
             points.len(),
-        ));
+        )
+        .into());
     }
     let n = plant.n();
     let mut m = Model::new();

@@ -35,6 +35,7 @@
 //! When no point fails, the reported minimum is that of a coarse subsample (the first point of every
 //! chunk) and flagged as not exact; the pass/fail verdict itself is exact on every grid point.
 
+use sporadic_linalg::InputError;
 use std::ops::Range;
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -468,7 +469,7 @@ impl XiFamily {
     pub fn new(plant: &RoundRobinPlant, p: &[Mat<f64>], sigma: usize) -> Result<Self, Error> {
         let n_s = plant.num_sensors();
         if p.len() != n_s {
-            return Err(Error::mismatch("number of P_σ", n_s, p.len()));
+            return Err(InputError::mismatch("number of P_σ", n_s, p.len()).into());
         }
         if sigma >= n_s {
             return Err(Error::invalid(format!("sensor index {sigma} out of range")));
@@ -511,7 +512,7 @@ impl XiFamily {
     /// Non-finite τ or a failing exponential.
     pub fn matrix(&self, tau: f64) -> Result<Mat<f64>, Error> {
         if !tau.is_finite() {
-            return Err(Error::non_finite("τ"));
+            return Err(InputError::non_finite("τ").into());
         }
         let mut ws = self.workspace();
         ws.e.copy_from(expm_scaled(self.neg_a.as_ref(), tau)?);
@@ -552,7 +553,7 @@ impl XiFamily {
             0.5 * (g[(i, j)] + g[(j, i)]) + if i == j { lambda } else { 0.0 }
         });
         if !r.norm_max().is_finite() {
-            return Err(Error::non_finite("R_λ"));
+            return Err(InputError::non_finite("R_λ").into());
         }
         let k = self.r();
         Ok(Level {
@@ -642,7 +643,7 @@ impl XiFamily {
             Source::Points(pts) => {
                 for &tau in &pts[range] {
                     if !tau.is_finite() {
-                        return Err(Error::non_finite("τ sample"));
+                        return Err(InputError::non_finite("τ sample").into());
                     }
                     ws.e.copy_from(expm_scaled(self.neg_a.as_ref(), tau)?);
                     self.load(ws);
@@ -717,7 +718,7 @@ impl XiFamily {
         settings: &ValidationSettings,
     ) -> Result<SensorValidation, Error> {
         if !mu.is_finite() {
-            return Err(Error::non_finite("μ"));
+            return Err(InputError::non_finite("μ").into());
         }
         if settings.chunk_points == 0 || settings.sample_stride == 0 {
             return Err(Error::invalid(

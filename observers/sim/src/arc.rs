@@ -11,10 +11,12 @@
 //! * `j` either stays constant (flow sample, `t` may advance) or increases by exactly one at the same `t`
 //!   (jump: the pre-jump sample is immediately followed by the post-jump sample).
 
+use sporadic_linalg::InputError;
+use sporadic_linalg::input::check_finite_slice;
 use std::io::Write;
 use std::path::Path;
 
-use crate::error::{SimError, check_finite};
+use crate::error::SimError;
 
 /// A hybrid time `(t, j)`: ordinary time `t` and jump counter `j`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -86,18 +88,10 @@ impl HybridArc {
         x: Vec<f64>,
     ) -> Result<Self, SimError> {
         if j.len() != t.len() {
-            return Err(SimError::mismatch(
-                "jump counters of the arc",
-                t.len(),
-                j.len(),
-            ));
+            return Err(InputError::mismatch("jump counters of the arc", t.len(), j.len()).into());
         }
         if x.len() != t.len() * dim {
-            return Err(SimError::mismatch(
-                "states of the arc",
-                t.len() * dim,
-                x.len(),
-            ));
+            return Err(InputError::mismatch("states of the arc", t.len() * dim, x.len()).into());
         }
         let mut arc = Self::with_capacity(dim, t.len());
         for i in 0..t.len() {
@@ -109,16 +103,12 @@ impl HybridArc {
     /// Appends a sample, enforcing the invariants of a hybrid time domain (see the module docs).
     pub fn push(&mut self, t: f64, j: usize, x: &[f64]) -> Result<(), SimError> {
         if x.len() != self.dim {
-            return Err(SimError::mismatch(
-                "sample pushed to the arc",
-                self.dim,
-                x.len(),
-            ));
+            return Err(InputError::mismatch("sample pushed to the arc", self.dim, x.len()).into());
         }
         if !t.is_finite() {
-            return Err(SimError::non_finite("sample time"));
+            return Err(InputError::non_finite("sample time").into());
         }
-        check_finite(x, "sample state")?;
+        check_finite_slice(x, "sample state")?;
         if let (Some(&t0), Some(&j0)) = (self.t.last(), self.j.last()) {
             let ok = if j == j0 {
                 t >= t0
@@ -282,9 +272,7 @@ impl HybridArc {
     /// and as accurate as the recording density elsewhere.
     pub fn value_at(&self, t: f64, side: JumpSide) -> Result<Vec<f64>, SimError> {
         if self.is_empty() {
-            return Err(SimError::Empty {
-                what: "hybrid arc".into(),
-            });
+            return Err(InputError::empty("hybrid arc").into());
         }
         if !t.is_finite() || t < self.t[0] || t > self.t[self.len() - 1] {
             return Err(SimError::invalid(format!(
@@ -319,7 +307,7 @@ impl HybridArc {
         if let Some(n) = names
             && n.len() != self.dim
         {
-            return Err(SimError::mismatch("CSV column names", self.dim, n.len()));
+            return Err(InputError::mismatch("CSV column names", self.dim, n.len()).into());
         }
         let mut line = String::from("t,j");
         for k in 0..self.dim {

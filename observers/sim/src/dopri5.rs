@@ -23,8 +23,10 @@
 //! underflow: that error is reserved for steps the error control itself has shrunk to the rounding
 //! level of `t`.
 
-use crate::error::{SimError, check_finite};
+use crate::error::SimError;
 use crate::event::{Event, brent};
+use sporadic_linalg::InputError;
+use sporadic_linalg::input::check_finite_slice;
 
 // Butcher tableau of DOPRI5.
 const C2: f64 = 1.0 / 5.0;
@@ -323,14 +325,14 @@ impl Dopri5 {
         S: FnMut(&DenseStep<'_>),
     {
         if !(t0.is_finite() && t_end.is_finite()) {
-            return Err(SimError::non_finite("integration interval"));
+            return Err(InputError::non_finite("integration interval").into());
         }
         if t_end < t0 {
             return Err(SimError::invalid(format!(
                 "integration must go forward: t0 = {t0} > t_end = {t_end}"
             )));
         }
-        check_finite(x, "initial state of the integration")?;
+        check_finite_slice(x, "initial state of the integration")?;
         if t_end == t0 {
             return Ok((t0, Outcome::Reached));
         }
@@ -344,7 +346,7 @@ impl Dopri5 {
         let mut t = t0;
         f(t, x, &mut self.k[0]);
         self.stats.rhs_evals += 1;
-        check_finite(&self.k[0], "flow map at the initial state")?;
+        check_finite_slice(&self.k[0], "flow map at the initial state")?;
         // The first trial step is the remembered one, capped by h_max only: the end of the interval is
         // handled by the `last` logic below, so that a step shortened to fit a short interval (e.g. a
         // sliver of one rounding error before a sampling instant) does not overwrite the memory. A
@@ -401,9 +403,10 @@ impl Dopri5 {
             };
             if !err.is_finite() || !self.y1.iter().all(|v| v.is_finite()) {
                 if fixed.is_some() {
-                    return Err(SimError::non_finite(format!(
+                    return Err(InputError::non_finite(format!(
                         "state after the step from t = {t}"
-                    )));
+                    ))
+                    .into());
                 }
                 // Treat as a failed step: shrink strongly.
                 self.stats.rejected += 1;
@@ -459,7 +462,7 @@ impl Dopri5 {
                         &self.rc[4][..],
                     ];
                     dense_eval(&r, t, h, te, x);
-                    check_finite(x, "state at the event")?;
+                    check_finite_slice(x, "state at the event")?;
                     self.stats.events += 1;
                     self.last_h = Some(if fixed.is_some() {
                         h
@@ -810,7 +813,8 @@ mod tests {
         let blow = |_t: f64, x: &[f64], dx: &mut [f64]| dx[0] = x[0] * x[0];
         assert!(matches!(
             d.integrate(&blow, 0.0, &mut [1.0], 2.0, &[], |_| {}),
-            Err(SimError::StepSizeUnderflow { .. }) | Err(SimError::NonFinite { .. })
+            Err(SimError::StepSizeUnderflow { .. })
+                | Err(SimError::Input(InputError::NonFinite { .. }))
         ));
     }
 

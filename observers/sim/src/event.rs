@@ -4,6 +4,7 @@
 //! and converges superlinearly on smooth functions).
 
 use crate::error::SimError;
+use sporadic_linalg::InputError;
 
 /// Which zero crossings of an event function trigger the event.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -58,7 +59,7 @@ pub fn brent<F: FnMut(f64) -> f64>(
     xtol: f64,
 ) -> Result<f64, SimError> {
     if !(a.is_finite() && b.is_finite() && fa.is_finite() && fb.is_finite()) {
-        return Err(SimError::non_finite("root bracket"));
+        return Err(InputError::non_finite("root bracket").into());
     }
     if fa == 0.0 {
         return Ok(a);
@@ -136,7 +137,7 @@ pub fn brent<F: FnMut(f64) -> f64>(
         b += if d.abs() > tol { d } else { tol.copysign(m) };
         fb = f(b);
         if !fb.is_finite() {
-            return Err(SimError::non_finite(format!("event function at t = {b}")));
+            return Err(InputError::non_finite(format!("event function at t = {b}")).into());
         }
     }
     Err(SimError::invalid(

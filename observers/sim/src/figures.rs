@@ -6,6 +6,7 @@
 //! light vertical lines — the projection onto ordinary time used in the figures of Ferrante et al. (2016,
 //! Fig. 1) and in HyEQ's `plotHybrid`. Non-finite values are rejected.
 
+use sporadic_linalg::InputError;
 use std::ops::Range;
 use std::path::Path;
 
@@ -138,30 +139,20 @@ fn plot_err<E: std::fmt::Display>(e: E) -> SimError {
 
 fn check_series(what: &str, x: &[f64], y: &[f64]) -> Result<(), SimError> {
     if x.len() != y.len() {
-        return Err(SimError::mismatch(
-            format!("length of {what}"),
-            x.len(),
-            y.len(),
-        ));
+        return Err(InputError::mismatch(format!("length of {what}"), x.len(), y.len()).into());
     }
     if x.is_empty() {
-        return Err(SimError::Empty {
-            what: what.to_owned(),
-        });
+        return Err(InputError::empty(what).into());
     }
     if !x.iter().chain(y).all(|v| v.is_finite()) {
-        return Err(SimError::non_finite(what));
+        return Err(InputError::non_finite(what).into());
     }
     Ok(())
 }
 
 fn check_hybrid(t: &[f64], j: &[usize], what: &str, y: &[f64]) -> Result<(), SimError> {
     if j.len() != t.len() {
-        return Err(SimError::mismatch(
-            "length of the jump counters",
-            t.len(),
-            j.len(),
-        ));
+        return Err(InputError::mismatch("length of the jump counters", t.len(), j.len()).into());
     }
     check_series(what, t, y)
 }
@@ -405,9 +396,7 @@ pub fn plot_components(
     components: &[(&str, &[f64])],
 ) -> Result<(), SimError> {
     if components.is_empty() {
-        return Err(SimError::Empty {
-            what: "components to plot".into(),
-        });
+        return Err(InputError::empty("components to plot").into());
     }
     let mut layers = Vec::new();
     for (k, (label, y)) in components.iter().enumerate() {
@@ -466,9 +455,7 @@ pub fn plot_eigen_curves(
     curves: &[Series<'_>],
 ) -> Result<(), SimError> {
     if curves.is_empty() {
-        return Err(SimError::Empty {
-            what: "curves to plot".into(),
-        });
+        return Err(InputError::empty("curves to plot").into());
     }
     let mut layers = Vec::new();
     for (k, c) in curves.iter().enumerate() {
@@ -499,9 +486,7 @@ pub fn plot_hybrid_time(
     values: &[(&str, &[f64])],
 ) -> Result<(), SimError> {
     if values.is_empty() {
-        return Err(SimError::Empty {
-            what: "signals to plot".into(),
-        });
+        return Err(InputError::empty("signals to plot").into());
     }
     let jf: Vec<f64> = j.iter().map(|&v| v as f64).collect();
     let mut left = Vec::new();

@@ -4,8 +4,10 @@
 //! sinusoidal measurement noise `v(t_k) = 0.4 cos(2 t_k)` (Rabehi et al., §V), Gaussian output noise
 //! `N(0, 0.001²)` (Andrieu et al. 2014, §4), and the noise-free case.
 
-use crate::error::{SimError, check_finite};
+use crate::error::SimError;
 use crate::rng::SimRng;
+use sporadic_linalg::InputError;
+use sporadic_linalg::input::check_finite_slice;
 
 /// A vector-valued noise or disturbance generator, sampled at given times.
 pub trait NoiseSource {
@@ -49,14 +51,12 @@ impl BoundedUniform {
     /// Uniform noise in the box `[lower, upper]` (componentwise), seeded.
     pub fn new(lower: Vec<f64>, upper: Vec<f64>, seed: u64) -> Result<Self, SimError> {
         if lower.len() != upper.len() {
-            return Err(SimError::mismatch(
-                "upper noise bounds",
-                lower.len(),
-                upper.len(),
-            ));
+            return Err(
+                InputError::mismatch("upper noise bounds", lower.len(), upper.len()).into(),
+            );
         }
-        check_finite(&lower, "lower noise bounds")?;
-        check_finite(&upper, "upper noise bounds")?;
+        check_finite_slice(&lower, "lower noise bounds")?;
+        check_finite_slice(&upper, "upper noise bounds")?;
         if let Some(i) = (0..lower.len()).find(|&i| lower[i] > upper[i]) {
             return Err(SimError::invalid(format!(
                 "noise bounds of component {i}: lower {} > upper {}",
@@ -107,14 +107,14 @@ impl Sinusoidal {
     pub fn new(amplitude: Vec<f64>, omega: Vec<f64>, phase: Vec<f64>) -> Result<Self, SimError> {
         let n = amplitude.len();
         if omega.len() != n {
-            return Err(SimError::mismatch("sinusoid frequencies", n, omega.len()));
+            return Err(InputError::mismatch("sinusoid frequencies", n, omega.len()).into());
         }
         if phase.len() != n {
-            return Err(SimError::mismatch("sinusoid phases", n, phase.len()));
+            return Err(InputError::mismatch("sinusoid phases", n, phase.len()).into());
         }
-        check_finite(&amplitude, "sinusoid amplitudes")?;
-        check_finite(&omega, "sinusoid frequencies")?;
-        check_finite(&phase, "sinusoid phases")?;
+        check_finite_slice(&amplitude, "sinusoid amplitudes")?;
+        check_finite_slice(&omega, "sinusoid frequencies")?;
+        check_finite_slice(&phase, "sinusoid phases")?;
         Ok(Self {
             amplitude,
             omega,
@@ -157,7 +157,7 @@ pub struct Gaussian {
 impl Gaussian {
     /// Zero-mean Gaussian noise with per-component standard deviations, seeded.
     pub fn new(std_dev: Vec<f64>, seed: u64) -> Result<Self, SimError> {
-        check_finite(&std_dev, "noise standard deviations")?;
+        check_finite_slice(&std_dev, "noise standard deviations")?;
         if let Some(i) = std_dev.iter().position(|&s| s < 0.0) {
             return Err(SimError::invalid(format!(
                 "standard deviation {i} is negative: {}",

@@ -12,12 +12,15 @@
 //! All random rules are seeded ([`SimRng`]) and reproducible. The first sample is taken one interval after
 //! the start of the simulation (there is no measurement at `t_0`), unless a first interval is set.
 
+use sporadic_linalg::InputError;
+use sporadic_linalg::input::check_len;
+use sporadic_linalg::input::{LowerEnd, check_finite, check_finite_slice, check_window};
 use std::io::BufRead;
 
 use faer::{Mat, MatRef};
 use sporadic_linalg::expm_stepper;
 
-use crate::error::{SimError, check_finite, check_finite_mat, check_len};
+use crate::error::SimError;
 use crate::rng::SimRng;
 
 /// What the simulation knows when it asks for the next sample (at the previous sample, or at the start).
@@ -114,15 +117,8 @@ impl Window {
     }
 
     fn named(t1: f64, t2: f64, what: &str) -> Result<Self, SimError> {
-        if t1.is_finite() && t2.is_finite() && t1 > 0.0 && t1 <= t2 {
-            Ok(Self { t1, t2 })
-        } else {
-            Err(SimError::InvalidWindow {
-                what: what.to_owned(),
-                t1,
-                t2,
-            })
-        }
+        check_window(what, t1, t2, LowerEnd::Positive)?;
+        Ok(Self { t1, t2 })
     }
 
     /// Lower bound `T1`.
@@ -211,13 +207,7 @@ impl UniformRandom {
     pub fn with_first_window(mut self, lo: f64, hi: f64) -> Result<Self, SimError> {
         check_first(lo)?;
         check_first(hi)?;
-        if lo > hi {
-            return Err(SimError::InvalidWindow {
-                what: "first sampling interval".into(),
-                t1: lo,
-                t2: hi,
-            });
-        }
+        check_window("first sampling interval", lo, hi, LowerEnd::NonNegative)?;
         self.first = Some((lo, hi));
         Ok(self)
     }
@@ -254,9 +244,7 @@ impl RoundRobin {
     /// One window `(T_mσ, T_Mσ)` per sensor; the first sample comes from sensor 0.
     pub fn new(windows: &[(f64, f64)], seed: u64) -> Result<Self, SimError> {
         if windows.is_empty() {
-            return Err(SimError::Empty {
-                what: "round-robin windows".into(),
-            });
+            return Err(InputError::empty("round-robin windows").into());
         }
         let windows = windows
             .iter()
@@ -335,7 +323,7 @@ impl FromData {
 
     /// Sampling instants `t_1 < t_2 < …` (with `t_1 >= t0`), converted to intervals from `t0`.
     pub fn from_instants(t0: f64, instants: &[f64]) -> Result<Self, SimError> {
-        check_finite(instants, "sampling instants")?;
+        check_finite_slice(instants, "sampling instants")?;
         let mut prev = t0;
         let mut v = Vec::with_capacity(instants.len());
         for &t in instants {
@@ -447,23 +435,25 @@ impl Adversarial {
     ) -> Result<Self, SimError> {
         let window = Window::new(t1, t2)?;
         if a.nrows() != a.ncols() {
-            return Err(SimError::mismatch(
+            return Err(InputError::mismatch(
                 "columns of the error flow matrix",
                 a.nrows(),
                 a.ncols(),
-            ));
+            )
+            .into());
         }
-        check_finite_mat(a, "error flow matrix")?;
+        check_finite(a, "error flow matrix")?;
         let n = a.nrows();
         if let JumpMap::Matrix(j) = &jump {
             if j.nrows() != n || j.ncols() != n {
-                return Err(SimError::mismatch(
+                return Err(InputError::mismatch(
                     "size of the error jump matrix",
                     n,
                     j.nrows().max(j.ncols()),
-                ));
+                )
+                .into());
             }
-            check_finite_mat(j.as_ref(), "error jump matrix")?;
+            check_finite(j.as_ref(), "error jump matrix")?;
         }
         let steps = if window.t1 == window.t2 {
             0
@@ -549,10 +539,11 @@ impl Adversarial {
             let val = (self.v)(&jumped);
             if !val.is_finite() {
                 self.scratch = (flowed, jumped);
-                return Err(SimError::non_finite(format!(
+                return Err(InputError::non_finite(format!(
                     "V after the interval {}",
                     self.candidates[k]
-                )));
+                ))
+                .into());
             }
             if val > best.2 {
                 best = (k, self.candidates[k], val);
@@ -570,7 +561,7 @@ impl Adversarial {
         count: usize,
     ) -> Result<(Vec<f64>, Vec<Vec<f64>>), SimError> {
         check_len(e0, self.n, "initial error given to the adversary")?;
-        check_finite(e0, "initial error given to the adversary")?;
+        check_finite_slice(e0, "initial error given to the adversary")?;
         let mut e = e0.to_vec();
         let mut taus = Vec::with_capacity(count);
         let mut errs = Vec::with_capacity(count);
@@ -634,7 +625,7 @@ mod tests {
         assert!(UniformRandom::new(-1.0, 1.0, 0).is_err());
         assert!(matches!(
             RoundRobin::new(&[(0.02, 0.07), (0.09, 0.04)], 0),
-            Err(SimError::InvalidWindow { .. })
+            Err(SimError::Input(InputError::InvalidWindow { .. }))
         ));
         assert!(Periodic::new(0.0).is_err());
         assert!(Periodic::new(1.0).unwrap().with_first(-1.0).is_err());

@@ -4,9 +4,11 @@
 //! (`ẇ = S w`, `u = C w`, which covers constants, sinusoids and polynomials in `t`).
 
 use faer::{Mat, MatRef};
+use sporadic_linalg::InputError;
 use sporadic_linalg::expm_scaled;
+use sporadic_linalg::input::{check_finite, check_finite_slice};
 
-use crate::error::{SimError, check_finite, check_finite_mat};
+use crate::error::SimError;
 use crate::noise::NoiseSource;
 
 /// A piecewise-constant signal `u(t) = v_k` for `s_k <= t < s_{k+1}` (the last value is held forever and
@@ -22,18 +24,17 @@ impl PiecewiseConstant {
     /// Builds the signal from strictly increasing segment start times and one value vector per segment.
     pub fn new(starts: Vec<f64>, values: Vec<Vec<f64>>) -> Result<Self, SimError> {
         if starts.is_empty() {
-            return Err(SimError::Empty {
-                what: "piecewise-constant signal".into(),
-            });
+            return Err(InputError::empty("piecewise-constant signal").into());
         }
         if values.len() != starts.len() {
-            return Err(SimError::mismatch(
+            return Err(InputError::mismatch(
                 "piecewise-constant values",
                 starts.len(),
                 values.len(),
-            ));
+            )
+            .into());
         }
-        check_finite(&starts, "piecewise-constant start times")?;
+        check_finite_slice(&starts, "piecewise-constant start times")?;
         if starts.windows(2).any(|w| w[1] <= w[0]) {
             return Err(SimError::invalid(
                 "piecewise-constant start times must increase strictly",
@@ -43,13 +44,14 @@ impl PiecewiseConstant {
         let mut flat = Vec::with_capacity(dim * values.len());
         for (k, v) in values.iter().enumerate() {
             if v.len() != dim {
-                return Err(SimError::mismatch(
+                return Err(InputError::mismatch(
                     format!("value {k} of the piecewise-constant signal"),
                     dim,
                     v.len(),
-                ));
+                )
+                .into());
             }
-            check_finite(v, "piecewise-constant values")?;
+            check_finite_slice(v, "piecewise-constant values")?;
             flat.extend_from_slice(v);
         }
         Ok(Self {
@@ -144,36 +146,34 @@ impl Exosystem {
         t0: f64,
     ) -> Result<Self, SimError> {
         if s.nrows() != s.ncols() {
-            return Err(SimError::mismatch(
+            return Err(InputError::mismatch(
                 "columns of the exosystem matrix S",
                 s.nrows(),
                 s.ncols(),
-            ));
+            )
+            .into());
         }
         if s.nrows() == 0 {
-            return Err(SimError::Empty {
-                what: "exosystem".into(),
-            });
+            return Err(InputError::empty("exosystem").into());
         }
         if c.ncols() != s.nrows() {
-            return Err(SimError::mismatch(
+            return Err(InputError::mismatch(
                 "columns of the exosystem output C",
                 s.nrows(),
                 c.ncols(),
-            ));
+            )
+            .into());
         }
         if w0.len() != s.nrows() {
-            return Err(SimError::mismatch(
-                "exosystem initial state",
-                s.nrows(),
-                w0.len(),
-            ));
+            return Err(
+                InputError::mismatch("exosystem initial state", s.nrows(), w0.len()).into(),
+            );
         }
-        check_finite_mat(s, "exosystem matrix S")?;
-        check_finite_mat(c, "exosystem output C")?;
-        check_finite(&w0, "exosystem initial state")?;
+        check_finite(s, "exosystem matrix S")?;
+        check_finite(c, "exosystem output C")?;
+        check_finite_slice(&w0, "exosystem initial state")?;
         if !t0.is_finite() {
-            return Err(SimError::non_finite("exosystem initial time"));
+            return Err(InputError::non_finite("exosystem initial time").into());
         }
         Ok(Self {
             s: s.to_owned(),
@@ -187,9 +187,7 @@ impl Exosystem {
     /// `w_i = (sin(ω_i t + φ_i), cos(ω_i t + φ_i))`, `S_i = [[0, ω_i], [−ω_i, 0]]`, `C_i = [a_i, 0]`.
     pub fn sinusoid_sum(terms: &[(f64, f64, f64)]) -> Result<Self, SimError> {
         if terms.is_empty() {
-            return Err(SimError::Empty {
-                what: "sinusoid terms".into(),
-            });
+            return Err(InputError::empty("sinusoid terms").into());
         }
         let m = 2 * terms.len();
         let mut s = Mat::<f64>::zeros(m, m);

@@ -29,11 +29,14 @@
 
 use crate::arc::HybridArc;
 use crate::dopri5::{Dopri5, Dopri5Options, Dopri5Stats, Outcome};
-use crate::error::{SimError, check_finite, check_len};
+use crate::error::SimError;
 use crate::event::{Direction, Event};
 use crate::flow::{Flow, LtiPropagator, integrate_flow};
 use crate::sampling::{SampleContext, SamplingRule, Trigger};
 use crate::system::{HybridObserver, Jump, NoPlant, Observer, Plant, SampleEvent};
+use sporadic_linalg::InputError;
+use sporadic_linalg::input::check_finite_slice;
+use sporadic_linalg::input::check_len;
 
 /// Which samples of the arc are stored.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -92,7 +95,7 @@ impl SimOptions {
 
     fn validate(&self) -> Result<(), SimError> {
         if !self.t0.is_finite() {
-            return Err(SimError::non_finite("initial time"));
+            return Err(InputError::non_finite("initial time").into());
         }
         if self.horizon.is_nan() || self.horizon < self.t0 {
             return Err(SimError::invalid(format!(
@@ -216,11 +219,12 @@ impl Simulation {
     /// The estimation error `x − x̂` (plant and observer of equal dimension).
     pub fn error_arc(&self) -> Result<HybridArc, SimError> {
         if self.plant_dim != self.observer_dim {
-            return Err(SimError::mismatch(
+            return Err(InputError::mismatch(
                 "observer dimension for the error x − x̂",
                 self.plant_dim,
                 self.observer_dim,
-            ));
+            )
+            .into());
         }
         let n = self.plant_dim;
         let mut out = HybridArc::with_capacity(n, self.arc.len());
@@ -323,8 +327,8 @@ where
     let no = observer.flow().dim();
     check_len(x0, np, "initial plant state")?;
     check_len(xhat0, no, "initial observer state")?;
-    check_finite(x0, "initial plant state")?;
-    check_finite(xhat0, "initial observer state")?;
+    check_finite_slice(x0, "initial plant state")?;
+    check_finite_slice(xhat0, "initial observer state")?;
     let lti_ok = |f: &dyn Flow| f.dim() == 0 || f.as_lti().is_some();
     let exact_possible = !opts.force_integrator && lti_ok(plant.flow()) && lti_ok(observer.flow());
     let mut exact = if exact_possible {
@@ -490,7 +494,7 @@ impl<P: Plant + ?Sized, O: Observer + ?Sized> Driver<'_, P, O> {
                         self.arc.push_unchecked(g, self.j, &self.z);
                     }
                 }
-                check_finite(&self.z, "state after an exact flow")?;
+                check_finite_slice(&self.z, "state after an exact flow")?;
                 Ok(())
             }
             None => {
@@ -588,10 +592,10 @@ impl<P: Plant + ?Sized, O: Observer + ?Sized> Driver<'_, P, O> {
         self.y.clear();
         let (zp, zo) = self.z.split_at_mut(np);
         self.plant.measure(&ev, zp, &mut self.y)?;
-        check_finite(&self.y, "measurement")?;
+        check_finite_slice(&self.y, "measurement")?;
         self.plant.jump(&ev, zp)?;
         self.observer.jump(&ev, &self.y, zo)?;
-        check_finite(&self.z, "state after a jump")?;
+        check_finite_slice(&self.z, "state after a jump")?;
         self.log.push(&ev, &self.y);
         self.j += 1;
         self.t_last = self.t;

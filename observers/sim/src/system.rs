@@ -9,8 +9,10 @@
 //! Nonlinear and interval observers plug in through closures or their own trait implementations.
 
 use faer::{Mat, MatRef};
+use sporadic_linalg::InputError;
+use sporadic_linalg::input::check_finite;
 
-use crate::error::{SimError, check_finite_mat};
+use crate::error::SimError;
 use crate::flow::{EmptyFlow, Flow};
 use crate::noise::NoiseSource;
 
@@ -124,19 +126,15 @@ impl Plant for NoPlant {
 }
 
 fn check_output_matrices(c: &[Mat<f64>], what: &str) -> Result<usize, SimError> {
-    let first = c.first().ok_or_else(|| SimError::Empty {
-        what: what.to_owned(),
-    })?;
+    let first = c.first().ok_or_else(|| InputError::empty(what))?;
     let n = first.ncols();
     for (s, m) in c.iter().enumerate() {
         if m.ncols() != n {
-            return Err(SimError::mismatch(
-                format!("columns of {what} {s}"),
-                n,
-                m.ncols(),
-            ));
+            return Err(
+                InputError::mismatch(format!("columns of {what} {s}"), n, m.ncols()).into(),
+            );
         }
-        check_finite_mat(m.as_ref(), what)?;
+        check_finite(m.as_ref(), what)?;
     }
     Ok(n)
 }
@@ -175,11 +173,12 @@ impl LinearOutputs {
             SimError::invalid(format!("sensor {sensor} of {} sensors", self.c.len()))
         })?;
         if noise.dim() != c.nrows() {
-            return Err(SimError::mismatch(
+            return Err(InputError::mismatch(
                 format!("noise of sensor {sensor}"),
                 c.nrows(),
                 noise.dim(),
-            ));
+            )
+            .into());
         }
         self.noise[sensor] = Some(noise);
         Ok(self)
@@ -201,11 +200,12 @@ impl Output for LinearOutputs {
             ))
         })?;
         if x.len() != c.ncols() {
-            return Err(SimError::mismatch(
+            return Err(InputError::mismatch(
                 "plant state measured by the linear outputs",
                 c.ncols(),
                 x.len(),
-            ));
+            )
+            .into());
         }
         mat_vec_into(c.as_ref(), x, y);
         if let Some(noise) = self.noise[ev.sensor].as_mut() {
@@ -240,11 +240,9 @@ impl LinearCorrection {
     pub fn new(c: Vec<Mat<f64>>, gains: Vec<Gain>) -> Result<Self, SimError> {
         let n = check_output_matrices(&c, "observer output matrix")?;
         if gains.len() != c.len() {
-            return Err(SimError::mismatch(
-                "number of observer gains",
-                c.len(),
-                gains.len(),
-            ));
+            return Err(
+                InputError::mismatch("number of observer gains", c.len(), gains.len()).into(),
+            );
         }
         for (s, g) in gains.iter().enumerate() {
             if let Gain::Constant(l) = g {
@@ -257,7 +255,7 @@ impl LinearCorrection {
                         c[s].nrows()
                     )));
                 }
-                check_finite_mat(l.as_ref(), "observer gain")?;
+                check_finite(l.as_ref(), "observer gain")?;
             }
         }
         Ok(Self {
@@ -315,20 +313,21 @@ impl Jump for LinearCorrection {
             ))
         })?;
         if x.len() != c.ncols() {
-            return Err(SimError::mismatch("observer state", c.ncols(), x.len()));
+            return Err(InputError::mismatch("observer state", c.ncols(), x.len()).into());
         }
         if y.len() != c.nrows() {
-            return Err(SimError::mismatch(
+            return Err(InputError::mismatch(
                 format!("measurement of sensor {}", ev.sensor),
                 c.nrows(),
                 y.len(),
-            ));
+            )
+            .into());
         }
         match &self.gains[ev.sensor] {
             Gain::Constant(l) => correct(ev, c.as_ref(), l.as_ref(), y, x, &mut self.innovation),
             Gain::Scheduled(f) => {
                 let l = f(ev.elapsed)?;
-                check_finite_mat(l.as_ref(), "scheduled observer gain")?;
+                check_finite(l.as_ref(), "scheduled observer gain")?;
                 correct(ev, c.as_ref(), l.as_ref(), y, x, &mut self.innovation)
             }
         }
@@ -347,13 +346,11 @@ impl LinearJump {
     /// The reset with matrix `J` (square, finite).
     pub fn new(j: Mat<f64>) -> Result<Self, SimError> {
         if j.nrows() != j.ncols() {
-            return Err(SimError::mismatch(
-                "columns of the jump matrix",
-                j.nrows(),
-                j.ncols(),
-            ));
+            return Err(
+                InputError::mismatch("columns of the jump matrix", j.nrows(), j.ncols()).into(),
+            );
         }
-        check_finite_mat(j.as_ref(), "jump matrix")?;
+        check_finite(j.as_ref(), "jump matrix")?;
         let n = j.nrows();
         Ok(Self {
             j,
@@ -365,11 +362,12 @@ impl LinearJump {
 impl Jump for LinearJump {
     fn jump(&mut self, _ev: &SampleEvent, _y: &[f64], x: &mut [f64]) -> Result<(), SimError> {
         if x.len() != self.j.nrows() {
-            return Err(SimError::mismatch(
+            return Err(InputError::mismatch(
                 "state reset by the jump matrix",
                 self.j.nrows(),
                 x.len(),
-            ));
+            )
+            .into());
         }
         self.buf.clear();
         mat_vec_into(self.j.as_ref(), x, &mut self.buf);

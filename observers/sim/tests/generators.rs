@@ -1,6 +1,7 @@
 //! Sampling-sequence generators: windows respected, order preserved, reproducible, seed-dependent.
 
 use proptest::prelude::*;
+use sporadic_linalg::InputError;
 use sporadic_sim::{
     BoundedUniform, IntervalSequence, NoiseSource, RoundRobin, SampleInterval, UniformRandom,
 };
@@ -99,7 +100,7 @@ proptest! {
     fn invalid_windows_are_typed_errors(t1 in -2.0f64..2.0, t2 in -2.0f64..2.0) {
         let ok = t1 > 0.0 && t1 <= t2;
         prop_assert_eq!(UniformRandom::new(t1, t2, 0).is_ok(), ok);
-        let is_window_error = matches!(UniformRandom::new(t1, t2, 0), Err(sporadic_sim::SimError::InvalidWindow { .. }));
+        let is_window_error = matches!(UniformRandom::new(t1, t2, 0), Err(sporadic_sim::SimError::Input(InputError::InvalidWindow { .. })));
         prop_assert_eq!(is_window_error, !ok);
     }
 }

@@ -24,10 +24,13 @@
 //! Al-Mohy & Higham, "Computing the action of the matrix exponential", SISC 33(2), 2011).
 
 use faer::{Mat, MatRef};
+use sporadic_linalg::InputError;
+use sporadic_linalg::input::check_len;
+use sporadic_linalg::input::{check_finite, check_finite_slice};
 use sporadic_linalg::{expm_scaled, zoh};
 
 use super::Flow;
-use crate::error::{SimError, check_finite, check_finite_mat, check_len};
+use crate::error::SimError;
 use crate::signal::{Exosystem, PiecewiseConstant};
 
 /// A known input signal with an exact finite-dimensional realisation.
@@ -81,18 +84,14 @@ impl LtiFlow {
     /// The homogeneous flow `ẋ = A x` (`A` square, non-empty, finite).
     pub fn new(a: MatRef<'_, f64>) -> Result<Self, SimError> {
         if a.nrows() != a.ncols() {
-            return Err(SimError::mismatch(
-                "columns of the flow matrix A",
-                a.nrows(),
-                a.ncols(),
-            ));
+            return Err(
+                InputError::mismatch("columns of the flow matrix A", a.nrows(), a.ncols()).into(),
+            );
         }
         if a.nrows() == 0 {
-            return Err(SimError::Empty {
-                what: "flow matrix A".into(),
-            });
+            return Err(InputError::empty("flow matrix A").into());
         }
-        check_finite_mat(a, "flow matrix A")?;
+        check_finite(a, "flow matrix A")?;
         Ok(Self {
             a: a.to_owned(),
             channels: Vec::new(),
@@ -103,20 +102,19 @@ impl LtiFlow {
     /// Adds an input channel `B u(t)` (`B` is `n × dim(u)`).
     pub fn with_input(mut self, b: MatRef<'_, f64>, signal: InputSignal) -> Result<Self, SimError> {
         if b.nrows() != self.dim() {
-            return Err(SimError::mismatch(
-                "rows of the input matrix B",
-                self.dim(),
-                b.nrows(),
-            ));
+            return Err(
+                InputError::mismatch("rows of the input matrix B", self.dim(), b.nrows()).into(),
+            );
         }
         if b.ncols() != signal.dim() {
-            return Err(SimError::mismatch(
+            return Err(InputError::mismatch(
                 "columns of the input matrix B",
                 signal.dim(),
                 b.ncols(),
-            ));
+            )
+            .into());
         }
-        check_finite_mat(b, "input matrix B")?;
+        check_finite(b, "input matrix B")?;
         self.channels.push(Channel {
             b: b.to_owned(),
             signal,
@@ -127,7 +125,7 @@ impl LtiFlow {
     /// Adds a constant term `c` (e.g. the disturbance bounds `d̲`, `d̄` of an interval observer).
     pub fn with_affine(mut self, c: Vec<f64>) -> Result<Self, SimError> {
         check_len(&c, self.dim(), "affine term c")?;
-        check_finite(&c, "affine term c")?;
+        check_finite_slice(&c, "affine term c")?;
         self.affine = Some(c);
         Ok(self)
     }
@@ -399,18 +397,17 @@ impl TransitionTable {
     /// Prepares the table for `Ā` (square, non-empty, finite).
     pub fn new(a: MatRef<'_, f64>) -> Result<Self, SimError> {
         if a.nrows() != a.ncols() {
-            return Err(SimError::mismatch(
+            return Err(InputError::mismatch(
                 "columns of the transition generator",
                 a.nrows(),
                 a.ncols(),
-            ));
+            )
+            .into());
         }
         if a.nrows() == 0 {
-            return Err(SimError::Empty {
-                what: "transition generator".into(),
-            });
+            return Err(InputError::empty("transition generator").into());
         }
-        check_finite_mat(a, "transition generator")?;
+        check_finite(a, "transition generator")?;
         let n = a.nrows();
         let norm1 = (0..n)
             .map(|j| (0..n).map(|i| a[(i, j)].abs()).sum::<f64>())
@@ -445,7 +442,7 @@ impl TransitionTable {
         }
         if self.coarse[k].is_none() {
             let e = expm_scaled(self.a.as_ref(), k as f64 * self.h)?;
-            check_finite_mat(e.as_ref(), "tabulated transition matrix")?;
+            check_finite(e.as_ref(), "tabulated transition matrix")?;
             self.coarse[k] = Some(col_major(e.as_ref()));
         }
         Ok(self.coarse[k].as_deref().unwrap_or_default())

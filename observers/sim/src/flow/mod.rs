@@ -17,8 +17,9 @@ pub mod lti;
 pub use lti::{InputSignal, LtiFlow, LtiPropagator, TransitionTable};
 
 use crate::dopri5::{DenseStep, Dopri5, Outcome};
-use crate::error::{SimError, check_len};
+use crate::error::SimError;
 use crate::event::Event;
+use sporadic_linalg::input::check_len;
 
 /// The flow map of a hybrid system (or of one of its parts).
 pub trait Flow {
@@ -26,7 +27,7 @@ pub trait Flow {
     fn dim(&self) -> usize;
 
     /// Evaluates `dx = f(t, x)`. Both slices have length [`Flow::dim`]. A flow that cannot be evaluated
-    /// must write a non-finite value; the integrator then stops with [`crate::SimError::NonFinite`].
+    /// must write a non-finite value; the integrator then stops with [`crate::SimError::Input`] (`NonFinite`).
     fn rhs(&self, t: f64, x: &[f64], dx: &mut [f64]);
 
     /// The first time strictly after `t` at which `f` is discontinuous in `t` (e.g. the switching times of
