@@ -38,7 +38,8 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use common::{dual_ray_defect, eig_range, kkt, primal_ray_defect};
-use faer::{Mat, Side};
+use faer::Mat;
+use sporadic_linalg::is_positive_definite;
 use sporadic_sdp::{
     BlockKind, Problem, ProblemBuilder, Settings, Solution, Status, read_sdpa_file,
     sdpa_objectives, solve,
@@ -463,24 +464,13 @@ fn certify(problem: &Problem, y: &[f64]) -> Option<Certified> {
     let (mut min_eig, mut safety) = (f64::INFINITY, 0.0f64);
     for (k, bd) in problem.blocks.iter().enumerate() {
         let (f, s) = slack_block(problem, k, y);
-        let mut norm = 0.0;
-        for j in 0..f.ncols() {
-            for i in 0..f.nrows() {
-                norm += f[(i, j)] * f[(i, j)];
-            }
-        }
         let n = bd.block.size as f64;
-        let delta = 10.0 * (2.0 * u * s + gamma * gamma * s + (4.0 * n + 1.0) * u * norm.sqrt());
+        let delta = 10.0 * (2.0 * u * s + gamma * gamma * s + (4.0 * n + 1.0) * u * f.norm_l2());
         let lam = eig_range(bd.block.kind, &f).0;
+        // An LP block's smallest entry is `lam` itself, so `lam > 2δ` already decides it.
         let shifted_ok = match bd.block.kind {
-            BlockKind::Lp => (0..f.nrows()).all(|i| f[(i, 0)] - delta > 0.0),
-            BlockKind::Psd => {
-                let mut g = f.clone();
-                for i in 0..g.nrows() {
-                    g[(i, i)] -= delta;
-                }
-                g.llt(Side::Lower).is_ok()
-            }
+            BlockKind::Lp => true,
+            BlockKind::Psd => is_positive_definite(f.as_ref(), delta).unwrap_or(false),
         };
         if !(lam > 2.0 * delta && shifted_ok) {
             return None;
