@@ -9,9 +9,15 @@
 //! error of both libraries on Burkardt's test matrices against 60-digit references
 //! (mpmath 1.3 `expm`, dps = 60).
 //!
+//! Then an interleaved A/B table (also stderr): for every (‖A‖₁, n) of the criterion groups,
+//! batches of ours and of nalgebra alternate, and the median of the per-round time ratios is
+//! printed. Both sides see the same machine load in every round, so this ratio is steadier than
+//! the ratio of two criterion estimates taken seconds apart on a busy machine.
+//!
 //! Run: `cargo bench -p sporadic-benches --bench expm -- --warm-up-time 1 --measurement-time 3`
 
 use std::hint::black_box;
+use std::time::{Duration, Instant};
 
 use criterion::{BenchmarkId, Criterion, Throughput};
 use faer::linalg::matmul::matmul;
@@ -244,6 +250,83 @@ fn burkardt_cases() -> Vec<Case> {
     ]
 }
 
+/// Seconds per batch of the interleaved comparison.
+const AB_BATCH: Duration = Duration::from_millis(2);
+/// Rounds (ours batch + nalgebra batch) per configuration.
+const AB_ROUNDS: usize = 41;
+
+/// Iterations of `f` that take about [`AB_BATCH`].
+fn batch_len(f: &mut impl FnMut()) -> usize {
+    let mut k = 1usize;
+    loop {
+        let t = Instant::now();
+        for _ in 0..k {
+            f();
+        }
+        let dt = t.elapsed();
+        if dt >= AB_BATCH / 4 || k >= 1 << 24 {
+            let scale = AB_BATCH.as_secs_f64() / dt.as_secs_f64().max(1e-9);
+            return ((k as f64 * scale).ceil() as usize).max(1);
+        }
+        k *= 2;
+    }
+}
+
+/// Seconds per call of `f` over a batch of `k` calls.
+fn time_batch(f: &mut impl FnMut(), k: usize) -> f64 {
+    let t = Instant::now();
+    for _ in 0..k {
+        f();
+    }
+    t.elapsed().as_secs_f64() / k as f64
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+/// Interleaved A/B comparison (see the module docs): median over rounds of
+/// t_nalgebra / t_ours, with the median per-call times.
+fn interleaved_report() {
+    eprintln!("== interleaved A/B: median over {AB_ROUNDS} rounds of t_nalgebra / t_ours ==");
+    eprintln!(
+        "{:>6} {:>4} {:>12} {:>12} {:>7} {:>7} {:>7}",
+        "‖A‖₁", "n", "ours", "nalgebra", "ratio", "q25", "q75"
+    );
+    for &nrm in &NORMS {
+        for &n in &ORDERS {
+            let a = test_matrix(n, nrm);
+            let na = to_na(&a);
+            let mut ours = || {
+                black_box(expm(black_box(a.as_ref())).unwrap());
+            };
+            let mut theirs = || {
+                black_box(black_box(&na).exp());
+            };
+            let (ko, kt) = (batch_len(&mut ours), batch_len(&mut theirs));
+            let (mut to, mut tt, mut r) = (Vec::new(), Vec::new(), Vec::new());
+            for _ in 0..AB_ROUNDS {
+                let x = time_batch(&mut ours, ko);
+                let y = time_batch(&mut theirs, kt);
+                to.push(x);
+                tt.push(y);
+                r.push(y / x);
+            }
+            r.sort_by(f64::total_cmp);
+            let q = |f: f64| r[((r.len() - 1) as f64 * f).round() as usize];
+            eprintln!(
+                "{nrm:>6} {n:>4} {:>10.2}µs {:>10.2}µs {:>7.2} {:>7.2} {:>7.2}",
+                median(to) * 1e6,
+                median(tt) * 1e6,
+                q(0.5),
+                q(0.25),
+                q(0.75)
+            );
+        }
+    }
+}
+
 fn bench_expm(c: &mut Criterion) {
     for &nrm in &NORMS {
         let mut group = c.benchmark_group(format!("expm_norm{nrm}"));
@@ -299,6 +382,7 @@ fn bench_stepper(c: &mut Criterion) {
 
 fn main() {
     accuracy_report();
+    interleaved_report();
     let mut c = Criterion::default().configure_from_args();
     bench_expm(&mut c);
     bench_stepper(&mut c);

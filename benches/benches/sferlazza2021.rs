@@ -42,7 +42,7 @@ fn bench(c: &mut Criterion) {
     g.throughput(Throughput::Elements(POINTS as u64));
     for sigma in 0..2 {
         let fam = XiFamily::new(&plant, &p, sigma).expect("family");
-        let w = plant.sensor(sigma).window();
+        let w = plant.sensor(sigma).expect("sensor").window();
         let grid = UniformGrid::covering(w, w.width() / (POINTS - 1) as f64, 1e9).expect("grid");
         let seq = ValidationSettings {
             parallel: false,

@@ -6,16 +6,21 @@
 //! * Symmetric helpers: [`he`], [`sym_part`], [`min_eigenvalue`], [`max_eigenvalue`],
 //!   [`is_positive_definite`], [`svec`], [`smat`]; general ones: [`kron`], [`null_space`],
 //!   [`spectral_radius`], [`lyap_continuous`], [`lyap_discrete`].
+//! * [`pbh_detectability`]: the Popov–Belevitch–Hautus test of detectability of a discrete-time
+//!   pair `(Φ, C)`, e.g. a sampled plant `(e^{AT}, C)`.
+//! * [`golden_section`]: one-dimensional minimisation by golden-section search.
 //!
-//! Every fallible function returns [`LinalgError`]; bad input (wrong shape, empty, NaN/Inf)
-//! never panics.
+//! Every fallible function returns [`LinalgError`] ([`golden_section`]: the objective's own error
+//! type, which wraps [`InputError`]); bad input (wrong shape, empty, NaN/Inf) never panics.
 
 mod check;
+mod detectability;
 mod error;
 mod expm;
 pub mod input;
 mod kronecker;
 mod lyapunov;
+mod minimize;
 mod normest;
 mod schur;
 mod spectral;
@@ -24,11 +29,13 @@ mod subspace;
 pub mod symmetric;
 mod van_loan;
 
+pub use detectability::{PbhMode, PbhOptions, PbhTest, pbh_detectability};
 pub use error::LinalgError;
 pub use expm::{EXACT_NORM_MAX_ORDER, PadeParameters, expm, expm_parameters, expm_scaled};
 pub use input::InputError;
 pub use kronecker::kron;
 pub use lyapunov::{lyap_continuous, lyap_discrete};
+pub use minimize::{Minimum, golden_section};
 pub use spectral::spectral_radius;
 pub use stepper::{DEFAULT_REANCHOR, ExpmStepper, expm_stepper};
 pub use subspace::null_space;

@@ -12,14 +12,14 @@
 //! complex pair of the mass–spring system becomes a double real eigenvalue of `e^{Av}` and
 //! observability is lost) does not matter for detectability and is not flagged.
 //!
-//! The rank test is numerical: the two block rows are normalised (`(μI − e^{Av})/‖e^{Av}‖_F`,
-//! `M/‖M‖_F`) and the smallest singular value (the *PBH margin*) is compared with a tolerance.
+//! The rank test is [`sporadic_linalg::pbh_detectability`] (block-normalised PBH matrix, its smallest
+//! singular value is the *PBH margin*), with the eigenvalues of `e^{Av}` taken by spectral mapping
+//! `μ = e^{λv}` from those of `A`, exact also at the aliasing instants.
 
-use sporadic_linalg::InputError;
 use std::f64::consts::TAU;
 
-use faer::{Mat, c64};
-use sporadic_linalg::expm_scaled;
+use faer::c64;
+use sporadic_linalg::{InputError, LinalgError, PbhOptions, expm_scaled, pbh_detectability};
 
 use crate::error::Error;
 use crate::system::{Plant, Window};
@@ -29,19 +29,19 @@ use crate::system::{Plant, Window};
 pub struct DetectabilityOptions {
     /// Number of uniform grid points on `[T1, T2]` (the aliasing instants are added). Default 1001.
     pub grid_points: usize,
-    /// Smallest admissible PBH margin (see the module docs). Default `1e-8`.
-    pub tolerance: f64,
-    /// Eigenvalues of `e^{Av}` with `|μ| ≥ 1 − unit_circle_tolerance` are treated as non-decaying.
-    /// Default `1e-9`.
-    pub unit_circle_tolerance: f64,
+    /// Tolerances of the PBH test: smallest admissible margin `rank_tol` (default `1e-8`); eigenvalues
+    /// of `e^{Av}` with `|μ| ≥ 1 − unit_circle_tol` are treated as non-decaying (default `1e-9`).
+    pub pbh: PbhOptions,
 }
 
 impl Default for DetectabilityOptions {
     fn default() -> Self {
         Self {
             grid_points: 1001,
-            tolerance: 1e-8,
-            unit_circle_tolerance: 1e-9,
+            pbh: PbhOptions {
+                rank_tol: 1e-8,
+                unit_circle_tol: 1e-9,
+            },
         }
     }
 }
@@ -71,33 +71,17 @@ pub fn check_detectability(
     window: &Window,
     options: &DetectabilityOptions,
 ) -> Result<DetectabilityReport, Error> {
-    if !(options.tolerance.is_finite() && options.tolerance > 0.0) {
-        return Err(InputError::parameter(
-            "tolerance",
-            options.tolerance,
-            "must be a positive number",
-        )
-        .into());
-    }
-    if !(options.unit_circle_tolerance.is_finite()
-        && (0.0..1.0).contains(&options.unit_circle_tolerance))
-    {
-        return Err(Error::Input(InputError::InvalidParameter {
-            name: "unit_circle_tolerance".into(),
-            value: options.unit_circle_tolerance,
-            reason: "must lie in [0, 1)".into(),
-        }));
-    }
+    options.pbh.validate()?;
     let a = plant.a();
-    let n = plant.n();
-    let aliasing = aliasing_instants(plant, window, options.unit_circle_tolerance)?;
+    let lambdas = a.eigenvalues().map_err(|_| LinalgError::NoConvergence {
+        what: "eigenvalues of A".into(),
+    })?;
+    let aliasing = aliasing_instants(&lambdas, window, options.pbh.unit_circle_tol)?;
     let mut points = window.grid(options.grid_points.max(1));
     points.extend_from_slice(&aliasing);
     points.sort_by(f64::total_cmp);
     points.dedup();
 
-    let m = plant.m();
-    let m_norm = m.norm_l2();
     let mut report = DetectabilityReport {
         points_tested: points.len(),
         aliasing_instants: aliasing,
@@ -106,43 +90,24 @@ pub fn check_detectability(
     };
     for &v in &points {
         let e = expm_scaled(a, v)?;
-        let e_norm = e.norm_l2();
-        let mus = e
-            .eigenvalues()
-            .map_err(|_| sporadic_linalg::LinalgError::NoConvergence {
-                what: format!("eigenvalues of e^(Av) at v = {v}"),
-            })?;
-        for mu in mus {
-            if mu.norm() < 1.0 - options.unit_circle_tolerance {
-                continue;
-            }
-            let pbh = Mat::<c64>::from_fn(n + m.nrows(), n, |i, j| {
-                if i < n {
-                    let diag = if i == j { mu } else { c64::new(0.0, 0.0) };
-                    (diag - c64::new(e[(i, j)], 0.0)) / e_norm
-                } else {
-                    c64::new(m[(i - n, j)] / m_norm, 0.0)
-                }
+        let mus: Vec<c64> = lambdas
+            .iter()
+            .map(|l| (l * c64::new(v, 0.0)).exp())
+            .collect();
+        let test = pbh_detectability(e.as_ref(), plant.m(), &mus, &options.pbh)?;
+        let Some(worst) = test.worst else { continue };
+        if worst.margin < report.min_margin {
+            report.min_margin = worst.margin;
+            report.min_margin_at = v;
+        }
+        if !test.detectable {
+            return Err(Error::NotDetectable {
+                v,
+                mu_re: worst.eigenvalue.re,
+                mu_im: worst.eigenvalue.im,
+                modulus: worst.eigenvalue.norm(),
+                margin: worst.margin,
             });
-            let sv =
-                pbh.singular_values()
-                    .map_err(|_| sporadic_linalg::LinalgError::NoConvergence {
-                        what: format!("singular values of the PBH matrix at v = {v}"),
-                    })?;
-            let margin = sv.iter().copied().fold(f64::INFINITY, f64::min);
-            if margin < report.min_margin {
-                report.min_margin = margin;
-                report.min_margin_at = v;
-            }
-            if margin < options.tolerance {
-                return Err(Error::NotDetectable {
-                    v,
-                    mu_re: mu.re,
-                    mu_im: mu.im,
-                    modulus: mu.norm(),
-                    margin,
-                });
-            }
         }
     }
     Ok(report)
@@ -151,20 +116,17 @@ pub fn check_detectability(
 /// Instants `v ∈ [T1, T2]` at which two non-decaying eigenvalues of `A` with equal real parts alias,
 /// `v |Im λ − Im λ'| = 2πk`, `k ≥ 1`.
 fn aliasing_instants(
-    plant: &Plant,
+    lambdas: &[c64],
     window: &Window,
     unit_circle_tolerance: f64,
 ) -> Result<Vec<f64>, Error> {
-    let lambdas =
-        plant
-            .a()
-            .eigenvalues()
-            .map_err(|_| sporadic_linalg::LinalgError::NoConvergence {
-                what: "eigenvalues of A".into(),
-            })?;
     // |e^{λv}| ≥ 1 − tol for some v ≤ T2 ⇔ Re λ ≥ ln(1 − tol)/T1 at worst.
     let re_floor = (-unit_circle_tolerance).ln_1p() / window.t1();
-    let slow: Vec<c64> = lambdas.into_iter().filter(|l| l.re >= re_floor).collect();
+    let slow: Vec<c64> = lambdas
+        .iter()
+        .copied()
+        .filter(|l| l.re >= re_floor)
+        .collect();
     let mut out = Vec::new();
     for (i, li) in slow.iter().enumerate() {
         for lj in &slow[i + 1..] {

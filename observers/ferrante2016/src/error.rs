@@ -13,7 +13,7 @@ pub enum Error {
     /// The necessary condition of Remark 3 fails: the sampled pair `(e^{Av}, M)` is not detectable at
     /// the inter-sample time `v`, so no `(P, L)` can satisfy (12). The eigenvalue `μ` of `e^{Av}` with
     /// `|μ| ≥ 1` has an (almost) unobservable eigenvector: the smallest singular value of
-    /// `[μI − e^{Av}; M]` (relative to `‖e^{Av}‖ + ‖M‖`) is `margin`.
+    /// `[(μI − e^{Av})/‖e^{Av}‖_F; M/‖M‖_F]` is `margin` (see [`sporadic_linalg::pbh_detectability`]).
     #[error(
         "(e^(Av), M) is not detectable at v = {v}: eigenvalue {mu_re} + {mu_im}i (|mu| = {modulus}) \
          is unobservable (relative PBH margin {margin:e}); condition (12) cannot hold (Remark 3)"

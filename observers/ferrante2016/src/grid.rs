@@ -1,5 +1,6 @@
 //! Extrema over an interval of scalar functions of `e^{Av}`: a dense uniform grid (evaluated with
-//! `sporadic_linalg::expm_stepper`) followed by a golden-section refinement of the best grid cell.
+//! `sporadic_linalg::expm_stepper`) followed by a golden-section refinement of the best grid cell
+//! (`sporadic_linalg::golden_section`).
 //!
 //! Used for the analysis constants of §4 (`α1`, `α2`, `β`, `max ‖e^{Av}‖²`), for the a-posteriori
 //! verification of (12) and for the detectability precheck. These are *analysis* quantities: the grid
@@ -9,7 +10,7 @@
 use faer::{Mat, MatRef};
 use sporadic_embed::Interval;
 use sporadic_linalg::InputError;
-use sporadic_linalg::{expm_scaled, expm_stepper};
+use sporadic_linalg::{expm_scaled, expm_stepper, golden_section};
 
 use crate::error::Error;
 
@@ -31,7 +32,7 @@ pub(crate) struct Extremum {
     pub at: f64,
 }
 
-/// Number of golden-section steps of the refinement (shrinks a grid cell by `0.618^60 ≈ 3e-13`).
+/// Number of golden-section iterations of the refinement (shrinks a grid cell by `0.618^60 ≈ 3e-13`).
 const GOLDEN_STEPS: usize = 60;
 
 /// Extremum of `v ↦ f(v, e^{Av})` over `[lo, hi]` (`lo ≤ hi`) from `points` equally spaced samples and
@@ -87,61 +88,28 @@ where
     if grid.len() > 1 {
         let left = grid[best_k.saturating_sub(1)];
         let right = grid[(best_k + 1).min(grid.len() - 1)];
-        let refined = golden(a, left, right, sense, &mut f)?;
-        if better(refined.value, best.value) {
-            best = refined;
+        let sign = match sense {
+            Sense::Min => 1.0,
+            Sense::Max => -1.0,
+        };
+        let refined = golden_section(left, right, GOLDEN_STEPS, |v| {
+            let e = expm_scaled(a, v)?;
+            let value = f(v, e.as_ref())?;
+            if value.is_finite() {
+                Ok(sign * value)
+            } else {
+                Err(Error::from(InputError::non_finite(format!(
+                    "grid function at v = {v}"
+                ))))
+            }
+        })?;
+        let value = sign * refined.value;
+        if better(value, best.value) {
+            best = Extremum {
+                value,
+                at: refined.at,
+            };
         }
     }
     Ok(best)
-}
-
-/// Golden-section search for the extremum of `v ↦ f(v, e^{Av})` on `[lo, hi]`.
-fn golden<F>(
-    a: MatRef<'_, f64>,
-    mut lo: f64,
-    mut hi: f64,
-    sense: Sense,
-    f: &mut F,
-) -> Result<Extremum, Error>
-where
-    F: FnMut(f64, MatRef<'_, f64>) -> Result<f64, Error>,
-{
-    let sign = match sense {
-        Sense::Min => 1.0,
-        Sense::Max => -1.0,
-    };
-    let mut eval = |v: f64| -> Result<f64, Error> {
-        let e = expm_scaled(a, v)?;
-        let value = f(v, e.as_ref())?;
-        if value.is_finite() {
-            Ok(sign * value)
-        } else {
-            Err(InputError::non_finite(format!("grid function at v = {v}")).into())
-        }
-    };
-    let r = 0.5 * (5f64.sqrt() - 1.0);
-    let mut x1 = hi - r * (hi - lo);
-    let mut x2 = lo + r * (hi - lo);
-    let mut f1 = eval(x1)?;
-    let mut f2 = eval(x2)?;
-    for _ in 0..GOLDEN_STEPS {
-        if f1 <= f2 {
-            hi = x2;
-            x2 = x1;
-            f2 = f1;
-            x1 = hi - r * (hi - lo);
-            f1 = eval(x1)?;
-        } else {
-            lo = x1;
-            x1 = x2;
-            f1 = f2;
-            x2 = lo + r * (hi - lo);
-            f2 = eval(x2)?;
-        }
-    }
-    let (at, value) = if f1 <= f2 { (x1, f1) } else { (x2, f2) };
-    Ok(Extremum {
-        value: sign * value,
-        at,
-    })
 }

@@ -169,12 +169,10 @@ fn undetectable_pair_and_bad_options() {
         design(&ex.plant, &ex.window, &opts),
         Err(Error::Input(InputError::InvalidParameter { name, .. })) if name == "pieces"
     ));
-    let opts = DetectabilityOptions {
-        unit_circle_tolerance: 1.5,
-        ..Default::default()
-    };
+    let mut opts = DetectabilityOptions::default();
+    opts.pbh.unit_circle_tol = 1.5;
     assert!(matches!(
         check_detectability(&ex.plant, &ex.window, &opts),
-        Err(Error::Input(InputError::InvalidParameter { .. }))
+        Err(Error::Input(InputError::InvalidParameter { name, .. })) if name == "unit_circle_tol"
     ));
 }

@@ -1,6 +1,6 @@
 //! Remark 3 precheck: detectability (not observability) of (e^{Av}, M) on [T1, T2].
 
-use sporadic_linalg::InputError;
+use sporadic_linalg::{InputError, PbhOptions};
 use std::f64::consts::PI;
 
 use faer::mat;
@@ -105,11 +105,14 @@ fn pathological_sampling_of_an_oscillator_is_found_off_grid() {
 fn bad_options_are_typed_errors() {
     let ex = example2().unwrap();
     let opts = DetectabilityOptions {
-        tolerance: f64::NAN,
+        pbh: PbhOptions {
+            rank_tol: f64::NAN,
+            ..PbhOptions::default()
+        },
         ..Default::default()
     };
     assert!(matches!(
         check_detectability(&ex.plant, &ex.window, &opts),
-        Err(Error::Input(InputError::InvalidParameter { name, .. })) if name == "tolerance"
+        Err(Error::Input(InputError::InvalidParameter { name, .. })) if name == "rank_tol"
     ));
 }

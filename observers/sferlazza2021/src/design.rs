@@ -230,7 +230,7 @@ impl DesignLoop {
                 &self.bound.bound,
             )?;
             let grid = UniformGrid::covering(
-                self.plant.sensor(s).window(),
+                self.plant.sensor(s)?.window(),
                 spacing,
                 self.settings.validation.max_points,
             )

@@ -7,14 +7,16 @@
 //! `|z| ≥ 1`, that `[zI − e^{AT}; C]` has full column rank. The eigenvalues are `z = e^{λ_i(A) T}`
 //! (spectral mapping), which is exact also when distinct `λ_i` alias onto the same `z`.
 //!
+//! The rank test itself is [`sporadic_linalg::pbh_detectability`] (block-normalised PBH matrix; its
+//! smallest singular value is the *PBH margin*).
+//!
 //! * Jitter-free plants have one tuple: the test is exact, and by Proposition 4 it is equivalent to
 //!   feasibility of the design LMI (23).
 //! * Jitter-tolerant plants: the box of windows is screened on a uniform grid. This is a necessary
 //!   screen only, not a proof over the continuum (spec 001 §2).
 
 use faer::{Mat, c64};
-use sporadic_linalg::InputError;
-use sporadic_linalg::expm_scaled;
+use sporadic_linalg::{InputError, PbhOptions, PbhTest, expm_scaled, pbh_detectability};
 
 use crate::error::Error;
 use crate::plant::RoundRobinPlant;
@@ -24,12 +26,9 @@ use crate::plant::RoundRobinPlant;
 pub struct DetectabilitySettings {
     /// Grid points per window in the jitter-tolerant screen (a fixed window always uses 1 point).
     pub points_per_axis: usize,
-    /// Rank tolerance: `[zI − e^{AT}; C]` is rank deficient when its smallest singular value is at most
-    /// `rank_tol · max(1, ‖e^{AT}‖_F, ‖C‖_F)`.
-    pub rank_tol: f64,
-    /// Eigenvalues with `|z| ≥ 1 − unit_circle_tol` are tested (numerically marginal modes count as
-    /// not asymptotically stable).
-    pub unit_circle_tol: f64,
+    /// Tolerances of the PBH test (rank tolerance on the margin, and which eigenvalues of `e^{AT}`
+    /// count as not asymptotically stable).
+    pub pbh: PbhOptions,
     /// Cap on the number of tuples of the screen (`points_per_axis^N`).
     pub max_tuples: usize,
 }
@@ -38,24 +37,10 @@ impl Default for DetectabilitySettings {
     fn default() -> Self {
         Self {
             points_per_axis: 26,
-            rank_tol: 1e-8,
-            unit_circle_tol: 1e-10,
+            pbh: PbhOptions::default(),
             max_tuples: 1_000_000,
         }
     }
-}
-
-/// An eigenvalue of `e^{AT}` outside the open unit disc and its PBH margin.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PbhWitness {
-    /// Real part of `z`.
-    pub eig_re: f64,
-    /// Imaginary part of `z`.
-    pub eig_im: f64,
-    /// `|z|`.
-    pub modulus: f64,
-    /// Smallest singular value of `[zI − e^{AT}; C]` divided by the scale of the rank test.
-    pub sigma_min: f64,
 }
 
 /// Result of the PBH test for one tuple of intervals.
@@ -63,12 +48,9 @@ pub struct PbhWitness {
 pub struct PbhCheck {
     /// `(T_1, …, T_N)`.
     pub intervals: Vec<f64>,
-    /// Spectral radius of `e^{AT}`.
-    pub spectral_radius: f64,
-    /// The tested eigenvalue with the smallest margin (`None`: `e^{AT}` is Schur, nothing to test).
-    pub worst: Option<PbhWitness>,
-    /// Whether `(C, e^{AT})` is detectable.
-    pub detectable: bool,
+    /// The PBH test of `(e^{AT}, C)`: spectral radius of `e^{AT}`, the tested eigenvalue with the
+    /// smallest margin (`None`: `e^{AT}` is Schur), and whether `(C, e^{AT})` is detectable.
+    pub test: PbhTest,
 }
 
 /// Result of [`check_detectability`].
@@ -89,7 +71,8 @@ pub struct DetectabilityReport {
 /// PBH test of Proposition 1 for one tuple `intervals = (T_1, …, T_N)` (sensor order, 0-based).
 ///
 /// # Errors
-/// Wrong number of intervals, non-finite or negative intervals, failing eigen/SVD/expm kernels.
+/// Wrong number of intervals, non-finite or negative intervals, invalid tolerances, failing
+/// eigen/SVD/expm kernels.
 pub fn pbh(
     plant: &RoundRobinPlant,
     intervals: &[f64],
@@ -121,46 +104,16 @@ pub fn pbh(
     }
     let total = t_acc;
     let mono = expm_scaled(a, total)?;
-    let eigs = a
+    // Eigenvalues of e^{AT} by spectral mapping (exact also when distinct λ_i alias).
+    let eigs: Vec<c64> = a
         .eigenvalues()
-        .map_err(|_| Error::invalid("eigenvalues of A did not converge"))?;
-    let scale = 1.0f64.max(mono.norm_l2()).max(lifted.norm_l2());
-    let mut rho = 0.0f64;
-    let mut worst: Option<PbhWitness> = None;
-    for lam in eigs {
-        let z: c64 = (lam * c64::new(total, 0.0)).exp();
-        let modulus = z.norm();
-        rho = rho.max(modulus);
-        if modulus < 1.0 - settings.unit_circle_tol {
-            continue;
-        }
-        let h = Mat::<c64>::from_fn(n + m_tot, n, |i, j| {
-            if i < n {
-                let d = if i == j { z } else { c64::new(0.0, 0.0) };
-                d - c64::new(mono[(i, j)], 0.0)
-            } else {
-                c64::new(lifted[(i - n, j)], 0.0)
-            }
-        });
-        let sv = h
-            .singular_values()
-            .map_err(|_| Error::invalid("SVD of the PBH matrix did not converge"))?;
-        let smin = sv[n - 1] / scale;
-        if worst.is_none_or(|w| smin < w.sigma_min) {
-            worst = Some(PbhWitness {
-                eig_re: z.re,
-                eig_im: z.im,
-                modulus,
-                sigma_min: smin,
-            });
-        }
-    }
-    let detectable = worst.is_none_or(|w| w.sigma_min > settings.rank_tol);
+        .map_err(|_| Error::invalid("eigenvalues of A did not converge"))?
+        .into_iter()
+        .map(|lam| (lam * c64::new(total, 0.0)).exp())
+        .collect();
     Ok(PbhCheck {
         intervals: intervals.to_vec(),
-        spectral_radius: rho,
-        worst,
-        detectable,
+        test: pbh_detectability(mono.as_ref(), lifted.as_ref(), &eigs, &settings.pbh)?,
     })
 }
 
@@ -200,12 +153,12 @@ pub fn check_detectability(
     for _ in 0..tuples {
         let t: Vec<f64> = idx.iter().zip(&axes).map(|(&i, ax)| ax[i]).collect();
         let chk = pbh(plant, &t, settings)?;
-        max_rho = max_rho.max(chk.spectral_radius);
-        detectable &= chk.detectable;
-        let better = match (&worst, &chk.worst) {
+        max_rho = max_rho.max(chk.test.spectral_radius);
+        detectable &= chk.test.detectable;
+        let better = match (&worst, &chk.test.worst) {
             (_, None) => false,
             (None, Some(_)) => true,
-            (Some(w), Some(c)) => w.worst.is_none_or(|ww| c.sigma_min < ww.sigma_min),
+            (Some(w), Some(c)) => w.test.worst.is_none_or(|ww| c.margin < ww.margin),
         };
         if better {
             worst = Some(chk);
@@ -244,14 +197,15 @@ pub fn require_detectable(
         .worst
         .expect("an undetectable tuple always has a tested eigenvalue");
     let w = chk
+        .test
         .worst
         .expect("an undetectable tuple always has a tested eigenvalue");
     Err(Error::NotDetectable {
         intervals: chk.intervals,
-        eig_re: w.eig_re,
-        eig_im: w.eig_im,
-        modulus: w.modulus,
-        sigma_min: w.sigma_min,
+        eig_re: w.eigenvalue.re,
+        eig_im: w.eigenvalue.im,
+        modulus: w.eigenvalue.norm(),
+        sigma_min: w.margin,
     })
 }
 
@@ -336,6 +290,12 @@ mod tests {
         let s = DetectabilitySettings::default();
         assert!(pbh(&plant, &[0.1, 0.2], &s).is_err());
         assert!(pbh(&plant, &[f64::NAN], &s).is_err());
+        let mut bad_tol = s;
+        bad_tol.pbh.rank_tol = -1.0;
+        assert!(matches!(
+            pbh(&plant, &[0.1], &bad_tol),
+            Err(Error::Linalg(sporadic_linalg::LinalgError::Input(InputError::InvalidParameter { name, .. }))) if name == "rank_tol"
+        ));
         assert!(
             check_detectability(
                 &plant,

@@ -29,6 +29,14 @@ pub enum Error {
     /// dimensions, NaN/Inf, a parameter out of range, an invalid sampling window).
     #[error(transparent)]
     Input(#[from] InputError),
+    /// A sensor index (0-based, as in the Rust API) beyond the plant's `N` sensors.
+    #[error("no sensor with index {index} (0-based): the plant has {sensors} sensors")]
+    NoSuchSensor {
+        /// The index asked for (0-based).
+        index: usize,
+        /// The number of sensors `N`.
+        sensors: usize,
+    },
     /// Any other invalid argument.
     #[error("invalid argument: {0}")]
     InvalidArgument(String),
@@ -56,7 +64,7 @@ pub enum Error {
     #[error(
         "not detectable (Prop. 1): at intervals T = {intervals:?} the eigenvalue \
          {eig_re:+.6e}{eig_im:+.6e}i of e^(AT) (modulus {modulus:.6}) has PBH margin \
-         σ_min([λI − e^(AT); C]) = {sigma_min:.3e}"
+         {sigma_min:.3e} (σ_min of the block-normalised [λI − e^(AT); C])"
     )]
     NotDetectable {
         /// The inter-sample intervals `(T_1, …, T_N)` of the failing tuple.
@@ -67,7 +75,8 @@ pub enum Error {
         eig_im: f64,
         /// Its modulus (≥ 1 up to the tolerance).
         modulus: f64,
-        /// Smallest singular value of the PBH matrix (relative to the scale used by the test).
+        /// PBH margin: smallest singular value of `[(λI − e^{AT})/‖e^{AT}‖_F; C/‖C‖_F]`
+        /// ([`sporadic_linalg::pbh_detectability`]).
         sigma_min: f64,
     },
     /// An LMI problem has no (strictly) feasible point.

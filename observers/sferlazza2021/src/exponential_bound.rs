@@ -13,12 +13,13 @@
 //! ```
 //!
 //! gives the best γ(β) = √κ, and a 1-D search over β minimises `γ(β) e^{βT_M}`: a geometric grid of
-//! offsets `β − α`, refined by golden-section search on `ln γ(β) + βT_M` around the best grid point.
+//! offsets `β − α`, refined by golden-section search (`sporadic_linalg::golden_section`) on
+//! `ln γ(β) + βT_M` around the best grid point.
 //! The returned γ is recomputed from the eigenvalues of the returned Π, and the Lyapunov inequality is
 //! checked at that Π, so the bound is certified independently of the solver's accuracy.
 
 use faer::{Mat, Side};
-use sporadic_linalg::min_eigenvalue;
+use sporadic_linalg::{golden_section, min_eigenvalue};
 use sporadic_sdp::lmi::{Compiled, Model, Param, SolveOptions, Var};
 
 use crate::error::Error;
@@ -176,41 +177,22 @@ pub fn exponential_bound(
     let mut best: Option<Candidate> = None;
     for i in 0..k {
         let u = lo + (hi - lo) * i as f64 / (k - 1) as f64;
-        Candidate::keep_better(&mut best, evaluate(&mut prob, u)?.as_ref());
+        Candidate::keep_better(&mut best, evaluate(&mut prob, u)?);
     }
     let Some(u_best) = best.as_ref().map(|b| b.u) else {
         return Err(Error::Infeasible {
             what: "no β on the search grid admits the Lyapunov certificate of Step 1".into(),
         });
     };
-    // Golden-section refinement on the bracket of neighbouring grid points.
+    // Golden-section refinement on the bracket of neighbouring grid points; an infeasible β counts as
+    // +∞, and every evaluated candidate competes for the best.
     let step = (hi - lo) / (k - 1) as f64;
-    let (mut a_u, mut b_u) = (u_best - step, u_best + step);
-    let r = 0.5 * (5f64.sqrt() - 1.0);
-    let mut c_u = b_u - r * (b_u - a_u);
-    let mut d_u = a_u + r * (b_u - a_u);
-    let obj = |v: &Option<Candidate>| v.as_ref().map_or(f64::INFINITY, |x| x.objective);
-    let mut fc = evaluate(&mut prob, c_u)?;
-    let mut fd = evaluate(&mut prob, d_u)?;
-    for _ in 0..settings.refinements {
-        Candidate::keep_better(&mut best, fc.as_ref());
-        Candidate::keep_better(&mut best, fd.as_ref());
-        if obj(&fc) < obj(&fd) {
-            b_u = d_u;
-            d_u = c_u;
-            fd = fc;
-            c_u = b_u - r * (b_u - a_u);
-            fc = evaluate(&mut prob, c_u)?;
-        } else {
-            a_u = c_u;
-            c_u = d_u;
-            fc = fd;
-            d_u = a_u + r * (b_u - a_u);
-            fd = evaluate(&mut prob, d_u)?;
-        }
-    }
-    Candidate::keep_better(&mut best, fc.as_ref());
-    Candidate::keep_better(&mut best, fd.as_ref());
+    golden_section(u_best - step, u_best + step, settings.refinements, |u| {
+        let candidate = evaluate(&mut prob, u)?;
+        let objective = candidate.as_ref().map_or(f64::INFINITY, |c| c.objective);
+        Candidate::keep_better(&mut best, candidate);
+        Ok::<_, Error>(objective)
+    })?;
     let b = best.expect("checked above");
     Ok(CertifiedBound {
         bound: ExponentialBound {
@@ -235,14 +217,11 @@ struct Candidate {
 }
 
 impl Candidate {
-    fn keep_better(best: &mut Option<Candidate>, c: Option<&Candidate>) {
+    fn keep_better(best: &mut Option<Candidate>, c: Option<Candidate>) {
         if let Some(c) = c
             && best.as_ref().is_none_or(|b| c.objective < b.objective)
         {
-            *best = Some(Candidate {
-                pi: c.pi.clone(),
-                ..*c
-            });
+            *best = Some(c);
         }
     }
 }

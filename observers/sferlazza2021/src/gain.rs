@@ -274,7 +274,7 @@ mod tests {
             // C^⊥ → C^⊥ R with R well conditioned (identity plus a bounded perturbation).
             let r = n - m;
             let rm = Mat::from_fn(r, r, |i, j| if i == j { 3.0 } else { 0.0 } + rv[(i * r + j) % rv.len()]);
-            let cp2 = plant.sensor(0).c_perp() * &rm;
+            let cp2 = plant.sensor(0).unwrap().c_perp() * &rm;
             let plant2 = plant.clone().with_complement(0, cp2).unwrap();
             let k3 = gain(&plant2, 0, p.as_ref(), tau).unwrap();
             prop_assert!((&k - &k3).norm_max() <= 1e-9 * scale);

@@ -96,9 +96,8 @@ pub fn iss_constants(gains: &GainSchedule, settings: &IssSettings) -> Result<Iss
     let mut c2 = 0.0f64;
     // (τ, λ_m(Φ_σ(τ))) on the flow set, for c_1 once ρ is known.
     let mut lam_min: Vec<(f64, f64)> = Vec::new();
-    for s in 0..plant.num_sensors() {
-        let tm = plant.sensor(s).window().t_max;
-        let p = &gains.p()[s];
+    for (sensor, p) in plant.sensors().iter().zip(gains.p()) {
+        let tm = sensor.window().t_max;
         for (i, e) in expm_stepper(neg_a.as_ref(), 0.0, tm / (k - 1) as f64, k - 1)?.enumerate() {
             let phi = congruence(e.as_ref(), p.as_ref())?;
             c2 = c2.max(max_eigenvalue(phi.as_ref())?);
@@ -111,11 +110,11 @@ pub fn iss_constants(gains: &GainSchedule, settings: &IssSettings) -> Result<Iss
     let c_f = c2;
     let mut min_m = Vec::with_capacity(plant.num_sensors());
     let mut c_j = 0.0f64;
-    for s in 0..plant.num_sensors() {
-        let w = plant.sensor(s).window();
+    for (s, sensor) in plant.sensors().iter().enumerate() {
+        let w = sensor.window();
         let p = &gains.p()[s];
         let p_next = &gains.p()[plant.next(s)];
-        let c = plant.sensor(s).c();
+        let c = sensor.c();
         let mut worst = f64::INFINITY;
         for tau in w.grid(k)? {
             let kg = gain(plant, s, p.as_ref(), tau)?;

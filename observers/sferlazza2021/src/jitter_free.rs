@@ -50,8 +50,8 @@ pub fn monodromy(
         .into());
     }
     let mut j = Mat::<f64>::identity(n, n);
-    for (s, (k, &t)) in gains.iter().zip(intervals).enumerate() {
-        let c = plant.sensor(s).c();
+    for (s, ((k, &t), sensor)) in gains.iter().zip(intervals).zip(plant.sensors()).enumerate() {
+        let c = sensor.c();
         if k.nrows() != n || k.ncols() != c.nrows() {
             return Err(InputError::mismatch(
                 format!("shape of K̄_{}", s + 1),
@@ -175,8 +175,8 @@ pub fn analysis_feasibility(
     let p: Vec<Var> = (0..n_s)
         .map(|s| m.symmetric(&format!("P_{}", s + 1), n))
         .collect();
-    for s in 0..n_s {
-        let c = plant.sensor(s).c();
+    for (s, sensor) in plant.sensors().iter().enumerate() {
+        let c = sensor.c();
         if gains[s].nrows() != n || gains[s].ncols() != c.nrows() {
             return Err(InputError::mismatch(
                 format!("shape of K̄_{}", s + 1),

@@ -169,10 +169,7 @@ impl RoundRobinPlant {
     /// ([`Error::InvalidComplement`]).
     pub fn with_complement(mut self, sigma: usize, c_perp: Mat<f64>) -> Result<Self, Error> {
         let n = self.n();
-        let s = self
-            .sensors
-            .get(sigma)
-            .ok_or_else(|| Error::invalid(format!("sensor index {sigma} out of range")))?;
+        let s = self.sensor(sigma)?;
         let m = s.outputs();
         if c_perp.nrows() != n || c_perp.ncols() != n - m {
             return Err(Error::InvalidComplement {
@@ -229,8 +226,14 @@ impl RoundRobinPlant {
         self.a.as_ref()
     }
     /// Sensor `sigma` (0-based).
-    pub fn sensor(&self, sigma: usize) -> &Sensor {
-        &self.sensors[sigma]
+    ///
+    /// # Errors
+    /// [`Error::NoSuchSensor`] when `sigma ≥ N`.
+    pub fn sensor(&self, sigma: usize) -> Result<&Sensor, Error> {
+        self.sensors.get(sigma).ok_or(Error::NoSuchSensor {
+            index: sigma,
+            sensors: self.sensors.len(),
+        })
     }
     /// All sensors in round-robin order.
     pub fn sensors(&self) -> &[Sensor] {
@@ -297,6 +300,37 @@ mod tests {
         .unwrap()
     }
 
+    /// Sensors are looked up by 0-based index; an index past the last sensor is a typed error
+    /// naming the index and the number of sensors (it used to panic).
+    #[test]
+    fn sensor_lookup() {
+        let p = plant();
+        assert_eq!(p.sensor(1).unwrap().outputs(), 2);
+        assert_eq!(p.sensor(0).unwrap().window(), Window::new(0.1, 0.2));
+        let err = p.sensor(2).unwrap_err();
+        assert!(
+            matches!(
+                err,
+                Error::NoSuchSensor {
+                    index: 2,
+                    sensors: 2
+                }
+            ),
+            "{err:?}"
+        );
+        assert_eq!(
+            err.to_string(),
+            "no sensor with index 2 (0-based): the plant has 2 sensors"
+        );
+        assert!(matches!(
+            p.with_complement(5, Mat::zeros(3, 2)),
+            Err(Error::NoSuchSensor {
+                index: 5,
+                sensors: 2
+            })
+        ));
+    }
+
     #[test]
     fn complements_are_orthonormal_kernel_bases() {
         let p = plant();
@@ -357,6 +391,6 @@ mod tests {
         let e = p.clone().with_complement(0, mat![[1.0], [0.0]]);
         assert!(matches!(e, Err(Error::InvalidComplement { sigma: 1, .. })));
         let p2 = p.with_complement(0, mat![[0.0], [-2.0]]).unwrap();
-        assert_eq!(p2.sensor(0).c_perp()[(1, 0)], -2.0);
+        assert_eq!(p2.sensor(0).unwrap().c_perp()[(1, 0)], -2.0);
     }
 }

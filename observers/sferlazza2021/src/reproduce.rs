@@ -146,8 +146,8 @@ fn min_xi_on_grid(fam: &XiFamily, w: Window, points: usize) -> Result<(f64, f64)
 fn fig3(out_dir: &Path, d: &Design, points: usize) -> Result<Vec<PathBuf>, Error> {
     let plant = d.plant();
     let mut paths = Vec::new();
-    for s in 0..plant.num_sensors() {
-        let w = plant.sensor(s).window();
+    for (s, sensor) in plant.sensors().iter().enumerate() {
+        let w = sensor.window();
         let taus = w.grid(points)?;
         let mut curves: Vec<(String, Vec<f64>)> = Vec::new();
         for r in &d.log {
@@ -551,8 +551,8 @@ fn final_design_claims(
     rep: &mut Reproduction,
 ) -> Result<(), Error> {
     let mut dense = Synthesis::new(plant, rs.mu, &default_solve_options())?;
-    for s in 0..plant.num_sensors() {
-        let grid = plant.sensor(s).window().grid(101)?;
+    for (s, sensor) in plant.sensors().iter().enumerate() {
+        let grid = sensor.window().grid(101)?;
         for &tau in &grid[1..grid.len() - 1] {
             dense.add_point(plant, s, tau)?;
         }
@@ -607,7 +607,7 @@ fn final_design_claims(
                 s + 1
             ),
         ));
-        let w = plant.sensor(s).window();
+        let w = plant.sensor(s)?.window();
         let taus: Vec<f64> = (0..rs.random_samples)
             .map(|_| rng.uniform(w.t_min, w.t_max))
             .collect();
@@ -657,7 +657,7 @@ fn printed_solution_claims(
     let mut min_xi = [0.0; 2];
     for s in 0..2 {
         let fam = XiFamily::new(plant, &printed, s)?;
-        min_xi[s] = min_xi_on_grid(&fam, plant.sensor(s).window(), 2001)?.0;
+        min_xi[s] = min_xi_on_grid(&fam, plant.sensor(s)?.window(), 2001)?.0;
         rep.claims.push(Claim::compare(
             format!("eq52.min_lambda_xi_sigma{}", s + 1),
             spec::PRINTED_MIN_XI[s],
@@ -672,7 +672,7 @@ fn printed_solution_claims(
         for s in 0..2 {
             ok &= min_eigenvalue(p[s].as_ref())? > 0.0;
             let fam = XiFamily::new(plant, p, s)?;
-            ok &= min_xi_on_grid(&fam, plant.sensor(s).window(), 2001)?.0 > 0.0;
+            ok &= min_xi_on_grid(&fam, plant.sensor(s)?.window(), 2001)?.0 > 0.0;
         }
         Ok(ok)
     };
@@ -719,7 +719,7 @@ fn simulation_claims(
     let outside = tr0
         .jumps
         .iter()
-        .filter(|j| !plant.sensor(j.sensor).window().contains(j.tau))
+        .filter(|j| !plant.sensors()[j.sensor].window().contains(j.tau))
         .count();
     rep.claims.push(Claim::not_in_paper(
         "sim.noise_free.jumps",

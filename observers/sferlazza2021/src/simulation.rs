@@ -160,11 +160,11 @@ pub fn simulate_error(
                     InputError::mismatch("noise bound sets", plant.num_sensors(), b.len()).into(),
                 );
             }
-            for (s, bs) in b.iter().enumerate() {
-                if bs.len() != plant.sensor(s).outputs() {
+            for (s, (bs, sensor)) in b.iter().zip(plant.sensors()).enumerate() {
+                if bs.len() != sensor.outputs() {
                     return Err(InputError::mismatch(
                         format!("noise bounds of sensor {}", s + 1),
-                        plant.sensor(s).outputs(),
+                        sensor.outputs(),
                         bs.len(),
                     )
                     .into());
@@ -194,7 +194,7 @@ pub fn simulate_error(
                 return Err(SimError::InvalidArgument("gain K_σ(τ) failed".into()));
             }
         };
-        let c = plant.sensor(s).c();
+        let c = plant.sensors()[s].c();
         let m = c.nrows();
         let mut w = vec![0.0; m];
         if let Some(src) = noise[s].as_mut() {

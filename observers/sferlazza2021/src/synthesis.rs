@@ -47,16 +47,14 @@ pub fn default_solve_options() -> SolveOptions {
 /// # Errors
 /// A failing exponential or an index out of range.
 pub fn xi_expr(plant: &RoundRobinPlant, p: &[Var], sigma: usize, tau: f64) -> Result<Expr, Error> {
-    if sigma >= plant.num_sensors() || p.len() != plant.num_sensors() {
-        return Err(Error::invalid(format!(
-            "sensor index {sigma} or number of P_σ ({}) invalid",
-            p.len()
-        )));
+    let sensor = plant.sensor(sigma)?;
+    if p.len() != plant.num_sensors() {
+        return Err(InputError::mismatch("number of P_σ", plant.num_sensors(), p.len()).into());
     }
     if !tau.is_finite() {
         return Err(InputError::non_finite("τ").into());
     }
-    let cp = plant.sensor(sigma).c_perp();
+    let cp = sensor.c_perp();
     let g = expm_scaled(plant.a(), -tau)? * cp; // E(τ) C^⊥
     let nx = &p[plant.next(sigma)];
     let top = g.transpose() * &p[sigma] * &g;
@@ -182,7 +180,7 @@ impl Synthesis {
         sigma: usize,
         tau: f64,
     ) -> Result<(), Error> {
-        if sigma >= plant.num_sensors() || !plant.sensor(sigma).window().contains(tau) {
+        if !plant.sensor(sigma)?.window().contains(tau) {
             return Err(Error::invalid(format!(
                 "τ = {tau} is not in the window of sensor {}",
                 sigma + 1

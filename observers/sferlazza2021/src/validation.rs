@@ -110,14 +110,12 @@ pub fn grid_spacing(
             "grid spacing needs μ > 0 and p* > 0 (got μ = {mu}, p* = {p_norm})"
         )));
     }
-    if sigma >= plant.num_sensors() {
-        return Err(Error::invalid(format!("sensor index {sigma} out of range")));
-    }
+    let sensor = plant.sensor(sigma)?;
     let growth = bound.at(plant.t_max());
     let spacing = match policy {
         GridPolicy::Paper => 2.0 * mu / (p_norm * spectral_norm(plant.a())? * growth),
         GridPolicy::Rigorous => {
-            let cp = spectral_norm(plant.sensor(sigma).c_perp())?;
+            let cp = spectral_norm(sensor.c_perp())?;
             2.0 * mu / (2.0 * p_norm * spectral_norm(plant.a())? * growth * growth * cp * cp)
         }
         GridPolicy::Spacing(s) => s,
@@ -471,14 +469,11 @@ impl XiFamily {
         if p.len() != n_s {
             return Err(InputError::mismatch("number of P_σ", n_s, p.len()).into());
         }
-        if sigma >= n_s {
-            return Err(Error::invalid(format!("sensor index {sigma} out of range")));
-        }
+        let c_perp = plant.sensor(sigma)?.c_perp().to_owned();
         for (k, pk) in p.iter().enumerate() {
             check_sym(pk.as_ref(), plant.n(), &format!("P_{}", k + 1))?;
         }
         let nx = plant.next(sigma);
-        let c_perp = plant.sensor(sigma).c_perp().to_owned();
         let off = &p[nx] * &c_perp;
         let cols = |m: &Mat<f64>| {
             (0..m.ncols())
@@ -856,7 +851,8 @@ mod tests {
         let p = ps();
         for sigma in 0..2 {
             let fam = XiFamily::new(&plant, &p, sigma).unwrap();
-            let grid = UniformGrid::covering(plant.sensor(sigma).window(), 1e-3, 1e9).unwrap();
+            let grid =
+                UniformGrid::covering(plant.sensor(sigma).unwrap().window(), 1e-3, 1e9).unwrap();
             let (_, lmin, _) = validate_naive(&fam, grid, 0.0).unwrap();
             for &mu in &[lmin - 0.1, lmin + 1e-4, lmin + 0.05, lmin + 0.5, 10.0] {
                 let (nf, l, t) = validate_naive(&fam, grid, mu).unwrap();
@@ -896,7 +892,7 @@ mod tests {
     fn explicit_points_match_grid() {
         let plant = plant();
         let fam = XiFamily::new(&plant, &ps(), 0).unwrap();
-        let grid = UniformGrid::covering(plant.sensor(0).window(), 1e-2, 1e9).unwrap();
+        let grid = UniformGrid::covering(plant.sensor(0).unwrap().window(), 1e-2, 1e9).unwrap();
         let taus: Vec<f64> = (0..grid.points).map(|k| grid.tau(k)).collect();
         let (_, lmin, _) = validate_naive(&fam, grid, 0.0).unwrap();
         let s = ValidationSettings::default();
@@ -926,7 +922,7 @@ mod tests {
             let mut p = ps();
             p[1] = p_next;
             let fam = XiFamily::new(&plant, &p, 0).unwrap();
-            let grid = UniformGrid::covering(plant.sensor(0).window(), 2e-2, 1e9).unwrap();
+            let grid = UniformGrid::covering(plant.sensor(0).unwrap().window(), 2e-2, 1e9).unwrap();
             let (nf, l, t) = validate_naive(&fam, grid, 0.1).unwrap();
             let s = ValidationSettings {
                 chunk_points: 7,
@@ -1007,7 +1003,7 @@ mod tests {
             };
             let p = vec![spd(0)];
             let fam = XiFamily::new(&plant, &p, 0).unwrap();
-            let grid = UniformGrid::covering(plant.sensor(0).window(), width / 300.0, 1e9).unwrap();
+            let grid = UniformGrid::covering(plant.sensor(0).unwrap().window(), width / 300.0, 1e9).unwrap();
             let (_, lmin, _) = validate_naive(&fam, grid, 0.0).unwrap();
             // Levels from "every point fails" to "no point fails".
             let mu = lmin + level * (max_on_grid(&fam, grid) - lmin) * 1.2 - 1e-3;

@@ -46,7 +46,7 @@ fn loop_by_hand() {
             if let Some(t) = r.added[s] {
                 assert_eq!(t, v.argmin_tau);
                 assert!(v.min_is_exact && v.min_eigenvalue <= 0.01);
-                assert!(plant.sensor(s).window().contains(t));
+                assert!(plant.sensor(s).unwrap().window().contains(t));
             }
         }
         if passed {

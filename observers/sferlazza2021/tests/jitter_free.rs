@@ -82,11 +82,11 @@ proptest! {
     ) {
         let plant = random_plant(n, ns, &av, &cv, &qv, &t[..ns], hide);
         let chk = pbh(&plant, &t[..ns], &DetectabilitySettings::default()).unwrap();
-        let margin = chk.worst.map_or(f64::INFINITY, |w| w.sigma_min);
+        let margin = chk.test.worst.map_or(f64::INFINITY, |w| w.margin);
         // Skip numerically ambiguous instances (PBH margin in the grey zone).
         prop_assume!(!(1e-10..=1e-2).contains(&margin));
         let (sol, p) = design_feasibility(&plant, &options()).unwrap();
-        if chk.detectable {
+        if chk.test.detectable {
             prop_assert_eq!(sol.outcome, Outcome::Feasible, "{}", sol.reason);
             let tt = intervals(&plant).unwrap();
             let gains: Vec<Mat<f64>> = (0..ns)

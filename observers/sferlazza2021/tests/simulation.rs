@@ -56,7 +56,7 @@ fn noise_free_lyapunov_decrease_and_convergence() {
             jm.v_before,
             jm.v_after
         );
-        let w = plant.sensor(jm.sensor).window();
+        let w = plant.sensor(jm.sensor).unwrap().window();
         assert!(
             w.t_min - 1e-12 <= jm.tau && jm.tau <= w.t_max + 1e-12,
             "τ = {} outside {w:?}",

@@ -5,7 +5,7 @@ use std::fmt;
 use thiserror::Error;
 
 use crate::error::SdpError;
-use sporadic_linalg::LinalgError;
+use sporadic_linalg::{InputError, LinalgError};
 
 /// The shape `rows × cols` of a matrix expression.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -77,7 +77,11 @@ pub enum ModelError {
         /// Largest magnitude in that part (the asymmetry is judged relative to it).
         scale: f64,
     },
-    /// NaN or ±∞ in data (or produced by overflow while combining data).
+    /// Bad input data, checked by the workspace's shared validation (`sporadic_linalg::input`):
+    /// e.g. NaN or ±∞ in the value of a parameter.
+    #[error(transparent)]
+    Input(#[from] InputError),
+    /// NaN or ±∞ in an expression's data (or produced by overflow while combining data).
     #[error("non-finite value {value} in {what}")]
     NonFinite {
         /// Where the value was found.

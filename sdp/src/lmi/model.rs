@@ -9,6 +9,10 @@ use super::affine::{Affine, CONST};
 use super::error::{ModelError, Shape};
 use super::expr::{Expr, Kind, Node, Param, Var, VarKind};
 
+// Finiteness of parameter data: the workspace's shared check; its `InputError` converts into
+// `ModelError::Input`.
+pub(crate) use sporadic_linalg::input::check_finite;
+
 static NEXT_MODEL_ID: AtomicU64 = AtomicU64::new(1);
 
 /// Relative asymmetry tolerated in a matrix inequality: every part `F_k` of the expression
@@ -420,19 +424,4 @@ pub(crate) fn params_of(n: &Node) -> Vec<usize> {
     p.sort_unstable();
     p.dedup();
     p
-}
-
-pub(crate) fn check_finite(m: MatRef<'_, f64>, what: &str) -> Result<(), ModelError> {
-    for j in 0..m.ncols() {
-        for i in 0..m.nrows() {
-            let v = m[(i, j)];
-            if !v.is_finite() {
-                return Err(ModelError::NonFinite {
-                    what: format!("{what}, entry ({i},{j})"),
-                    value: v,
-                });
-            }
-        }
-    }
-    Ok(())
 }

@@ -15,6 +15,7 @@ use faer::linalg::matmul::triangular::{BlockStructure, matmul as tri_matmul};
 use faer::linalg::triangular_inverse::invert_lower_triangular;
 use faer::{Accum, Mat, Par};
 
+use super::small;
 use super::structure::{Analysis, Values};
 use crate::problem::{BlockKind, SparseSym};
 
@@ -213,10 +214,34 @@ pub(crate) fn apply_at(an: &Analysis, vals: &Values, y: &[f64], out: &mut [Mat<f
     });
 }
 
+/// Copies a square `Mat` into a column-major stack buffer (leading dimension `n`).
+fn load(m: &Mat<f64>) -> small::Buf {
+    let n = m.nrows();
+    let mut buf = [0.0; small::SMALL * small::SMALL];
+    for j in 0..n {
+        buf[j * n..(j + 1) * n].copy_from_slice(m.col_as_slice(j));
+    }
+    buf
+}
+
+/// A square `Mat` from a column-major buffer of order `n`.
+fn store(buf: &[f64], n: usize) -> Mat<f64> {
+    let mut m = Mat::zeros(n, n);
+    for j in 0..n {
+        m.col_as_slice_mut(j)
+            .copy_from_slice(&buf[j * n..(j + 1) * n]);
+    }
+    m
+}
+
 /// Lower Cholesky factor of a symmetric matrix (only its lower triangle is read), or `None` if
 /// the matrix is not numerically positive definite. The strict upper triangle of the result is 0.
 pub(crate) fn cholesky(a: &Mat<f64>) -> Option<Mat<f64>> {
     let n = a.nrows();
+    if n <= small::SMALL {
+        let mut buf = load(a);
+        return small::cholesky_in_place(&mut buf[..n * n], n).then(|| store(&buf, n));
+    }
     let mut l = a.clone();
     let mut mem = faer::dyn_stack::MemBuffer::new(
         faer::linalg::cholesky::llt::factor::cholesky_in_place_scratch::<f64>(
@@ -249,6 +274,11 @@ pub(crate) fn cholesky(a: &Mat<f64>) -> Option<Mat<f64>> {
 /// Inverse of a lower-triangular matrix (lower triangular, strict upper part 0).
 pub(crate) fn lower_inverse(l: &Mat<f64>) -> Mat<f64> {
     let n = l.nrows();
+    if n <= small::SMALL {
+        let mut out = [0.0; small::SMALL * small::SMALL];
+        small::lower_inverse(&load(l), n, &mut out);
+        return store(&out, n);
+    }
     let mut inv = Mat::zeros(n, n);
     invert_lower_triangular(inv.as_mut(), l.as_ref(), Par::Seq);
     for j in 1..n {
@@ -262,6 +292,11 @@ pub(crate) fn lower_inverse(l: &Mat<f64>) -> Mat<f64> {
 /// `Linvᵀ Linv`, the inverse of `L Lᵀ`, as a full symmetric matrix.
 pub(crate) fn inverse_from_linv(linv: &Mat<f64>) -> Mat<f64> {
     let n = linv.nrows();
+    if n <= small::SMALL {
+        let mut out = [0.0; small::SMALL * small::SMALL];
+        small::gram_of_lower(&load(linv), n, &mut out);
+        return store(&out, n);
+    }
     let mut out = Mat::zeros(n, n);
     tri_matmul(
         out.as_mut(),
@@ -284,6 +319,12 @@ pub(crate) fn inverse_from_linv(linv: &Mat<f64>) -> Mat<f64> {
 
 /// Dense `a·b` (sequential).
 pub(crate) fn mul(a: &Mat<f64>, b: &Mat<f64>) -> Mat<f64> {
+    let n = a.nrows();
+    if n <= small::SMALL_PRODUCT && a.ncols() == n && b.nrows() == n && b.ncols() == n {
+        let mut out = [0.0; small::SMALL * small::SMALL];
+        small::mul(&load(a), &load(b), n, &mut out);
+        return store(&out, n);
+    }
     let mut out = Mat::zeros(a.nrows(), b.ncols());
     matmul(
         out.as_mut(),
@@ -299,6 +340,14 @@ pub(crate) fn mul(a: &Mat<f64>, b: &Mat<f64>) -> Mat<f64> {
 /// `linv · d · linvᵀ` for lower-triangular `linv` (the congruence used for step lengths).
 pub(crate) fn congruence(linv: &Mat<f64>, d: &Mat<f64>) -> Mat<f64> {
     let n = d.nrows();
+    if n <= small::SMALL_PRODUCT {
+        let (mut tmp, mut out) = (
+            [0.0; small::SMALL * small::SMALL],
+            [0.0; small::SMALL * small::SMALL],
+        );
+        small::congruence(&load(linv), &load(d), n, &mut tmp, &mut out);
+        return store(&out, n);
+    }
     let mut t = Mat::zeros(n, n);
     tri_matmul(
         t.as_mut(),
@@ -349,6 +398,7 @@ pub(crate) fn min_eig(kind: BlockKind, a: &Mat<f64>) -> f64 {
         BlockKind::Psd => match a.nrows() {
             0 => f64::INFINITY,
             1 => a[(0, 0)],
+            n if n <= small::JACOBI_MAX => small::min_eig(&load(a), n),
             _ => a
                 .self_adjoint_eigenvalues(faer::Side::Lower)
                 .ok()

@@ -62,6 +62,11 @@ const NO_PROGRESS_ITERATIONS_NEAR: usize = 5;
 /// Merit below which the iterates are close enough to the optimum that a plateau means the
 /// attainable accuracy has been reached.
 const NEAR_OPTIMAL_MERIT: f64 = 1e-3;
+/// Stop once `μ` has risen in this many consecutive iterations while the best merit is below
+/// [`NEAR_OPTIMAL_MERIT`]: a path-following method decreases `μ`, so a sustained rise means the
+/// rounding in the directions has taken over and the iterates are leaving the central path
+/// (hinf6: `μ` rises from 5.7e-6 to 1.4e-4 over five iterations after its best point).
+const MU_RISES_NEAR: usize = 3;
 /// An infeasibility that grows beyond this multiple of its smallest value (and above 10× the
 /// tolerance) has deteriorated (SDPT3 `sqlpcheckconvg.m`, `dual_infeas_bad`).
 const DETERIORATION: f64 = 1e3;
@@ -204,6 +209,8 @@ pub(crate) fn run(
     let mut best: Option<Best> = None;
     let mut progress = Progress::new();
     let mut tiny_steps = 0usize;
+    let mut mu_prev = f64::INFINITY;
+    let mut mu_rises = 0usize;
     let mut iteration = 0usize;
     let mut certificate = None;
     let mut gram = None;
@@ -226,6 +233,12 @@ pub(crate) fn run(
                 dual_step: steps.1,
             });
         }
+        if mu > mu_prev {
+            mu_rises += 1;
+        } else {
+            mu_rises = 0;
+        }
+        mu_prev = mu;
         let merit = res.merit();
         if !merit.is_finite() {
             break Status::NumericalTrouble;
@@ -258,7 +271,8 @@ pub(crate) fn run(
         let best_merit = best.as_ref().map_or(f64::INFINITY, |b| b.merit);
         if tiny_steps >= 2
             || progress.since >= NO_PROGRESS_ITERATIONS
-            || (progress.since >= NO_PROGRESS_ITERATIONS_NEAR && best_merit <= NEAR_OPTIMAL_MERIT)
+            || (best_merit <= NEAR_OPTIMAL_MERIT
+                && (progress.since >= NO_PROGRESS_ITERATIONS_NEAR || mu_rises >= MU_RISES_NEAR))
         {
             break Status::NumericalTrouble;
         }

@@ -39,7 +39,7 @@
 //!
 //! HKM needs only `X` and `S⁻¹` per block — no Nesterov–Todd scaling point (a Cholesky and an
 //! SVD/eigendecomposition per block per iteration) — and its Schur matrix can exploit the
-//! sparsity of each `A_i` through SDPA's F1/F3 formulas, since `X` and `S⁻¹` enter separately.
+//! sparsity of each `A_i` through SDPA's F1/F2/F3 formulas, since `X` and `S⁻¹` enter separately.
 //! A homogeneous self-dual embedding (SeDuMi, MOSEK, Clarabel) yields infeasibility
 //! certificates by construction but adds a dense rank-one column to every Schur solve and
 //! changes the scaling of every iterate. SDPT3 and CSDP show that on the target problems
@@ -78,6 +78,7 @@ mod lsq;
 mod residuals;
 mod schur;
 mod settings;
+mod small;
 mod solution;
 mod start;
 mod step;

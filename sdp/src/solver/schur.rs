@@ -6,7 +6,7 @@
 //! ```
 //!
 //! block by block with the formula chosen in [`super::structure`] (Helmberg–Rendl–Vanderbei–
-//! Wolkowicz 1996, eq. for `O`; Fujisawa–Kojima–Nakata 1997 for the F1/F3 choice). Only pairs of
+//! Wolkowicz 1996, eq. for `O`; Fujisawa–Kojima–Nakata 1997 for the F1/F2/F3 choice). Only pairs of
 //! constraints sharing a block cost anything.
 //!
 //! Parallelism and determinism: blocks are processed in batches whose local buffers fit a memory
@@ -122,32 +122,31 @@ fn local_share(
         } => {
             let nc = plan.cons.len();
             let mut buf = vec![0.0; nc * nc];
-            let zinv = &f.zinv[k];
             let n = plan.n;
-            let fill_row =
-                |ws: &mut Option<F1Scratch>, (t, row): (usize, &mut [f64])| match formula[t] {
+            let d = RowData {
+                order,
+                cons: &plan.cons,
+                vals,
+                x,
+                zinv: &f.zinv[k],
+            };
+            let fill_row = |ws: &mut RowScratch, (t, row): (usize, &mut [f64])| {
+                let support = &support[order[t]];
+                match formula[t] {
                     Formula::F1 => {
-                        let ws = ws.get_or_insert_with(|| F1Scratch::new(n));
-                        f1_row(
-                            t,
-                            order,
-                            &support[order[t]],
-                            &plan.cons,
-                            vals,
-                            x,
-                            zinv,
-                            row,
-                            ws,
-                        )
+                        let f1 = ws.f1.get_or_insert_with(|| F1Scratch::new(n));
+                        f1_row(d, t, support, row, f1)
                     }
-                    Formula::F3 => f3_row(t, order, &plan.cons, vals, x, zinv, row),
-                };
+                    Formula::F2 => f2_row(d, t, support, row, &mut ws.f2),
+                    Formula::F3 => f3_row(d, t, row),
+                }
+            };
             if par_rows {
                 buf.par_chunks_mut(nc)
                     .enumerate()
-                    .for_each_init(|| None, fill_row);
+                    .for_each_init(RowScratch::default, fill_row);
             } else {
-                let mut ws = None;
+                let mut ws = RowScratch::default();
                 for item in buf.chunks_mut(nc).enumerate() {
                     fill_row(&mut ws, item);
                 }
@@ -227,6 +226,95 @@ fn syrk_share(
     local
 }
 
+/// What every row formula of a [`SchurPlan::Mixed`] block reads: the sorted constraint order,
+/// the block's constraint patterns and values, `X` and `S⁻¹`.
+#[derive(Clone, Copy)]
+struct RowData<'a> {
+    order: &'a [usize],
+    cons: &'a [ConPattern],
+    vals: &'a [Vec<f64>],
+    x: &'a Mat<f64>,
+    zinv: &'a Mat<f64>,
+}
+
+/// Per-task buffers of the row formulas (allocated on first use, then reused for every row).
+#[derive(Default)]
+struct RowScratch {
+    f1: Option<F1Scratch>,
+    f2: F2Scratch,
+}
+
+/// Reusable buffers of [`f2_row`]: `U = X[:,J] A_p[J,J]` and `V = S⁻¹[:,J]`, both `n×|J|`
+/// row-major so that every entry of `U V_·ᵀ` is a contiguous inner product.
+#[derive(Default)]
+struct F2Scratch {
+    u: Vec<f64>,
+    v: Vec<f64>,
+}
+
+/// Row `t` (sorted order) with formula F2: `U = X A_p` on the support `J` of `A_p`, then every
+/// entry of `G = X A_p S⁻¹ = U S⁻¹[J,:]` that the pattern of a later `A_q` needs as an inner
+/// product of length `|J|`, and `row[t'] = ⟨A_q, G⟩`. It costs `|J|` (not the `nnz(A_p)` of F3)
+/// per entry of `A_q`, with contiguous reads.
+fn f2_row(d: RowData<'_>, t: usize, support: &[usize], row: &mut [f64], ws: &mut F2Scratch) {
+    let RowData {
+        order,
+        cons,
+        vals,
+        x,
+        zinv,
+    } = d;
+    let p = order[t];
+    let (pat, v) = (&cons[p], &vals[p]);
+    let n = x.nrows();
+    let j = support.len();
+    let pos = |i: usize| support.binary_search(&i).unwrap_or(0);
+    ws.u.clear();
+    ws.u.resize(n * j, 0.0);
+    ws.v.clear();
+    ws.v.resize(n * j, 0.0);
+    let (u, sv) = (&mut ws.u, &mut ws.v);
+    // U[γ, c] += a X[γ, r] and, off the diagonal, U[γ, r] += a X[γ, c] for A_p's entry (r, c, a).
+    for e in 0..v.len() {
+        let (r, c, a) = (pat.rows[e], pat.cols[e], v[e]);
+        let (xr, pc) = (x.col_as_slice(r), pos(c));
+        for g in 0..n {
+            u[g * j + pc] += a * xr[g];
+        }
+        if r != c {
+            let (xc, pr) = (x.col_as_slice(c), pos(r));
+            for g in 0..n {
+                u[g * j + pr] += a * xc[g];
+            }
+        }
+    }
+    for (tt, &col) in support.iter().enumerate() {
+        let zc = zinv.col_as_slice(col);
+        for d in 0..n {
+            sv[d * j + tt] = zc[d];
+        }
+    }
+    let entry = |g: usize, d: usize| -> f64 {
+        let (ug, vd) = (&u[g * j..(g + 1) * j], &sv[d * j..(d + 1) * j]);
+        ug.iter().zip(vd).map(|(a, b)| a * b).sum()
+    };
+    for t2 in t..order.len() {
+        let q = order[t2];
+        let (pq, vq) = (&cons[q], &vals[q]);
+        let mut s = 0.0;
+        for e in 0..vq.len() {
+            let (g, d) = (pq.rows[e], pq.cols[e]);
+            s += vq[e]
+                * if g == d {
+                    entry(g, g)
+                } else {
+                    entry(g, d) + entry(d, g)
+                };
+        }
+        row[t2] = s;
+    }
+}
+
 /// Reusable `n×n` buffers of [`f1_row`] (one set per block or per task, so the rows of a block
 /// allocate nothing).
 struct F1Scratch {
@@ -251,18 +339,14 @@ impl F1Scratch {
 
 /// Row `t` (sorted order) with formula F1: `G = X A_p S⁻¹` on the support of `A_p`, then
 /// `row[t'] = ⟨A_q, G⟩` for `t' ≥ t`.
-#[allow(clippy::too_many_arguments)]
-fn f1_row(
-    t: usize,
-    order: &[usize],
-    support: &[usize],
-    cons: &[ConPattern],
-    vals: &[Vec<f64>],
-    x: &Mat<f64>,
-    zinv: &Mat<f64>,
-    row: &mut [f64],
-    ws: &mut F1Scratch,
-) {
+fn f1_row(d: RowData<'_>, t: usize, support: &[usize], row: &mut [f64], ws: &mut F1Scratch) {
+    let RowData {
+        order,
+        cons,
+        vals,
+        x,
+        zinv,
+    } = d;
     let p = order[t];
     let pat = &cons[p];
     let v = &vals[p];
@@ -360,15 +444,14 @@ fn f3_inner(xb: &[f64], za: &[f64], pq: &ConPattern, vq: &[f64]) -> f64 {
 
 /// Row `t` (sorted order) with formula F3: the sparse double sum
 /// `M_pq = Σ_{(α,β)∈A_p} Σ_{(γ,δ)∈A_q} a_αβ a_γδ X_βγ S⁻¹_δα`.
-fn f3_row(
-    t: usize,
-    order: &[usize],
-    cons: &[ConPattern],
-    vals: &[Vec<f64>],
-    x: &Mat<f64>,
-    zinv: &Mat<f64>,
-    row: &mut [f64],
-) {
+fn f3_row(d: RowData<'_>, t: usize, row: &mut [f64]) {
+    let RowData {
+        order,
+        cons,
+        vals,
+        x,
+        zinv,
+    } = d;
     let p = order[t];
     let (pp, vp) = (&cons[p], &vals[p]);
     for t2 in t..order.len() {

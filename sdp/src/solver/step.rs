@@ -15,6 +15,7 @@ use faer::Mat;
 use rayon::prelude::*;
 
 use super::blockops::{cholesky, congruence, min_eig};
+use super::small;
 use super::structure::Analysis;
 use crate::problem::BlockKind;
 
@@ -22,18 +23,27 @@ use crate::problem::BlockKind;
 enum Bound {
     /// Known `α_max` (LP ratio test, eigenvalue, or `∞` for a block that cannot bind).
     Known(f64),
-    /// PSD block that may bind: `W = L⁻¹ ΔV L⁻ᵀ` and its smallest diagonal entry (an upper
-    /// bound on `λ_min(W)`).
-    Pending(Mat<f64>, f64),
+    /// PSD block `k` that may bind: `W = L⁻¹ ΔV L⁻ᵀ` and its smallest diagonal entry (an
+    /// upper bound on `λ_min(W)`).
+    Pending(usize, Mat<f64>, f64),
 }
 
-/// Whether `W + shift·I` has a Cholesky factorisation, i.e. `λ_min(W) > −shift` (up to
-/// rounding): then the block allows every step up to `1/shift`.
-fn allows(w: &Mat<f64>, shift: f64) -> bool {
-    let mut t = w.clone();
-    for i in 0..t.nrows() {
-        t[(i, i)] += shift;
+/// Whether `shift·V + ΔV` has a Cholesky factorisation. For `V = L Lᵀ` this is congruent to
+/// `shift·I + W` with `W = L⁻¹ ΔV L⁻ᵀ`, so it holds iff `λ_min(W) > −shift` (up to rounding):
+/// then the block allows every step up to `1/shift`, decided without forming `W`.
+fn allows(v: &Mat<f64>, dv: &Mat<f64>, shift: f64) -> bool {
+    let n = v.nrows();
+    if n <= small::SMALL {
+        let mut buf = [0.0; small::SMALL * small::SMALL];
+        for j in 0..n {
+            let (vj, dj) = (v.col_as_slice(j), dv.col_as_slice(j));
+            for i in j..n {
+                buf[i + j * n] = shift * vj[i] + dj[i];
+            }
+        }
+        return small::cholesky_in_place(&mut buf[..n * n], n);
     }
+    let t = Mat::from_fn(n, n, |i, j| shift * v[(i, j)] + dv[(i, j)]);
     cholesky(&t).is_some()
 }
 
@@ -90,12 +100,12 @@ pub(crate) fn step_length(
                 Bound::Known(a)
             }
             BlockKind::Psd => {
-                let w = congruence(&linv[k], &d[k]);
-                if allows(&w, gamma) {
+                if allows(&cur[k], &d[k], gamma) {
                     Bound::Known(f64::INFINITY)
                 } else {
+                    let w = congruence(&linv[k], &d[k]);
                     let dmin = (0..w.nrows()).fold(f64::INFINITY, |m, i| m.min(w[(i, i)]));
-                    Bound::Pending(w, dmin)
+                    Bound::Pending(k, w, dmin)
                 }
             }
         })
@@ -105,7 +115,7 @@ pub(crate) fn step_length(
     for (k, bound) in bounds.iter().enumerate() {
         match bound {
             Bound::Known(a) => alpha = nan_min(alpha, *a),
-            Bound::Pending(_, dmin) => {
+            Bound::Pending(_, _, dmin) => {
                 if first.is_none_or(|(_, m)| *dmin < m) {
                     first = Some((k, *dmin));
                 }
@@ -113,7 +123,7 @@ pub(crate) fn step_length(
         }
     }
     if let Some((k, _)) = first {
-        if let Bound::Pending(w, _) = &bounds[k] {
+        if let Bound::Pending(_, w, _) = &bounds[k] {
             alpha = nan_min(alpha, exact_step(w));
         }
         bounds[k] = Bound::Known(f64::INFINITY);
@@ -122,8 +132,11 @@ pub(crate) fn step_length(
             .par_iter()
             .map(|bound| match bound {
                 Bound::Known(_) => f64::INFINITY,
-                Bound::Pending(w, _) => {
-                    if threshold.is_finite() && threshold > 0.0 && allows(w, 1.0 / threshold) {
+                Bound::Pending(b, w, _) => {
+                    if threshold.is_finite()
+                        && threshold > 0.0
+                        && allows(&cur[*b], &d[*b], 1.0 / threshold)
+                    {
                         f64::INFINITY
                     } else {
                         exact_step(w)

@@ -16,6 +16,9 @@
 //!   of the block's Schur share is computed with the cheaper of SDPA's formulas
 //!   * **F1**: `G = X A_i S⁻¹` densely (restricted to the support `J` of `A_i`:
 //!     `G = X[:,J] A_i[J,J] S⁻¹[J,:]`), then `M_ij = ⟨A_j, G⟩` for the sparser `j`;
+//!   * **F2**: `U = X A_i` on the support `J` of `A_i` (`n×|J|`), then only the entries of
+//!     `G = U S⁻¹[J,:]` on the pattern of each later `A_j`, each an inner product of length
+//!     `|J|`: cheaper than F3 whenever the entries of `A_i` share rows and columns;
 //!   * **F3**: the fully sparse double sum `Σ_{(α,β)∈A_i} Σ_{(γ,δ)∈A_j} a_αβ a_γδ X_βγ S⁻¹_δα`.
 //! * [`SchurPlan::Lp`] — a diagonal block adds `Σ_l a_il a_jl x_l / s_l`, accumulated per index `l`.
 //!
@@ -30,6 +33,9 @@ use crate::problem::{BlockKind, Problem, SparseSym};
 pub(crate) enum Formula {
     /// Dense `G = X A_i S⁻¹` on the support of `A_i`, then sparse inner products.
     F1,
+    /// `X A_i` on the support of `A_i`, then the entries of `X A_i S⁻¹` on later patterns as
+    /// inner products.
+    F2,
     /// Sparse–sparse double sum.
     F3,
 }
@@ -41,11 +47,11 @@ pub(crate) enum SchurPlan {
     Lp { by_index: Vec<Vec<(usize, usize)>> },
     /// Dense `KᵀK` form.
     Syrk,
-    /// Per-row F1/F3 choice; `order` sorts local constraints by decreasing nonzeros.
+    /// Per-row F1/F2/F3 choice; `order` sorts local constraints by decreasing nonzeros.
     Mixed {
         order: Vec<usize>,
         formula: Vec<Formula>,
-        /// Support (sorted row/column indices) of every local constraint; used by F1.
+        /// Support (sorted row/column indices) of every local constraint; used by F1 and F2.
         support: Vec<Vec<usize>>,
     },
 }
@@ -274,13 +280,18 @@ fn plan_psd(n: usize, cons: &[ConPattern]) -> SchurPlan {
         let f1 = 2.0 * nf * j * (j + nf) + SPARSE_WEIGHT * 2.0 * suffix_nnz[t] + nf * nf;
         // Each full entry of A_p meets each upper entry of A_q in at most two terms.
         let f3 = SPARSE_WEIGHT * 2.0 * full[p] * suffix_nnz[t];
-        if f1 < f3 {
-            formula.push(Formula::F1);
-            mixed_cost += f1;
+        // U = X A_p (n per full entry), the copy of S⁻¹[:,J], then two length-|J| inner
+        // products per entry of the later A_q.
+        let f2 = 2.0 * nf * full[p] + nf * j + SPARSE_WEIGHT * 2.0 * j * suffix_nnz[t];
+        let (choice, cost) = if f1 <= f2.min(f3) {
+            (Formula::F1, f1)
+        } else if f2 < f3 {
+            (Formula::F2, f2)
         } else {
-            formula.push(Formula::F3);
-            mixed_cost += f3;
-        }
+            (Formula::F3, f3)
+        };
+        formula.push(choice);
+        mixed_cost += cost;
     }
     let ncf = nc as f64;
     // Two triangular n×n products per constraint, scattering A_i densely, then KᵀK (lower half).

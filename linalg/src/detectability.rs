@@ -1,0 +1,339 @@
+//! Detectability of a discrete-time pair `(Φ, C)` by the Popov–Belevitch–Hautus (PBH) rank test.
+//!
+//! `x⁺ = Φx, y = Cx` is detectable iff every eigenvalue `z` of `Φ` with `|z| ≥ 1` satisfies
+//! `rank [zI − Φ; C] = n` (Hautus 1969; e.g. Zhou, Doyle & Glover, *Robust and Optimal Control*,
+//! Theorem 3.7, in its discrete-time form). A sampled plant `ẋ = Ax` read every `T` seconds gives
+//! `Φ = e^{AT}`; its eigenvalues are best supplied by spectral mapping, `z_i = e^{λ_i(A) T}`, which
+//! stays exact when distinct `λ_i` alias onto the same `z` (eigenvalues computed from a rounded
+//! `e^{AT}` split such a multiple eigenvalue by up to `√ε`).
+//!
+//! The rank test is numerical. The two block rows are normalised separately,
+//!
+//! ```text
+//! H(z) = [ (zI − Φ)/‖Φ‖_F ;  C/‖C‖_F ]
+//! ```
+//!
+//! and the *PBH margin* `σ_min(H(z))` is compared with a tolerance. The margin does not change when
+//! `C` is scaled (a change of output units) or when `Φ` and `z` are scaled together.
+
+use faer::{Mat, MatRef, c64};
+
+use crate::input::{InputError, check_dimension, check_finite};
+use crate::{LinalgError, check};
+
+/// Tolerances of [`pbh_detectability`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PbhOptions {
+    /// `[zI − Φ; C]` counts as rank deficient when its PBH margin (module docs) is at most
+    /// `rank_tol`. Default `1e-8`.
+    pub rank_tol: f64,
+    /// Eigenvalues with `|z| ≥ 1 − unit_circle_tol` are tested: numerically marginal modes count as
+    /// not asymptotically stable. Default `1e-10`.
+    pub unit_circle_tol: f64,
+}
+
+impl Default for PbhOptions {
+    fn default() -> Self {
+        Self {
+            rank_tol: 1e-8,
+            unit_circle_tol: 1e-10,
+        }
+    }
+}
+
+impl PbhOptions {
+    /// Checks `rank_tol > 0` (finite) and `0 ≤ unit_circle_tol < 1`.
+    ///
+    /// # Errors
+    /// [`InputError::InvalidParameter`] naming the offending field.
+    pub fn validate(&self) -> Result<(), InputError> {
+        if !(self.rank_tol.is_finite() && self.rank_tol > 0.0) {
+            return Err(InputError::parameter(
+                "rank_tol",
+                self.rank_tol,
+                "must be a positive number",
+            ));
+        }
+        if !(0.0..1.0).contains(&self.unit_circle_tol) {
+            return Err(InputError::parameter(
+                "unit_circle_tol",
+                self.unit_circle_tol,
+                "must lie in [0, 1)",
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// A tested eigenvalue of `Φ` (on or outside the unit circle, up to the tolerance) and its PBH margin.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PbhMode {
+    /// The eigenvalue `z`.
+    pub eigenvalue: c64,
+    /// `σ_min` of the block-normalised PBH matrix `H(z)` (module docs).
+    pub margin: f64,
+}
+
+/// Outcome of [`pbh_detectability`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PbhTest {
+    /// Spectral radius `max |z_i|` of `Φ` (from the supplied eigenvalues).
+    pub spectral_radius: f64,
+    /// The tested eigenvalue with the smallest margin; `None` when `Φ` is Schur (nothing to test).
+    pub worst: Option<PbhMode>,
+    /// Whether every tested eigenvalue has a margin above `rank_tol`.
+    pub detectable: bool,
+}
+
+/// PBH test of detectability of `(Φ, C)` (module docs), given the `n` eigenvalues of `Φ` (with
+/// multiplicity). For a general `Φ` pass `Φ.eigenvalues()`; for `Φ = e^{AT}` pass `e^{λ_i(A) T}`.
+///
+/// A `C` with no rows (or `C = 0`) observes nothing: the pair is then detectable iff `Φ` is Schur.
+///
+/// # Errors
+/// `Φ` not square, empty or non-finite; `C` with a column count other than `n` or non-finite
+/// entries; a number of eigenvalues other than `n` or a non-finite one; invalid options
+/// ([`PbhOptions::validate`]); [`LinalgError::NoConvergence`] if an SVD fails.
+pub fn pbh_detectability(
+    phi: MatRef<'_, f64>,
+    c: MatRef<'_, f64>,
+    eigenvalues: &[c64],
+    options: &PbhOptions,
+) -> Result<PbhTest, LinalgError> {
+    let n = check::square_finite(phi, "pbh_detectability: Φ")?;
+    check_dimension("pbh_detectability: columns of C", n, c.ncols())?;
+    check_finite(c, "pbh_detectability: C")?;
+    check_dimension(
+        "pbh_detectability: number of eigenvalues of Φ",
+        n,
+        eigenvalues.len(),
+    )?;
+    if let Some(i) = eigenvalues
+        .iter()
+        .position(|z| !(z.re.is_finite() && z.im.is_finite()))
+    {
+        return Err(
+            InputError::non_finite(format!("pbh_detectability: eigenvalue {i} of Φ")).into(),
+        );
+    }
+    options.validate()?;
+
+    let m = c.nrows();
+    let phi_scale = phi.norm_l2().max(f64::MIN_POSITIVE);
+    let c_scale = c.norm_l2().max(f64::MIN_POSITIVE);
+    let mut spectral_radius = 0.0f64;
+    let mut worst: Option<PbhMode> = None;
+    for &z in eigenvalues {
+        let modulus = z.norm();
+        spectral_radius = spectral_radius.max(modulus);
+        if modulus < 1.0 - options.unit_circle_tol {
+            continue;
+        }
+        let h = Mat::<c64>::from_fn(n + m, n, |i, j| {
+            if i < n {
+                let diag = if i == j { z } else { c64::new(0.0, 0.0) };
+                (diag - c64::new(phi[(i, j)], 0.0)) / phi_scale
+            } else {
+                c64::new(c[(i - n, j)] / c_scale, 0.0)
+            }
+        });
+        let margin = h
+            .singular_values()
+            .map_err(|_| LinalgError::no_convergence("SVD of the PBH matrix"))?
+            .into_iter()
+            .fold(f64::INFINITY, f64::min);
+        if worst.is_none_or(|w| margin < w.margin) {
+            worst = Some(PbhMode {
+                eigenvalue: z,
+                margin,
+            });
+        }
+    }
+    Ok(PbhTest {
+        spectral_radius,
+        worst,
+        detectable: worst.is_none_or(|w| w.margin > options.rank_tol),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use faer::mat;
+    use proptest::prelude::*;
+    use std::f64::consts::PI;
+
+    fn eig(a: &Mat<f64>) -> Vec<c64> {
+        a.eigenvalues().unwrap()
+    }
+
+    /// `Φ = diag(2, 1/2)`: the unstable mode `e₁` is invisible through `C = [0 1]` (margin exactly 0)
+    /// and visible through `C = [1 0]`, where `H(2)` has orthogonal columns of norms `1` and
+    /// `1.5/‖Φ‖_F = 1.5/√4.25`.
+    #[test]
+    fn diagonal_pair_closed_form() {
+        let phi = mat![[2.0, 0.0], [0.0, 0.5]];
+        let o = PbhOptions::default();
+        let hidden =
+            pbh_detectability(phi.as_ref(), mat![[0.0, 1.0]].as_ref(), &eig(&phi), &o).unwrap();
+        assert!(!hidden.detectable);
+        assert_eq!(hidden.spectral_radius, 2.0);
+        let w = hidden.worst.unwrap();
+        assert_eq!(
+            (w.eigenvalue.re, w.eigenvalue.im, w.margin),
+            (2.0, 0.0, 0.0)
+        );
+        // Scaling C does not change the verdict or the margin.
+        let seen =
+            pbh_detectability(phi.as_ref(), mat![[-7.0, 0.0]].as_ref(), &eig(&phi), &o).unwrap();
+        assert!(seen.detectable);
+        let expected = 1.5 / 4.25f64.sqrt();
+        assert!((seen.worst.unwrap().margin - expected).abs() < 1e-15);
+    }
+
+    /// The harmonic oscillator `ẋ = [0 ω; −ω 0]x` read through `C = [1 0]` every `T = π/ω`:
+    /// `e^{AT} = −I`, both modes alias onto `z = −1` and the pair is not detectable; at `T = 0.7π/ω`
+    /// it is. Eigenvalues by spectral mapping `e^{±iωT}`.
+    #[test]
+    fn oscillator_aliasing_by_spectral_mapping() {
+        let w = 3.0;
+        let c = mat![[1.0, 0.0]];
+        for (t, detectable) in [(PI / w, false), (0.7 * PI / w, true)] {
+            let (co, si) = ((w * t).cos(), (w * t).sin());
+            let phi = mat![[co, si], [-si, co]];
+            let z = [c64::new(co, si), c64::new(co, -si)];
+            let r =
+                pbh_detectability(phi.as_ref(), c.as_ref(), &z, &PbhOptions::default()).unwrap();
+            assert_eq!(r.detectable, detectable, "T = {t}");
+            assert!((r.spectral_radius - 1.0).abs() < 1e-15);
+        }
+    }
+
+    /// A Schur `Φ` is detectable whatever `C` is, even with no outputs at all.
+    #[test]
+    fn schur_matrix_needs_no_output() {
+        let none = Mat::<f64>::zeros(0, 2);
+        // (Φ, ρ(Φ), detectable): the same C with an unstable Φ is not detectable.
+        for (phi, rho, detectable) in [
+            (mat![[0.5, 10.0], [0.0, -0.9]], 0.9, true),
+            (mat![[1.5, 10.0], [0.0, -0.9]], 1.5, false),
+        ] {
+            let o = PbhOptions::default();
+            let r = pbh_detectability(phi.as_ref(), none.as_ref(), &eig(&phi), &o).unwrap();
+            assert_eq!((r.detectable, r.worst.is_none()), (detectable, detectable));
+            assert!((r.spectral_radius - rho).abs() < 1e-15);
+        }
+    }
+
+    #[test]
+    fn bad_input_is_reported() {
+        let phi = mat![[2.0, 0.0], [0.0, 0.5]];
+        let c = mat![[1.0, 0.0]];
+        let z = eig(&phi);
+        let o = PbhOptions::default();
+        let rect = Mat::<f64>::zeros(2, 3);
+        assert!(matches!(
+            pbh_detectability(rect.as_ref(), c.as_ref(), &z, &o),
+            Err(LinalgError::Input(InputError::NotSquare { .. }))
+        ));
+        assert_eq!(
+            pbh_detectability(phi.as_ref(), mat![[1.0]].as_ref(), &z, &o),
+            Err(InputError::mismatch("pbh_detectability: columns of C", 2, 1).into())
+        );
+        assert_eq!(
+            pbh_detectability(phi.as_ref(), mat![[1.0, f64::NAN]].as_ref(), &z, &o),
+            Err(InputError::non_finite("pbh_detectability: C at entry (0,1)").into())
+        );
+        assert!(pbh_detectability(phi.as_ref(), c.as_ref(), &z[..1], &o).is_err());
+        let nan = [z[0], c64::new(f64::NAN, 0.0)];
+        assert_eq!(
+            pbh_detectability(phi.as_ref(), c.as_ref(), &nan, &o),
+            Err(InputError::non_finite("pbh_detectability: eigenvalue 1 of Φ").into())
+        );
+        for (rank_tol, unit_circle_tol, name) in [
+            (0.0, 0.0, "rank_tol"),
+            (f64::NAN, 0.0, "rank_tol"),
+            (1e-8, 1.0, "unit_circle_tol"),
+            (1e-8, -1e-3, "unit_circle_tol"),
+        ] {
+            let o = PbhOptions {
+                rank_tol,
+                unit_circle_tol,
+            };
+            assert!(matches!(
+                pbh_detectability(phi.as_ref(), c.as_ref(), &z, &o),
+                Err(LinalgError::Input(InputError::InvalidParameter { name: got, .. })) if got == name
+            ));
+        }
+    }
+
+    /// `Φ = Q T Qᵀ` with `T` upper triangular, `T₀₀ = z_u`, the other diagonal entries inside the
+    /// disc of radius 0.8 and `Q` a random orthogonal matrix, so `Qe₁` is an eigenvector for `z_u`;
+    /// `C = C₀Qᵀ` with `C₀e₁ = 0` when the mode is hidden and `C₀₀ ∈ ±[0.5, 1]` otherwise.
+    fn planted(
+        n: usize,
+        m: usize,
+        z_u: f64,
+        hidden: bool,
+        entries: &[f64],
+    ) -> (Mat<f64>, Mat<f64>, Vec<c64>) {
+        let mut k = 0;
+        let mut next = || {
+            k += 1;
+            entries[k % entries.len()]
+        };
+        let t = Mat::from_fn(n, n, |i, j| match (i, j) {
+            (0, 0) => z_u,
+            _ if i == j => 0.8 * next(),
+            _ if i < j => 0.5 * next(),
+            _ => 0.0,
+        });
+        let mut c0 = Mat::from_fn(m, n, |_, _| next());
+        c0[(0, 0)] = if hidden {
+            0.0
+        } else {
+            (0.5 + 0.5 * next().abs()).copysign(next())
+        };
+        for i in 1..m {
+            c0[(i, 0)] = if hidden { 0.0 } else { c0[(i, 0)] };
+        }
+        let q = Mat::from_fn(n, n, |_, _| next()).qr().compute_Q();
+        let phi = &q * &t * q.transpose();
+        let c = &c0 * q.transpose();
+        let z = (0..n).map(|i| c64::new(t[(i, i)], 0.0)).collect();
+        (phi, c, z)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+
+        /// A planted unstable (or marginal) mode with `Cv = 0` is always rejected, and the witness is
+        /// that mode; made visible (`C₀e₁ ≠ 0`) the same pair passes, and so does the hidden one once
+        /// the mode is moved inside the unit disc (only stable modes are unobservable: detectable).
+        #[test]
+        fn planted_unobservable_mode(
+            n in 2usize..5,
+            m in 1usize..3,
+            z_u in prop_oneof![1.0f64..3.0, -3.0f64..-1.0],
+            entries in proptest::collection::vec(-1.0f64..1.0, 40),
+        ) {
+            let o = PbhOptions::default();
+            let (phi, c, z) = planted(n, m, z_u, true, &entries);
+            let r = pbh_detectability(phi.as_ref(), c.as_ref(), &z, &o).unwrap();
+            prop_assert!(!r.detectable);
+            let w = r.worst.unwrap();
+            prop_assert_eq!(w.eigenvalue.re, z_u);
+            prop_assert!(w.margin < 1e-13, "margin {}", w.margin);
+            prop_assert!((r.spectral_radius - z_u.abs()).abs() < 1e-15);
+
+            let (phi, c, z) = planted(n, m, z_u, false, &entries);
+            let r = pbh_detectability(phi.as_ref(), c.as_ref(), &z, &o).unwrap();
+            prop_assert!(r.detectable, "{r:?}");
+            prop_assert!(r.worst.unwrap().margin > 1e-6, "{r:?}");
+
+            let (phi, c, z) = planted(n, m, 0.9 / z_u, true, &entries);
+            let r = pbh_detectability(phi.as_ref(), c.as_ref(), &z, &o).unwrap();
+            prop_assert!(r.detectable && r.worst.is_none(), "{r:?}");
+        }
+    }
+}
