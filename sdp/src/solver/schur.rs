@@ -29,6 +29,9 @@ use crate::problem::BlockKind;
 /// Number of `f64`s the local buffers of concurrently processed blocks may use (32 MiB).
 const BATCH_BUDGET: usize = 1 << 22;
 
+/// Largest `n²·nc²` for which [`syrk_share`] forms `KᵀK` by plain inner products.
+const SMALL_GRAM: usize = 1 << 16;
+
 /// Batches of fewer than this many blocks per thread parallelise the rows inside each block.
 const ROW_PARALLEL_BLOCKS: usize = 4;
 
@@ -210,8 +213,22 @@ fn syrk_share(
             Par::Seq,
         );
     });
-    let kmat = MatRef::from_column_major_slice(&kbuf, nn, nc);
     let mut local = Mat::zeros(nc, nc);
+    if nn * nc * nc <= SMALL_GRAM {
+        // faer hands products above 16³ multiply-adds to its large GEMM, which on first use in
+        // a process reads the CPU cache sizes from sysfs (88 files, ~3 ms on our 2-core
+        // machine): more than a whole small solve. For a small Gram matrix plain inner
+        // products cost less.
+        for q in 0..nc {
+            let kq = &kbuf[q * nn..(q + 1) * nn];
+            for p in q..nc {
+                let kp = &kbuf[p * nn..(p + 1) * nn];
+                local[(p, q)] = kp.iter().zip(kq).map(|(a, b)| a * b).sum();
+            }
+        }
+        return local;
+    }
+    let kmat = MatRef::from_column_major_slice(&kbuf, nn, nc);
     tri_matmul(
         local.as_mut(),
         BlockStructure::TriangularLower,
