@@ -82,6 +82,9 @@ struct Progress {
     pinf_min: f64,
     dinf_min: f64,
     since: usize,
+    /// `μ` at the previous iterate and the number of consecutive rises up to the current one.
+    mu_prev: f64,
+    mu_rises: usize,
 }
 
 impl Progress {
@@ -91,10 +94,27 @@ impl Progress {
             pinf_min: f64::INFINITY,
             dinf_min: f64::INFINITY,
             since: 0,
+            mu_prev: f64::INFINITY,
+            mu_rises: 0,
         }
     }
 
-    fn update(&mut self, res: &Residuals, settings: &Settings) {
+    /// Whether the iterates have stalled: no progress for [`NO_PROGRESS_ITERATIONS`], or, once
+    /// the best merit is below [`NEAR_OPTIMAL_MERIT`], for [`NO_PROGRESS_ITERATIONS_NEAR`] or
+    /// with `μ` rising [`MU_RISES_NEAR`] times in a row.
+    fn stalled(&self, best_merit: f64) -> bool {
+        self.since >= NO_PROGRESS_ITERATIONS
+            || (best_merit <= NEAR_OPTIMAL_MERIT
+                && (self.since >= NO_PROGRESS_ITERATIONS_NEAR || self.mu_rises >= MU_RISES_NEAR))
+    }
+
+    fn update(&mut self, res: &Residuals, mu: f64, settings: &Settings) {
+        if mu > self.mu_prev {
+            self.mu_rises += 1;
+        } else {
+            self.mu_rises = 0;
+        }
+        self.mu_prev = mu;
         let tol = settings.tol_feas;
         let merit = res.merit();
         let mut progress = false;
@@ -209,8 +229,6 @@ pub(crate) fn run(
     let mut best: Option<Best> = None;
     let mut progress = Progress::new();
     let mut tiny_steps = 0usize;
-    let mut mu_prev = f64::INFINITY;
-    let mut mu_rises = 0usize;
     let mut iteration = 0usize;
     let mut certificate = None;
     let mut gram = None;
@@ -233,12 +251,6 @@ pub(crate) fn run(
                 dual_step: steps.1,
             });
         }
-        if mu > mu_prev {
-            mu_rises += 1;
-        } else {
-            mu_rises = 0;
-        }
-        mu_prev = mu;
         let merit = res.merit();
         if !merit.is_finite() {
             break Status::NumericalTrouble;
@@ -251,7 +263,7 @@ pub(crate) fn run(
                 s: s.clone(),
             });
         }
-        progress.update(&res, settings);
+        progress.update(&res, mu, settings);
         if res.rel_gap <= settings.tol_gap
             && res.rel_compl <= settings.tol_gap
             && res.pinf <= settings.tol_feas
@@ -269,11 +281,7 @@ pub(crate) fn run(
             break Status::MaxIterations;
         }
         let best_merit = best.as_ref().map_or(f64::INFINITY, |b| b.merit);
-        if tiny_steps >= 2
-            || progress.since >= NO_PROGRESS_ITERATIONS
-            || (best_merit <= NEAR_OPTIMAL_MERIT
-                && (progress.since >= NO_PROGRESS_ITERATIONS_NEAR || mu_rises >= MU_RISES_NEAR))
-        {
+        if tiny_steps >= 2 || progress.stalled(best_merit) {
             break Status::NumericalTrouble;
         }
         let (Some(fxv), Some(fsv)) = (fx.take(), fs.take()) else {

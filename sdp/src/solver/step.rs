@@ -23,9 +23,9 @@ use crate::problem::BlockKind;
 enum Bound {
     /// Known `α_max` (LP ratio test, eigenvalue, or `∞` for a block that cannot bind).
     Known(f64),
-    /// PSD block `k` that may bind: `W = L⁻¹ ΔV L⁻ᵀ` and its smallest diagonal entry (an
-    /// upper bound on `λ_min(W)`).
-    Pending(usize, Mat<f64>, f64),
+    /// PSD block that may bind: `W = L⁻¹ ΔV L⁻ᵀ` and its smallest diagonal entry (an upper
+    /// bound on `λ_min(W)`).
+    Pending(Mat<f64>, f64),
 }
 
 /// Whether `shift·V + ΔV` has a Cholesky factorisation. For `V = L Lᵀ` this is congruent to
@@ -105,7 +105,7 @@ pub(crate) fn step_length(
                 } else {
                     let w = congruence(&linv[k], &d[k]);
                     let dmin = (0..w.nrows()).fold(f64::INFINITY, |m, i| m.min(w[(i, i)]));
-                    Bound::Pending(k, w, dmin)
+                    Bound::Pending(w, dmin)
                 }
             }
         })
@@ -115,7 +115,7 @@ pub(crate) fn step_length(
     for (k, bound) in bounds.iter().enumerate() {
         match bound {
             Bound::Known(a) => alpha = nan_min(alpha, *a),
-            Bound::Pending(_, _, dmin) => {
+            Bound::Pending(_, dmin) => {
                 if first.is_none_or(|(_, m)| *dmin < m) {
                     first = Some((k, *dmin));
                 }
@@ -123,19 +123,20 @@ pub(crate) fn step_length(
         }
     }
     if let Some((k, _)) = first {
-        if let Bound::Pending(_, w, _) = &bounds[k] {
+        if let Bound::Pending(w, _) = &bounds[k] {
             alpha = nan_min(alpha, exact_step(w));
         }
         bounds[k] = Bound::Known(f64::INFINITY);
         let threshold = alpha;
         let rest: Vec<f64> = bounds
             .par_iter()
-            .map(|bound| match bound {
+            .enumerate()
+            .map(|(b, bound)| match bound {
                 Bound::Known(_) => f64::INFINITY,
-                Bound::Pending(b, w, _) => {
+                Bound::Pending(w, _) => {
                     if threshold.is_finite()
                         && threshold > 0.0
-                        && allows(&cur[*b], &d[*b], 1.0 / threshold)
+                        && allows(&cur[b], &d[b], 1.0 / threshold)
                     {
                         f64::INFINITY
                     } else {
