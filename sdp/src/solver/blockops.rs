@@ -149,14 +149,10 @@ fn block_apply_a(an: &Analysis, vals: &Values, k: usize, g: &Mat<f64>) -> Vec<f6
         .collect()
 }
 
-/// `out += 𝒜(G)`, i.e. `out_i += Σ_k ⟨A_i^k, G_k⟩`; blocks are evaluated in parallel and added
-/// in block order.
+/// `out += 𝒜(G)`, i.e. `out_i += Σ_k ⟨A_i^k, G_k⟩`; blocks are evaluated independently
+/// ([`Analysis::exec`]) and added in block order.
 pub(crate) fn apply_a(an: &Analysis, vals: &Values, g: &[Mat<f64>], out: &mut [f64]) {
-    use rayon::prelude::*;
-    let parts: Vec<Vec<f64>> = (0..an.blocks.len())
-        .into_par_iter()
-        .map(|k| block_apply_a(an, vals, k, &g[k]))
-        .collect();
+    let parts = an.map_blocks(|k, _| block_apply_a(an, vals, k, &g[k]));
     for (b, part) in an.blocks.iter().zip(parts) {
         for (pat, s) in b.cons.iter().zip(part) {
             out[pat.con] += s;
@@ -164,10 +160,9 @@ pub(crate) fn apply_a(an: &Analysis, vals: &Values, g: &[Mat<f64>], out: &mut [f
     }
 }
 
-/// `out_k = Σ_i y_i A_i^k` for every block (overwrites `out`; parallel over blocks).
+/// `out_k = Σ_i y_i A_i^k` for every block (overwrites `out`; blocks independently).
 pub(crate) fn apply_at(an: &Analysis, vals: &Values, y: &[f64], out: &mut [Mat<f64>]) {
-    use rayon::prelude::*;
-    out.par_iter_mut().enumerate().for_each(|(k, o)| {
+    an.exec.for_each_mut(out, |k, o| {
         let b = &an.blocks[k];
         o.fill(0.0);
         if let Some(d) = &vals.dense[k] {
@@ -448,16 +443,10 @@ fn factor_block(kind: BlockKind, v: &Mat<f64>) -> Option<(Mat<f64>, Mat<f64>)> {
     }
 }
 
-/// Per block `(L, L⁻¹)` (PSD) or `(0×0, 1/v)` (LP), in parallel over blocks; `None` if some
+/// Per block `(L, L⁻¹)` (PSD) or `(0×0, 1/v)` (LP), blocks independently; `None` if some
 /// block is not positive definite.
 pub(crate) fn factor_all(an: &Analysis, v: &[Mat<f64>]) -> Option<(BlockMats, BlockMats)> {
-    use rayon::prelude::*;
-    let parts: Vec<Option<(Mat<f64>, Mat<f64>)>> = an
-        .blocks
-        .par_iter()
-        .enumerate()
-        .map(|(k, b)| factor_block(b.kind, &v[k]))
-        .collect();
+    let parts = an.map_blocks(|k, b| factor_block(b.kind, &v[k]));
     let mut ls = Vec::with_capacity(parts.len());
     let mut linvs = Vec::with_capacity(parts.len());
     for p in parts {

@@ -20,7 +20,6 @@
 //! dual equation exact.
 
 use faer::Mat;
-use rayon::prelude::*;
 
 use super::blockops::{BlockMats, Factors, apply_a, apply_at, axpy, mul, symmetrize};
 use super::linsys::SchurSolver;
@@ -37,33 +36,29 @@ fn rhs_blocks(
     sigma_mu: f64,
     h: Option<&[Mat<f64>]>,
 ) -> BlockMats {
-    an.blocks
-        .par_iter()
-        .enumerate()
-        .map(|(k, b)| match b.kind {
-            BlockKind::Lp => {
-                let (xs, rs, zs) = (
-                    x[k].col_as_slice(0),
-                    rd[k].col_as_slice(0),
-                    zinv[k].col_as_slice(0),
-                );
-                Mat::from_fn(b.n, 1, |l, _| {
-                    let hl = h.map_or(0.0, |h| h[k][(l, 0)]);
-                    (xs[l] * rs[l] + hl - sigma_mu) * zs[l]
-                })
+    an.map_blocks(|k, b| match b.kind {
+        BlockKind::Lp => {
+            let (xs, rs, zs) = (
+                x[k].col_as_slice(0),
+                rd[k].col_as_slice(0),
+                zinv[k].col_as_slice(0),
+            );
+            Mat::from_fn(b.n, 1, |l, _| {
+                let hl = h.map_or(0.0, |h| h[k][(l, 0)]);
+                (xs[l] * rs[l] + hl - sigma_mu) * zs[l]
+            })
+        }
+        BlockKind::Psd => {
+            let mut w = mul(&x[k], &rd[k]);
+            if let Some(h) = h {
+                w += &h[k];
             }
-            BlockKind::Psd => {
-                let mut w = mul(&x[k], &rd[k]);
-                if let Some(h) = h {
-                    w += &h[k];
-                }
-                for i in 0..b.n {
-                    w[(i, i)] -= sigma_mu;
-                }
-                mul(&w, &zinv[k])
+            for i in 0..b.n {
+                w[(i, i)] -= sigma_mu;
             }
-        })
-        .collect()
+            mul(&w, &zinv[k])
+        }
+    })
 }
 
 /// `ΔX = sym(−X − (X ΔS + H − σμI) S⁻¹)` from `Δy`, with `ΔS = R_d − 𝒜ᵀ(Δy)`.
@@ -83,49 +78,41 @@ fn recover_x(
     for (d, r) in ds.iter_mut().zip(rd) {
         *d = r - &*d;
     }
-    an.blocks
-        .par_iter()
-        .enumerate()
-        .map(|(k, b)| match b.kind {
-            BlockKind::Lp => {
-                let (xs, dss, zs) = (
-                    x[k].col_as_slice(0),
-                    ds[k].col_as_slice(0),
-                    zinv[k].col_as_slice(0),
-                );
-                Mat::from_fn(b.n, 1, |l, _| {
-                    let hl = h.map_or(0.0, |h| h[k][(l, 0)]);
-                    -xs[l] - (xs[l] * dss[l] + hl - sigma_mu) * zs[l]
-                })
+    an.map_blocks(|k, b| match b.kind {
+        BlockKind::Lp => {
+            let (xs, dss, zs) = (
+                x[k].col_as_slice(0),
+                ds[k].col_as_slice(0),
+                zinv[k].col_as_slice(0),
+            );
+            Mat::from_fn(b.n, 1, |l, _| {
+                let hl = h.map_or(0.0, |h| h[k][(l, 0)]);
+                -xs[l] - (xs[l] * dss[l] + hl - sigma_mu) * zs[l]
+            })
+        }
+        BlockKind::Psd => {
+            let mut w = mul(&x[k], &ds[k]);
+            if let Some(h) = h {
+                w += &h[k];
             }
-            BlockKind::Psd => {
-                let mut w = mul(&x[k], &ds[k]);
-                if let Some(h) = h {
-                    w += &h[k];
-                }
-                for i in 0..b.n {
-                    w[(i, i)] -= sigma_mu;
-                }
-                let mut d = mul(&w, &zinv[k]);
-                d += &x[k];
-                d *= faer::Scale(-1.0);
-                symmetrize(&mut d);
-                d
+            for i in 0..b.n {
+                w[(i, i)] -= sigma_mu;
             }
-        })
-        .collect()
+            let mut d = mul(&w, &zinv[k]);
+            d += &x[k];
+            d *= faer::Scale(-1.0);
+            symmetrize(&mut d);
+            d
+        }
+    })
 }
 
 /// Second-order term `H = ΔX ΔS` of the corrector (per block; elementwise for LP blocks).
 fn second_order(an: &Analysis, dx: &[Mat<f64>], ds: &[Mat<f64>]) -> BlockMats {
-    an.blocks
-        .par_iter()
-        .enumerate()
-        .map(|(k, b)| match b.kind {
-            BlockKind::Lp => Mat::from_fn(b.n, 1, |l, _| dx[k][(l, 0)] * ds[k][(l, 0)]),
-            BlockKind::Psd => mul(&dx[k], &ds[k]),
-        })
-        .collect()
+    an.map_blocks(|k, b| match b.kind {
+        BlockKind::Lp => Mat::from_fn(b.n, 1, |l, _| dx[k][(l, 0)] * ds[k][(l, 0)]),
+        BlockKind::Psd => mul(&dx[k], &ds[k]),
+    })
 }
 
 /// The predictor `(ΔX_a, ΔS_a)` whose product `H = ΔX_a ΔS_a` is the corrector's second-order
@@ -227,20 +214,14 @@ fn hkm_image(
 ) -> BlockMats {
     let mut w = super::blockops::zeros(an);
     apply_at(an, vals, delta, &mut w);
-    an.blocks
-        .par_iter()
-        .enumerate()
-        .map(|(k, b)| match b.kind {
-            BlockKind::Lp => {
-                Mat::from_fn(b.n, 1, |l, _| x[k][(l, 0)] * w[k][(l, 0)] * zinv[k][(l, 0)])
-            }
-            BlockKind::Psd => {
-                let mut c = mul(&mul(&x[k], &w[k]), &zinv[k]);
-                symmetrize(&mut c);
-                c
-            }
-        })
-        .collect()
+    an.map_blocks(|k, b| match b.kind {
+        BlockKind::Lp => Mat::from_fn(b.n, 1, |l, _| x[k][(l, 0)] * w[k][(l, 0)] * zinv[k][(l, 0)]),
+        BlockKind::Psd => {
+            let mut c = mul(&mul(&x[k], &w[k]), &zinv[k]);
+            symmetrize(&mut c);
+            c
+        }
+    })
 }
 
 /// Iterative refinement of a direction against the primal linearised equation

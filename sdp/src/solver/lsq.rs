@@ -70,6 +70,7 @@ use rayon::prelude::*;
 
 use super::blockops::{BlockMats, Factors, mul, symmetrize};
 use super::direction::Predictor;
+use super::par::Exec;
 use super::structure::{Analysis, Values};
 use crate::problem::BlockKind;
 
@@ -168,7 +169,7 @@ impl LeastSquares {
             qr,
             ..
         } = self;
-        qr.par_col_iter_mut().enumerate().for_each(|(c, mut col)| {
+        let fill = |c: usize, mut col: faer::ColMut<'_, f64>| {
             col.fill(0.0);
             for &(k, p) in &touches[c] {
                 let b = &an.blocks[k];
@@ -201,7 +202,17 @@ impl LeastSquares {
                     }
                 }
             }
-        });
+        };
+        match an.exec {
+            Exec::Sequential => qr
+                .col_iter_mut()
+                .enumerate()
+                .for_each(|(c, col)| fill(c, col)),
+            Exec::Parallel => qr
+                .par_col_iter_mut()
+                .enumerate()
+                .for_each(|(c, col)| fill(c, col)),
+        }
         let norms: Vec<f64> = (0..self.m).map(|c| self.qr.col(c).norm_l2()).collect();
         let (rows, m) = (self.rows, self.m);
         let block = self.coeff.nrows();
@@ -300,26 +311,22 @@ impl LeastSquares {
 
     /// `ΔX = sym(L_X Z L_S⁻¹)` per block from the stacked scaled `Z`.
     fn unscale(&self, an: &Analysis, x: &[Mat<f64>], f: &Factors, z: &[f64]) -> BlockMats {
-        an.blocks
-            .par_iter()
-            .enumerate()
-            .map(|(k, b)| {
-                let o = self.offsets[k];
-                match b.kind {
-                    BlockKind::Lp => {
-                        let (xs, zs) = (x[k].col_as_slice(0), f.zinv[k].col_as_slice(0));
-                        Mat::from_fn(b.n, 1, |l, _| (xs[l] * zs[l]).sqrt() * z[o + l])
-                    }
-                    BlockKind::Psd => {
-                        let n = b.n;
-                        let zk = faer::MatRef::from_column_major_slice(&z[o..o + n * n], n, n);
-                        let mut d = mul(&mul(&f.lx[k], &zk.to_owned()), &f.linv_s[k]);
-                        symmetrize(&mut d);
-                        d
-                    }
+        an.map_blocks(|k, b| {
+            let o = self.offsets[k];
+            match b.kind {
+                BlockKind::Lp => {
+                    let (xs, zs) = (x[k].col_as_slice(0), f.zinv[k].col_as_slice(0));
+                    Mat::from_fn(b.n, 1, |l, _| (xs[l] * zs[l]).sqrt() * z[o + l])
                 }
-            })
-            .collect()
+                BlockKind::Psd => {
+                    let n = b.n;
+                    let zk = faer::MatRef::from_column_major_slice(&z[o..o + n * n], n, n);
+                    let mut d = mul(&mul(&f.lx[k], &zk.to_owned()), &f.linv_s[k]);
+                    symmetrize(&mut d);
+                    d
+                }
+            }
+        })
     }
 
     /// The stacked `g = vec G` (see the module documentation); `second` is the predictor
@@ -333,50 +340,45 @@ impl LeastSquares {
         sigma_mu: f64,
         second: Option<Predictor<'_>>,
     ) -> Vec<f64> {
-        let parts: Vec<Vec<f64>> = an
-            .blocks
-            .par_iter()
-            .enumerate()
-            .map(|(k, b)| match b.kind {
-                BlockKind::Lp => {
-                    let (xs, zs, rs) = (
-                        x[k].col_as_slice(0),
-                        f.zinv[k].col_as_slice(0),
-                        rd[k].col_as_slice(0),
-                    );
-                    (0..b.n)
-                        .map(|l| {
-                            let h = second.map_or(0.0, |(dx, ds)| dx[k][(l, 0)] * ds[k][(l, 0)]);
-                            // x s = x / zinv; all products kept in scaled form.
-                            let xs_prod = xs[l] / zs[l];
-                            -xs_prod.sqrt()
-                                - (xs[l] * zs[l]).sqrt() * rs[l]
-                                - (h - sigma_mu) / xs_prod.sqrt()
-                        })
-                        .collect()
+        let parts: Vec<Vec<f64>> = an.map_blocks(|k, b| match b.kind {
+            BlockKind::Lp => {
+                let (xs, zs, rs) = (
+                    x[k].col_as_slice(0),
+                    f.zinv[k].col_as_slice(0),
+                    rd[k].col_as_slice(0),
+                );
+                (0..b.n)
+                    .map(|l| {
+                        let h = second.map_or(0.0, |(dx, ds)| dx[k][(l, 0)] * ds[k][(l, 0)]);
+                        // x s = x / zinv; all products kept in scaled form.
+                        let xs_prod = xs[l] / zs[l];
+                        -xs_prod.sqrt()
+                            - (xs[l] * zs[l]).sqrt() * rs[l]
+                            - (h - sigma_mu) / xs_prod.sqrt()
+                    })
+                    .collect()
+            }
+            BlockKind::Psd => {
+                let (lx, linv_x, ls, linv_s) = (&f.lx[k], &f.linv_x[k], &f.ls[k], &f.linv_s[k]);
+                // −L_Xᵀ (L_S + R_d L_S⁻ᵀ)
+                let mut inner = mul(&rd[k], &linv_s.transpose().to_owned());
+                inner += ls;
+                let mut g = mul(&lx.transpose().to_owned(), &inner);
+                g *= faer::Scale(-1.0);
+                // + σμ L_X⁻¹ L_S⁻ᵀ − (L_X⁻¹ ΔX_a)(ΔS_a L_S⁻ᵀ)
+                if sigma_mu != 0.0 {
+                    let nmat = mul(linv_x, &linv_s.transpose().to_owned());
+                    g += &(nmat * faer::Scale(sigma_mu));
                 }
-                BlockKind::Psd => {
-                    let (lx, linv_x, ls, linv_s) = (&f.lx[k], &f.linv_x[k], &f.ls[k], &f.linv_s[k]);
-                    // −L_Xᵀ (L_S + R_d L_S⁻ᵀ)
-                    let mut inner = mul(&rd[k], &linv_s.transpose().to_owned());
-                    inner += ls;
-                    let mut g = mul(&lx.transpose().to_owned(), &inner);
-                    g *= faer::Scale(-1.0);
-                    // + σμ L_X⁻¹ L_S⁻ᵀ − (L_X⁻¹ ΔX_a)(ΔS_a L_S⁻ᵀ)
-                    if sigma_mu != 0.0 {
-                        let nmat = mul(linv_x, &linv_s.transpose().to_owned());
-                        g += &(nmat * faer::Scale(sigma_mu));
-                    }
-                    if let Some((dx, ds)) = second {
-                        let left = mul(linv_x, &dx[k]);
-                        let right = mul(&ds[k], &linv_s.transpose().to_owned());
-                        g -= &mul(&left, &right);
-                    }
-                    let n = b.n;
-                    (0..n * n).map(|e| g[(e % n, e / n)]).collect()
+                if let Some((dx, ds)) = second {
+                    let left = mul(linv_x, &dx[k]);
+                    let right = mul(&ds[k], &linv_s.transpose().to_owned());
+                    g -= &mul(&left, &right);
                 }
-            })
-            .collect();
+                let n = b.n;
+                (0..n * n).map(|e| g[(e % n, e / n)]).collect()
+            }
+        });
         let mut out = Vec::with_capacity(self.rows);
         for p in parts {
             out.extend(p);

@@ -75,6 +75,7 @@ mod direction;
 mod ipm;
 mod linsys;
 mod lsq;
+mod par;
 mod residuals;
 mod schur;
 mod settings;
@@ -97,6 +98,7 @@ use crate::error::SdpError;
 use crate::problem::Problem;
 use ipm::Workspace;
 use linsys::SchurSolver;
+use par::Exec;
 use structure::Analysis;
 
 /// Solves `problem` (analysis and interior-point iterations in one call).
@@ -108,7 +110,7 @@ pub fn solve(problem: &Problem, settings: &Settings) -> Result<Solution, SdpErro
 const PARALLEL_CHOLESKY_MIN: usize = 192;
 
 /// Largest per-iteration work estimate ([`Analysis::work_estimate`], in flops) for which
-/// `Settings::threads == 0` runs the solve on one dedicated thread: below it, handing every
+/// `Settings::threads == 0` runs the solve on the calling thread: below it, handing every
 /// block loop to rayon's global pool costs more in wake-ups and contention than it saves
 /// (hinf1, control1, truss1: 2.5–5× slower on the global pool of 2 cores, measured with
 /// `threads = 0` against `threads = 1`).
@@ -159,12 +161,17 @@ impl Solver {
     /// Validates and analyses `problem` and allocates the workspaces.
     pub fn new(problem: &Problem, settings: Settings) -> Result<Solver, SdpError> {
         check_settings(&settings)?;
-        let analysis = structure::analyse(problem)?;
+        let mut analysis = structure::analyse(problem)?;
         let threads = match settings.threads {
             0 if analysis.work_estimate() <= SEQUENTIAL_WORK_MAX => 1,
             k => k,
         };
-        let pool = if threads >= 1 {
+        analysis.exec = if threads == 1 {
+            Exec::Sequential
+        } else {
+            Exec::Parallel
+        };
+        let pool = if threads >= 2 {
             Some(Arc::new(
                 rayon::ThreadPoolBuilder::new()
                     .num_threads(threads)
@@ -174,9 +181,11 @@ impl Solver {
         } else {
             None
         };
-        let threads = pool
-            .as_ref()
-            .map_or_else(rayon::current_num_threads, |p| p.current_num_threads());
+        let threads = match (&pool, analysis.exec) {
+            (_, Exec::Sequential) => 1,
+            (Some(p), _) => p.current_num_threads(),
+            (None, _) => rayon::current_num_threads(),
+        };
         let m = analysis.m;
         let par = if m >= PARALLEL_CHOLESKY_MIN && threads > 1 {
             Par::rayon(threads)
@@ -213,13 +222,14 @@ impl Solver {
             workspace,
         } = self;
         let mut run = || ipm::run(analysis, &vals, problem, settings, workspace);
-        Ok(match pool {
-            Some(p) => p.install(run),
+        Ok(match (pool, analysis.exec) {
+            (_, Exec::Sequential) => run(),
+            (Some(p), Exec::Parallel) => p.install(run),
             // On rayon's global pool the whole iteration runs on one of its workers: every
             // parallel section then starts inside the pool (work stealing) instead of injecting
             // a job from outside and blocking on a latch, which cost ~20% of the LMI bench's
             // time in thread switches.
-            None => rayon::scope(|_| run()),
+            (None, Exec::Parallel) => rayon::scope(|_| run()),
         })
     }
 }

@@ -20,9 +20,9 @@ use faer::linalg::matmul::matmul;
 use faer::linalg::matmul::triangular::{BlockStructure, matmul as tri_matmul};
 use faer::prelude::{Reborrow, ReborrowMut};
 use faer::{Accum, Mat, MatMut, MatRef, Par};
-use rayon::prelude::*;
 
 use super::blockops::Factors;
+use super::par::Exec;
 use super::structure::{Analysis, BlockPlan, ConPattern, Formula, SchurPlan, Values};
 use crate::problem::BlockKind;
 
@@ -75,21 +75,24 @@ pub(crate) fn assemble(
         }
         // With enough blocks to keep every thread busy, the rows inside a block run
         // sequentially: a task per row of a small block costs more than the row itself.
-        let par_rows = k1 - k0 < ROW_PARALLEL_BLOCKS * rayon::current_num_threads();
-        let locals: Vec<Local> = (k0..k1)
-            .into_par_iter()
-            .map(|k| {
-                local_share(
-                    &an.blocks[k],
-                    &vals.a[k],
-                    vals.dense[k].as_ref(),
-                    &x[k],
-                    f,
-                    k,
-                    par_rows,
-                )
-            })
-            .collect();
+        let rows = match an.exec {
+            Exec::Parallel if k1 - k0 < ROW_PARALLEL_BLOCKS * rayon::current_num_threads() => {
+                Exec::Parallel
+            }
+            _ => Exec::Sequential,
+        };
+        let locals: Vec<Local> = an.exec.map(k1 - k0, |i| {
+            let k = k0 + i;
+            local_share(
+                &an.blocks[k],
+                &vals.a[k],
+                vals.dense[k].as_ref(),
+                &x[k],
+                f,
+                k,
+                rows,
+            )
+        });
         for (k, local) in (k0..k1).zip(locals) {
             add_share(&an.blocks[k], &vals.a[k], &x[k], &f.zinv[k], local, out);
         }
@@ -104,7 +107,7 @@ fn local_share(
     x: &Mat<f64>,
     f: &Factors,
     k: usize,
-    par_rows: bool,
+    rows: Exec,
 ) -> Local {
     if plan.cons.is_empty() {
         return Local::Direct;
@@ -117,6 +120,7 @@ fn local_share(
             dense.map(Vec::as_slice),
             &f.lx[k],
             &f.linv_s[k],
+            rows,
         )),
         SchurPlan::Mixed {
             order,
@@ -133,7 +137,7 @@ fn local_share(
                 x,
                 zinv: &f.zinv[k],
             };
-            let fill_row = |ws: &mut RowScratch, (t, row): (usize, &mut [f64])| {
+            rows.chunks_mut(&mut buf, nc, RowScratch::default, |ws, t, row| {
                 let support = &support[order[t]];
                 match formula[t] {
                     Formula::F1 => {
@@ -143,76 +147,72 @@ fn local_share(
                     Formula::F2 => f2_row(d, t, support, row, &mut ws.f2),
                     Formula::F3 => f3_row(d, t, row),
                 }
-            };
-            if par_rows {
-                buf.par_chunks_mut(nc)
-                    .enumerate()
-                    .for_each_init(RowScratch::default, fill_row);
-            } else {
-                let mut ws = RowScratch::default();
-                for item in buf.chunks_mut(nc).enumerate() {
-                    fill_row(&mut ws, item);
-                }
-            }
+            });
             Local::Sorted(buf)
         }
     }
 }
 
 /// `KᵀK` with `K_i = L_Xᵀ A_i L_S⁻ᵀ` (lower triangle, local order); `dense` is the block's dense
-/// copy of the `A_i` when it has one.
+/// copy of the `A_i` when it has one; the columns `K_i` are formed as `columns` says.
 fn syrk_share(
     plan: &BlockPlan,
     vals: &[Vec<f64>],
     dense: Option<&[f64]>,
     lx: &Mat<f64>,
     linv_s: &Mat<f64>,
+    columns: Exec,
 ) -> Mat<f64> {
     let n = plan.n;
     let nc = plan.cons.len();
     let nn = n * n;
     let mut kbuf = vec![0.0; nn * nc];
-    kbuf.par_chunks_mut(nn).enumerate().for_each(|(p, chunk)| {
-        let a = match dense {
-            Some(d) => Mat::from_fn(n, n, |r, c| d[p * nn + r + c * n]),
-            None => {
-                let (pat, v) = (&plan.cons[p], &vals[p]);
-                let mut a = Mat::<f64>::zeros(n, n);
-                for e in 0..v.len() {
-                    let (r, c) = (pat.rows[e], pat.cols[e]);
-                    a[(r, c)] += v[e];
-                    if r != c {
-                        a[(c, r)] += v[e];
+    columns.chunks_mut(
+        &mut kbuf,
+        nn,
+        || (),
+        |_, p, chunk| {
+            let a = match dense {
+                Some(d) => Mat::from_fn(n, n, |r, c| d[p * nn + r + c * n]),
+                None => {
+                    let (pat, v) = (&plan.cons[p], &vals[p]);
+                    let mut a = Mat::<f64>::zeros(n, n);
+                    for e in 0..v.len() {
+                        let (r, c) = (pat.rows[e], pat.cols[e]);
+                        a[(r, c)] += v[e];
+                        if r != c {
+                            a[(c, r)] += v[e];
+                        }
                     }
+                    a
                 }
-                a
-            }
-        };
-        let mut t = Mat::<f64>::zeros(n, n);
-        tri_matmul(
-            t.as_mut(),
-            BlockStructure::Rectangular,
-            Accum::Replace,
-            lx.transpose(),
-            BlockStructure::TriangularUpper,
-            a.as_ref(),
-            BlockStructure::Rectangular,
-            1.0,
-            Par::Seq,
-        );
-        let kp = MatMut::from_column_major_slice_mut(chunk, n, n);
-        tri_matmul(
-            kp,
-            BlockStructure::Rectangular,
-            Accum::Replace,
-            t.as_ref(),
-            BlockStructure::Rectangular,
-            linv_s.transpose(),
-            BlockStructure::TriangularUpper,
-            1.0,
-            Par::Seq,
-        );
-    });
+            };
+            let mut t = Mat::<f64>::zeros(n, n);
+            tri_matmul(
+                t.as_mut(),
+                BlockStructure::Rectangular,
+                Accum::Replace,
+                lx.transpose(),
+                BlockStructure::TriangularUpper,
+                a.as_ref(),
+                BlockStructure::Rectangular,
+                1.0,
+                Par::Seq,
+            );
+            let kp = MatMut::from_column_major_slice_mut(chunk, n, n);
+            tri_matmul(
+                kp,
+                BlockStructure::Rectangular,
+                Accum::Replace,
+                t.as_ref(),
+                BlockStructure::Rectangular,
+                linv_s.transpose(),
+                BlockStructure::TriangularUpper,
+                1.0,
+                Par::Seq,
+            );
+        },
+    );
     let mut local = Mat::zeros(nc, nc);
     if nn * nc * nc <= SMALL_GRAM {
         // faer hands products above 16³ multiply-adds to its large GEMM, which on first use in

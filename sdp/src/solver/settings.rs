@@ -26,10 +26,11 @@ pub struct Settings {
     pub max_iterations: usize,
     /// Called once per iteration (including iteration 0, the starting point) when set.
     pub log: Option<LogCallback>,
-    /// Worker threads: `k ≥ 1` runs on a dedicated pool of `k` threads; `0` (automatic) runs
-    /// small problems (per-iteration work estimate below about `5·10⁵` flops: a few small
-    /// blocks and `m` below about 100) on one dedicated thread and larger ones on rayon's
-    /// global pool (all cores). Results are bitwise identical for every value.
+    /// Worker threads: `1` runs the whole solve on the calling thread, `k ≥ 2` on a dedicated
+    /// pool of `k` threads; `0` (automatic) runs small problems (per-iteration work estimate
+    /// below about `5·10⁵` flops: a few small blocks and `m` below about 100) on the calling
+    /// thread and larger ones on rayon's global pool (all cores). Results are bitwise
+    /// identical for every value.
     pub threads: usize,
     /// Fixed step fraction `γ ∈ (0, 1)`; `None` uses SDPT3's adaptive `0.9 + 0.09·min(α_p, α_d)`.
     pub step_fraction: Option<f64>,

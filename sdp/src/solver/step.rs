@@ -12,7 +12,6 @@
 //! Only the blocks failing that test — the ones that can bind — need `λ_min(W)`.
 
 use faer::Mat;
-use rayon::prelude::*;
 
 use super::blockops::{cholesky, congruence, min_eig};
 use super::small;
@@ -84,32 +83,27 @@ pub(crate) fn step_length(
     d: &[Mat<f64>],
     gamma: f64,
 ) -> f64 {
-    let mut bounds: Vec<Bound> = an
-        .blocks
-        .par_iter()
-        .enumerate()
-        .map(|(k, b)| match b.kind {
-            BlockKind::Lp => {
-                let (x, dx) = (cur[k].col_as_slice(0), d[k].col_as_slice(0));
-                let mut a = f64::INFINITY;
-                for l in 0..x.len() {
-                    if dx[l] < 0.0 {
-                        a = a.min(-x[l] / dx[l]);
-                    }
-                }
-                Bound::Known(a)
-            }
-            BlockKind::Psd => {
-                if allows(&cur[k], &d[k], gamma) {
-                    Bound::Known(f64::INFINITY)
-                } else {
-                    let w = congruence(&linv[k], &d[k]);
-                    let dmin = (0..w.nrows()).fold(f64::INFINITY, |m, i| m.min(w[(i, i)]));
-                    Bound::Pending(w, dmin)
+    let mut bounds: Vec<Bound> = an.map_blocks(|k, b| match b.kind {
+        BlockKind::Lp => {
+            let (x, dx) = (cur[k].col_as_slice(0), d[k].col_as_slice(0));
+            let mut a = f64::INFINITY;
+            for l in 0..x.len() {
+                if dx[l] < 0.0 {
+                    a = a.min(-x[l] / dx[l]);
                 }
             }
-        })
-        .collect();
+            Bound::Known(a)
+        }
+        BlockKind::Psd => {
+            if allows(&cur[k], &d[k], gamma) {
+                Bound::Known(f64::INFINITY)
+            } else {
+                let w = congruence(&linv[k], &d[k]);
+                let dmin = (0..w.nrows()).fold(f64::INFINITY, |m, i| m.min(w[(i, i)]));
+                Bound::Pending(w, dmin)
+            }
+        }
+    });
     let mut alpha = f64::INFINITY;
     let mut first: Option<(usize, f64)> = None;
     for (k, bound) in bounds.iter().enumerate() {
@@ -128,23 +122,19 @@ pub(crate) fn step_length(
         }
         bounds[k] = Bound::Known(f64::INFINITY);
         let threshold = alpha;
-        let rest: Vec<f64> = bounds
-            .par_iter()
-            .enumerate()
-            .map(|(b, bound)| match bound {
-                Bound::Known(_) => f64::INFINITY,
-                Bound::Pending(w, _) => {
-                    if threshold.is_finite()
-                        && threshold > 0.0
-                        && allows(&cur[b], &d[b], 1.0 / threshold)
-                    {
-                        f64::INFINITY
-                    } else {
-                        exact_step(w)
-                    }
+        let rest: Vec<f64> = an.exec.map(bounds.len(), |b| match &bounds[b] {
+            Bound::Known(_) => f64::INFINITY,
+            Bound::Pending(w, _) => {
+                if threshold.is_finite()
+                    && threshold > 0.0
+                    && allows(&cur[b], &d[b], 1.0 / threshold)
+                {
+                    f64::INFINITY
+                } else {
+                    exact_step(w)
                 }
-            })
-            .collect();
+            }
+        });
         alpha = rest.into_iter().fold(alpha, nan_min);
     }
     if alpha.is_nan() {

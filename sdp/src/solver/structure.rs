@@ -25,6 +25,7 @@
 //! A [`Values`] object holds the numbers of one problem aligned with the analysed pattern, so a
 //! problem whose pattern is contained in the analysed one can be re-solved without re-analysis.
 
+use super::par::Exec;
 use crate::error::SdpError;
 use crate::problem::{BlockKind, Problem, SparseSym};
 
@@ -93,9 +94,20 @@ pub(crate) struct Analysis {
     pub blocks: Vec<BlockPlan>,
     /// Barrier parameter count `Σ_k n_k` (the `n` of `μ = ⟨X, S⟩ / n`).
     pub nu: usize,
+    /// How the block loops run (chosen by [`super::Solver::new`] from [`Analysis::work_estimate`]).
+    pub exec: Exec,
 }
 
 impl Analysis {
+    /// `f(k, block k)` for every block, in block order ([`Analysis::exec`]).
+    pub(crate) fn map_blocks<T, F>(&self, f: F) -> Vec<T>
+    where
+        T: Send,
+        F: Fn(usize, &BlockPlan) -> T + Sync + Send,
+    {
+        self.exec.map(self.blocks.len(), |k| f(k, &self.blocks[k]))
+    }
+
     /// Rough flop count of one interior-point iteration: the dense Cholesky of the Schur
     /// matrix (`m³/3`), the per-block factorisations and products (`n_k³`) and the Schur
     /// assembly (`m_k n_k²` for the `m_k` constraints touching block `k`; `m_k` nonzeros per
@@ -354,6 +366,7 @@ pub(crate) fn analyse(problem: &Problem) -> Result<Analysis, SdpError> {
         m: problem.b.len(),
         blocks,
         nu,
+        exec: Exec::Parallel,
     })
 }
 
