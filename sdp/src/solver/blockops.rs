@@ -209,14 +209,12 @@ pub(crate) fn apply_at(an: &Analysis, vals: &Values, y: &[f64], out: &mut [Mat<f
     });
 }
 
-/// Copies a square `Mat` into a column-major stack buffer (leading dimension `n`).
-fn load(m: &Mat<f64>) -> small::Buf {
+/// Copies a square `Mat` into a column-major buffer of `n²` entries (leading dimension `n`).
+fn load(m: &Mat<f64>, buf: &mut [f64]) {
     let n = m.nrows();
-    let mut buf = [0.0; small::SMALL * small::SMALL];
     for j in 0..n {
         buf[j * n..(j + 1) * n].copy_from_slice(m.col_as_slice(j));
     }
-    buf
 }
 
 /// A square `Mat` from a column-major buffer of order `n`.
@@ -234,8 +232,10 @@ fn store(buf: &[f64], n: usize) -> Mat<f64> {
 pub(crate) fn cholesky(a: &Mat<f64>) -> Option<Mat<f64>> {
     let n = a.nrows();
     if n <= small::SMALL {
-        let mut buf = load(a);
-        return small::cholesky_in_place(&mut buf[..n * n], n).then(|| store(&buf, n));
+        return small::with_bufs(n, |[buf]| {
+            load(a, buf);
+            small::cholesky_in_place(buf, n).then(|| store(buf, n))
+        });
     }
     let mut l = a.clone();
     let mut mem = faer::dyn_stack::MemBuffer::new(
@@ -270,9 +270,11 @@ pub(crate) fn cholesky(a: &Mat<f64>) -> Option<Mat<f64>> {
 pub(crate) fn lower_inverse(l: &Mat<f64>) -> Mat<f64> {
     let n = l.nrows();
     if n <= small::SMALL {
-        let mut out = [0.0; small::SMALL * small::SMALL];
-        small::lower_inverse(&load(l), n, &mut out);
-        return store(&out, n);
+        return small::with_bufs(n, |[lb, out]| {
+            load(l, lb);
+            small::lower_inverse(lb, n, out);
+            store(out, n)
+        });
     }
     let mut inv = Mat::zeros(n, n);
     invert_lower_triangular(inv.as_mut(), l.as_ref(), Par::Seq);
@@ -288,9 +290,11 @@ pub(crate) fn lower_inverse(l: &Mat<f64>) -> Mat<f64> {
 pub(crate) fn inverse_from_linv(linv: &Mat<f64>) -> Mat<f64> {
     let n = linv.nrows();
     if n <= small::SMALL {
-        let mut out = [0.0; small::SMALL * small::SMALL];
-        small::gram_of_lower(&load(linv), n, &mut out);
-        return store(&out, n);
+        return small::with_bufs(n, |[lb, out]| {
+            load(linv, lb);
+            small::gram_of_lower(lb, n, out);
+            store(out, n)
+        });
     }
     let mut out = Mat::zeros(n, n);
     tri_matmul(
@@ -316,9 +320,12 @@ pub(crate) fn inverse_from_linv(linv: &Mat<f64>) -> Mat<f64> {
 pub(crate) fn mul(a: &Mat<f64>, b: &Mat<f64>) -> Mat<f64> {
     let n = a.nrows();
     if n <= small::SMALL_PRODUCT && a.ncols() == n && b.nrows() == n && b.ncols() == n {
-        let mut out = [0.0; small::SMALL * small::SMALL];
-        small::mul(&load(a), &load(b), n, &mut out);
-        return store(&out, n);
+        return small::with_bufs(n, |[ab, bb, out]| {
+            load(a, ab);
+            load(b, bb);
+            small::mul(ab, bb, n, out);
+            store(out, n)
+        });
     }
     let mut out = Mat::zeros(a.nrows(), b.ncols());
     matmul(
@@ -336,12 +343,12 @@ pub(crate) fn mul(a: &Mat<f64>, b: &Mat<f64>) -> Mat<f64> {
 pub(crate) fn congruence(linv: &Mat<f64>, d: &Mat<f64>) -> Mat<f64> {
     let n = d.nrows();
     if n <= small::SMALL_PRODUCT {
-        let (mut tmp, mut out) = (
-            [0.0; small::SMALL * small::SMALL],
-            [0.0; small::SMALL * small::SMALL],
-        );
-        small::congruence(&load(linv), &load(d), n, &mut tmp, &mut out);
-        return store(&out, n);
+        return small::with_bufs(n, |[lb, db, tmp, out]| {
+            load(linv, lb);
+            load(d, db);
+            small::congruence(lb, db, n, tmp, out);
+            store(out, n)
+        });
     }
     let mut t = Mat::zeros(n, n);
     tri_matmul(
@@ -393,7 +400,10 @@ pub(crate) fn min_eig(kind: BlockKind, a: &Mat<f64>) -> f64 {
         BlockKind::Psd => match a.nrows() {
             0 => f64::INFINITY,
             1 => a[(0, 0)],
-            n if n <= small::JACOBI_MAX => small::min_eig(&load(a), n),
+            n if n <= small::JACOBI_MAX => small::with_bufs(n, |[ab]| {
+                load(a, ab);
+                small::min_eig(ab, n)
+            }),
             _ => a
                 .self_adjoint_eigenvalues(faer::Side::Lower)
                 .ok()

@@ -5,7 +5,7 @@
 //! than in arithmetic (measured with callgrind on hinf1, blocks 4/4/6: faer's triangular
 //! products, Cholesky scratch buffers and eigenvalue solver took over half of the solve's
 //! instructions). These kernels are plain loops over columns, allocate nothing, and work on
-//! stack arrays of [`SMALL`]² entries; [`super::blockops`] and [`super::step`] use them for
+//! stack arrays sized by [`with_bufs`]; [`super::blockops`] and [`super::step`] use them for
 //! small blocks and faer above that size.
 //!
 //! Every kernel reads and writes column-major `n×n` arrays whose leading dimension is `n`.
@@ -22,8 +22,23 @@ pub(crate) const SMALL_PRODUCT: usize = 8;
 /// the general solver's fixed overhead dominates.
 pub(crate) const JACOBI_MAX: usize = 10;
 
-/// A stack buffer for one small block.
-pub(crate) type Buf = [f64; SMALL * SMALL];
+/// Runs `f` on `K` zeroed stack buffers of `n²` entries each (`n ≤` [`SMALL`]).
+///
+/// The buffers come from arrays of 16, 64 or 256 entries by the size class of `n`, so a block of
+/// order 2 does not pay for clearing and copying `SMALL²` entries per buffer (truss1, blocks of
+/// order 2: memset and memmove of full-size buffers took 15% of the solve).
+pub(crate) fn with_bufs<const K: usize, R>(n: usize, f: impl FnOnce([&mut [f64]; K]) -> R) -> R {
+    fn run<const K: usize, const C: usize, R>(n: usize, f: impl FnOnce([&mut [f64]; K]) -> R) -> R {
+        let mut bufs = [[0.0; C]; K];
+        f(bufs.each_mut().map(|b| &mut b[..n * n]))
+    }
+    assert!(n <= SMALL, "small kernel called on an order-{n} block");
+    match n {
+        0..=4 => run::<K, 16, R>(n, f),
+        5..=8 => run::<K, 64, R>(n, f),
+        _ => run::<K, { SMALL * SMALL }, R>(n, f),
+    }
+}
 
 /// In-place lower Cholesky factorisation `A = L Lᵀ` (left-looking, Golub–Van Loan Alg. 4.2.2).
 ///
@@ -163,8 +178,11 @@ pub(crate) fn min_eig(a: &[f64], n: usize) -> f64 {
     if n == 0 {
         return f64::INFINITY;
     }
-    let mut w: Buf = [0.0; SMALL * SMALL];
-    let w = &mut w[..n * n];
+    with_bufs(n, |[w]| jacobi_min_eig(a, n, w))
+}
+
+/// [`min_eig`] with the working copy in `w` (`n²` entries).
+fn jacobi_min_eig(a: &[f64], n: usize, w: &mut [f64]) -> f64 {
     for j in 0..n {
         for i in j..n {
             let v = a[i + j * n];

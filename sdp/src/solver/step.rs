@@ -33,14 +33,15 @@ enum Bound {
 fn allows(v: &Mat<f64>, dv: &Mat<f64>, shift: f64) -> bool {
     let n = v.nrows();
     if n <= small::SMALL {
-        let mut buf = [0.0; small::SMALL * small::SMALL];
-        for j in 0..n {
-            let (vj, dj) = (v.col_as_slice(j), dv.col_as_slice(j));
-            for i in j..n {
-                buf[i + j * n] = shift * vj[i] + dj[i];
+        return small::with_bufs(n, |[buf]| {
+            for j in 0..n {
+                let (vj, dj) = (v.col_as_slice(j), dv.col_as_slice(j));
+                for i in j..n {
+                    buf[i + j * n] = shift * vj[i] + dj[i];
+                }
             }
-        }
-        return small::cholesky_in_place(&mut buf[..n * n], n);
+            small::cholesky_in_place(buf, n)
+        });
     }
     let t = Mat::from_fn(n, n, |i, j| shift * v[(i, j)] + dv[(i, j)]);
     cholesky(&t).is_some()
