@@ -456,7 +456,32 @@ fn factor_block(kind: BlockKind, v: &Mat<f64>) -> Option<(Mat<f64>, Mat<f64>)> {
 /// Per block `(L, L⁻¹)` (PSD) or `(0×0, 1/v)` (LP), blocks independently; `None` if some
 /// block is not positive definite.
 pub(crate) fn factor_all(an: &Analysis, v: &[Mat<f64>]) -> Option<(BlockMats, BlockMats)> {
-    let parts = an.map_blocks(|k, b| factor_block(b.kind, &v[k]));
+    unzip_factors(an.map_blocks(|k, b| factor_block(b.kind, &v[k])))
+}
+
+/// The point `cur + alpha·d` and its [`factor_all`] factors, formed block by block in one pass;
+/// `None` if some block of the new point is not positive definite.
+pub(crate) fn step_and_factor(
+    an: &Analysis,
+    cur: &[Mat<f64>],
+    alpha: f64,
+    d: &[Mat<f64>],
+) -> Option<(BlockMats, (BlockMats, BlockMats))> {
+    let parts = an.map_blocks(|k, b| {
+        let mut next = cur[k].clone();
+        axpy(
+            std::slice::from_mut(&mut next),
+            alpha,
+            std::slice::from_ref(&d[k]),
+        );
+        let f = factor_block(b.kind, &next);
+        (next, f)
+    });
+    let (next, factors): (BlockMats, Vec<_>) = parts.into_iter().unzip();
+    Some((next, unzip_factors(factors)?))
+}
+
+fn unzip_factors(parts: Vec<Option<(Mat<f64>, Mat<f64>)>>) -> Option<(BlockMats, BlockMats)> {
     let mut ls = Vec::with_capacity(parts.len());
     let mut linvs = Vec::with_capacity(parts.len());
     for p in parts {
@@ -476,15 +501,10 @@ impl Factors {
     ) -> Self {
         let (lx, linv_x) = fx;
         let (ls, linv_s) = fs;
-        let zinv = an
-            .blocks
-            .iter()
-            .zip(&linv_s)
-            .map(|(b, li)| match b.kind {
-                BlockKind::Lp => li.clone(),
-                BlockKind::Psd => inverse_from_linv(li),
-            })
-            .collect();
+        let zinv = an.map_blocks(|k, b| match b.kind {
+            BlockKind::Lp => linv_s[k].clone(),
+            BlockKind::Psd => inverse_from_linv(&linv_s[k]),
+        });
         Self {
             lx,
             linv_x,

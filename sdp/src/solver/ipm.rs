@@ -4,7 +4,7 @@ use std::time::Instant;
 
 use faer::{Mat, Par};
 
-use super::blockops::{BlockMats, Factors, axpy, c_dense, factor_all, inner};
+use super::blockops::{BlockMats, Factors, c_dense, factor_all, inner, step_and_factor};
 use super::certificate::InfeasibilityCertificate;
 use super::direction::{Direction, Iterate, System};
 use super::linsys::SchurSolver;
@@ -200,9 +200,7 @@ fn take_step(
     mut alpha: f64,
 ) -> Option<(f64, BlockMats, (BlockMats, BlockMats))> {
     for _ in 0..8 {
-        let mut next: BlockMats = cur.to_vec();
-        axpy(&mut next, alpha, d);
-        if let Some(f) = factor_all(an, &next) {
+        if let Some((next, f)) = step_and_factor(an, cur, alpha, d) {
             return Some((alpha, next, f));
         }
         alpha *= BACKTRACK;

@@ -262,7 +262,8 @@ struct RowScratch {
 }
 
 /// Reusable buffers of [`f2_row`]: `U = X[:,J] A_p[J,J]` and `V = S⁻¹[:,J]`, both `n×|J|`
-/// row-major so that every entry of `U V_·ᵀ` is a contiguous inner product.
+/// column-major, so that forming `U` is a contiguous axpy per entry of `A_p` and `V` a copy of
+/// `|J|` columns.
 #[derive(Default)]
 struct F2Scratch {
     u: Vec<f64>,
@@ -272,7 +273,7 @@ struct F2Scratch {
 /// Row `t` (sorted order) with formula F2: `U = X A_p` on the support `J` of `A_p`, then every
 /// entry of `G = X A_p S⁻¹ = U S⁻¹[J,:]` that the pattern of a later `A_q` needs as an inner
 /// product of length `|J|`, and `row[t'] = ⟨A_q, G⟩`. It costs `|J|` (not the `nnz(A_p)` of F3)
-/// per entry of `A_q`, with contiguous reads.
+/// per entry of `A_q`.
 fn f2_row(d: RowData<'_>, t: usize, support: &[usize], row: &mut [f64], ws: &mut F2Scratch) {
     let RowData {
         order,
@@ -285,35 +286,40 @@ fn f2_row(d: RowData<'_>, t: usize, support: &[usize], row: &mut [f64], ws: &mut
     let (pat, v) = (&cons[p], &vals[p]);
     let n = x.nrows();
     let j = support.len();
+    if n == 0 {
+        row[t..].fill(0.0);
+        return;
+    }
     let pos = |i: usize| support.binary_search(&i).unwrap_or(0);
     ws.u.clear();
     ws.u.resize(n * j, 0.0);
     ws.v.clear();
     ws.v.resize(n * j, 0.0);
     let (u, sv) = (&mut ws.u, &mut ws.v);
-    // U[γ, c] += a X[γ, r] and, off the diagonal, U[γ, r] += a X[γ, c] for A_p's entry (r, c, a).
+    // U[:, c] += a X[:, r] and, off the diagonal, U[:, r] += a X[:, c] for A_p's entry (r, c, a).
     for e in 0..v.len() {
         let (r, c, a) = (pat.rows[e], pat.cols[e], v[e]);
-        let (xr, pc) = (x.col_as_slice(r), pos(c));
-        for g in 0..n {
-            u[g * j + pc] += a * xr[g];
+        let pc = pos(c);
+        for (ug, xg) in u[pc * n..(pc + 1) * n].iter_mut().zip(x.col_as_slice(r)) {
+            *ug += a * xg;
         }
         if r != c {
-            let (xc, pr) = (x.col_as_slice(c), pos(r));
-            for g in 0..n {
-                u[g * j + pr] += a * xc[g];
+            let pr = pos(r);
+            for (ug, xg) in u[pr * n..(pr + 1) * n].iter_mut().zip(x.col_as_slice(c)) {
+                *ug += a * xg;
             }
         }
     }
-    for (tt, &col) in support.iter().enumerate() {
-        let zc = zinv.col_as_slice(col);
-        for d in 0..n {
-            sv[d * j + tt] = zc[d];
-        }
+    for (vc, &col) in sv.chunks_exact_mut(n).zip(support) {
+        vc.copy_from_slice(zinv.col_as_slice(col));
     }
+    // G[g, d] = Σ_τ U[g, τ] V[d, τ], summed in the order of τ.
     let entry = |g: usize, d: usize| -> f64 {
-        let (ug, vd) = (&u[g * j..(g + 1) * j], &sv[d * j..(d + 1) * j]);
-        ug.iter().zip(vd).map(|(a, b)| a * b).sum()
+        let mut s = -0.0;
+        for (uc, vc) in u.chunks_exact(n).zip(sv.chunks_exact(n)) {
+            s += uc[g] * vc[d];
+        }
+        s
     };
     for t2 in t..order.len() {
         let q = order[t2];
