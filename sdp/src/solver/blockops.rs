@@ -16,7 +16,7 @@ use faer::linalg::triangular_inverse::invert_lower_triangular;
 use faer::{Accum, Mat, Par};
 
 use super::small;
-use super::structure::{Analysis, Values};
+use super::structure::{Analysis, BlockPlan, Values};
 use crate::problem::{BlockKind, SparseSym};
 
 /// One matrix per block (PSD `n×n`, LP `n×1`).
@@ -24,13 +24,15 @@ pub(crate) type BlockMats = Vec<Mat<f64>>;
 
 /// Zero block matrices with the layout of `an`.
 pub(crate) fn zeros(an: &Analysis) -> BlockMats {
-    an.blocks
-        .iter()
-        .map(|b| match b.kind {
-            BlockKind::Psd => Mat::zeros(b.n, b.n),
-            BlockKind::Lp => Mat::zeros(b.n, 1),
-        })
-        .collect()
+    an.blocks.iter().map(zero_block).collect()
+}
+
+/// A zero matrix with the layout of block `b`.
+pub(crate) fn zero_block(b: &BlockPlan) -> Mat<f64> {
+    match b.kind {
+        BlockKind::Psd => Mat::zeros(b.n, b.n),
+        BlockKind::Lp => Mat::zeros(b.n, 1),
+    }
 }
 
 /// `Σ_k ⟨a_k, b_k⟩` (trace inner product, summed block by block in order).
@@ -102,7 +104,7 @@ pub(crate) fn c_dense(an: &Analysis, vals: &Values) -> BlockMats {
 }
 
 /// `⟨A_p, G⟩` for every local constraint `p` of block `k`.
-fn block_apply_a(an: &Analysis, vals: &Values, k: usize, g: &Mat<f64>) -> Vec<f64> {
+pub(crate) fn block_apply_a(an: &Analysis, vals: &Values, k: usize, g: &Mat<f64>) -> Vec<f64> {
     let b = &an.blocks[k];
     let v = &vals.a[k];
     if let Some(d) = &vals.dense[k] {
@@ -162,51 +164,55 @@ pub(crate) fn apply_a(an: &Analysis, vals: &Values, g: &[Mat<f64>], out: &mut [f
 
 /// `out_k = Σ_i y_i A_i^k` for every block (overwrites `out`; blocks independently).
 pub(crate) fn apply_at(an: &Analysis, vals: &Values, y: &[f64], out: &mut [Mat<f64>]) {
-    an.exec.for_each_mut(out, |k, o| {
-        let b = &an.blocks[k];
-        o.fill(0.0);
-        if let Some(d) = &vals.dense[k] {
-            let n = b.n;
-            for (p, pat) in b.cons.iter().enumerate() {
-                let yi = y[pat.con];
-                if yi == 0.0 {
-                    continue;
-                }
-                let a = &d[p * n * n..(p + 1) * n * n];
-                for j in 0..n {
-                    let (aj, oj) = (&a[j * n..(j + 1) * n], o.col_as_slice_mut(j));
-                    for i in 0..n {
-                        oj[i] += yi * aj[i];
-                    }
-                }
-            }
-            return;
-        }
+    an.exec
+        .for_each_mut(out, |k, o| block_apply_at(an, vals, k, y, o));
+}
+
+/// `o = Σ_i y_i A_i^k` for block `k` (overwrites `o`).
+pub(crate) fn block_apply_at(an: &Analysis, vals: &Values, k: usize, y: &[f64], o: &mut Mat<f64>) {
+    let b = &an.blocks[k];
+    o.fill(0.0);
+    if let Some(d) = &vals.dense[k] {
+        let n = b.n;
         for (p, pat) in b.cons.iter().enumerate() {
             let yi = y[pat.con];
             if yi == 0.0 {
                 continue;
             }
-            let v = &vals.a[k][p];
-            match b.kind {
-                BlockKind::Lp => {
-                    let o0 = o.col_as_slice_mut(0);
-                    for e in 0..v.len() {
-                        o0[pat.rows[e]] += yi * v[e];
-                    }
+            let a = &d[p * n * n..(p + 1) * n * n];
+            for j in 0..n {
+                let (aj, oj) = (&a[j * n..(j + 1) * n], o.col_as_slice_mut(j));
+                for i in 0..n {
+                    oj[i] += yi * aj[i];
                 }
-                BlockKind::Psd => {
-                    for e in 0..v.len() {
-                        let (r, c) = (pat.rows[e], pat.cols[e]);
-                        o.col_as_slice_mut(c)[r] += yi * v[e];
-                        if r != c {
-                            o.col_as_slice_mut(r)[c] += yi * v[e];
-                        }
+            }
+        }
+        return;
+    }
+    for (p, pat) in b.cons.iter().enumerate() {
+        let yi = y[pat.con];
+        if yi == 0.0 {
+            continue;
+        }
+        let v = &vals.a[k][p];
+        match b.kind {
+            BlockKind::Lp => {
+                let o0 = o.col_as_slice_mut(0);
+                for e in 0..v.len() {
+                    o0[pat.rows[e]] += yi * v[e];
+                }
+            }
+            BlockKind::Psd => {
+                for e in 0..v.len() {
+                    let (r, c) = (pat.rows[e], pat.cols[e]);
+                    o.col_as_slice_mut(c)[r] += yi * v[e];
+                    if r != c {
+                        o.col_as_slice_mut(r)[c] += yi * v[e];
                     }
                 }
             }
         }
-    });
+    }
 }
 
 /// Copies a square `Mat` into a column-major buffer of `n²` entries (leading dimension `n`).

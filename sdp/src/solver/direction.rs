@@ -21,98 +21,101 @@
 
 use faer::Mat;
 
-use super::blockops::{BlockMats, Factors, apply_a, apply_at, axpy, mul, symmetrize};
+use super::blockops::{
+    BlockMats, Factors, apply_a, apply_at, axpy, block_apply_a, block_apply_at, mul, symmetrize,
+    zero_block,
+};
 use super::linsys::SchurSolver;
 use super::lsq::LeastSquares;
-use super::structure::{Analysis, Values};
+use super::structure::{Analysis, BlockPlan, Values};
 use crate::problem::BlockKind;
 
-/// `T_k = (X_k R_d,k + H_k − σμ I) S_k⁻¹` for every block.
-fn rhs_blocks(
-    an: &Analysis,
-    x: &[Mat<f64>],
-    zinv: &[Mat<f64>],
-    rd: &[Mat<f64>],
+/// `T_k = (X_k R_d,k + H_k − σμ I) S_k⁻¹` for block `k` (`h`: its second-order term).
+fn rhs_block(
+    b: &BlockPlan,
+    x: &Mat<f64>,
+    zinv: &Mat<f64>,
+    rd: &Mat<f64>,
     sigma_mu: f64,
-    h: Option<&[Mat<f64>]>,
-) -> BlockMats {
-    an.map_blocks(|k, b| match b.kind {
+    h: Option<&Mat<f64>>,
+) -> Mat<f64> {
+    match b.kind {
         BlockKind::Lp => {
-            let (xs, rs, zs) = (
-                x[k].col_as_slice(0),
-                rd[k].col_as_slice(0),
-                zinv[k].col_as_slice(0),
-            );
+            let (xs, rs, zs) = (x.col_as_slice(0), rd.col_as_slice(0), zinv.col_as_slice(0));
             Mat::from_fn(b.n, 1, |l, _| {
-                let hl = h.map_or(0.0, |h| h[k][(l, 0)]);
+                let hl = h.map_or(0.0, |h| h[(l, 0)]);
                 (xs[l] * rs[l] + hl - sigma_mu) * zs[l]
             })
         }
         BlockKind::Psd => {
-            let mut w = mul(&x[k], &rd[k]);
+            let mut w = mul(x, rd);
             if let Some(h) = h {
-                w += &h[k];
+                w += h;
             }
             for i in 0..b.n {
                 w[(i, i)] -= sigma_mu;
             }
-            mul(&w, &zinv[k])
+            mul(&w, zinv)
         }
-    })
+    }
 }
 
-/// `ΔX = sym(−X − (X ΔS + H − σμI) S⁻¹)` from `Δy`, with `ΔS = R_d − 𝒜ᵀ(Δy)`.
-#[allow(clippy::too_many_arguments)]
-fn recover_x(
-    an: &Analysis,
-    vals: &Values,
-    x: &[Mat<f64>],
-    zinv: &[Mat<f64>],
-    rd: &[Mat<f64>],
-    dy: &[f64],
+/// `ΔX_k = sym(−X_k − (X_k ΔS_k + H_k − σμI) S_k⁻¹)` for block `k`.
+fn recover_block(
+    b: &BlockPlan,
+    x: &Mat<f64>,
+    zinv: &Mat<f64>,
+    ds: &Mat<f64>,
     sigma_mu: f64,
-    h: Option<&[Mat<f64>]>,
-) -> BlockMats {
-    let mut ds = super::blockops::zeros(an);
-    apply_at(an, vals, dy, &mut ds);
-    for (d, r) in ds.iter_mut().zip(rd) {
-        *d = r - &*d;
-    }
-    an.map_blocks(|k, b| match b.kind {
+    h: Option<&Mat<f64>>,
+) -> Mat<f64> {
+    match b.kind {
         BlockKind::Lp => {
-            let (xs, dss, zs) = (
-                x[k].col_as_slice(0),
-                ds[k].col_as_slice(0),
-                zinv[k].col_as_slice(0),
-            );
+            let (xs, dss, zs) = (x.col_as_slice(0), ds.col_as_slice(0), zinv.col_as_slice(0));
             Mat::from_fn(b.n, 1, |l, _| {
-                let hl = h.map_or(0.0, |h| h[k][(l, 0)]);
+                let hl = h.map_or(0.0, |h| h[(l, 0)]);
                 -xs[l] - (xs[l] * dss[l] + hl - sigma_mu) * zs[l]
             })
         }
         BlockKind::Psd => {
-            let mut w = mul(&x[k], &ds[k]);
+            let mut w = mul(x, ds);
             if let Some(h) = h {
-                w += &h[k];
+                w += h;
             }
             for i in 0..b.n {
                 w[(i, i)] -= sigma_mu;
             }
-            let mut d = mul(&w, &zinv[k]);
-            d += &x[k];
+            let mut d = mul(&w, zinv);
+            d += x;
             d *= faer::Scale(-1.0);
             symmetrize(&mut d);
             d
         }
-    })
+    }
 }
 
-/// Second-order term `H = ΔX ΔS` of the corrector (per block; elementwise for LP blocks).
-fn second_order(an: &Analysis, dx: &[Mat<f64>], ds: &[Mat<f64>]) -> BlockMats {
-    an.map_blocks(|k, b| match b.kind {
-        BlockKind::Lp => Mat::from_fn(b.n, 1, |l, _| dx[k][(l, 0)] * ds[k][(l, 0)]),
-        BlockKind::Psd => mul(&dx[k], &ds[k]),
-    })
+/// `ΔS_k = R_d,k − 𝒜ᵀ(Δy)_k` for block `k`.
+fn dual_block(an: &Analysis, vals: &Values, k: usize, dy: &[f64], rd: &Mat<f64>) -> Mat<f64> {
+    let mut o = zero_block(&an.blocks[k]);
+    block_apply_at(an, vals, k, dy, &mut o);
+    rd - &o
+}
+
+/// Second-order term `H_k = ΔX_k ΔS_k` of the corrector (elementwise for LP blocks).
+fn second_order(b: &BlockPlan, dx: &Mat<f64>, ds: &Mat<f64>) -> Mat<f64> {
+    match b.kind {
+        BlockKind::Lp => Mat::from_fn(b.n, 1, |l, _| dx[(l, 0)] * ds[(l, 0)]),
+        BlockKind::Psd => mul(dx, ds),
+    }
+}
+
+/// Adds the per-block parts of `𝒜(·)` into `out` in block order (the order of [`apply_a`]).
+fn add_parts(an: &Analysis, parts: impl IntoIterator<Item = Vec<f64>>, out: &mut [f64]) {
+    for (b, part) in an.blocks.iter().zip(parts) {
+        for (pat, s) in b.cons.iter().zip(part) {
+            out[pat.con] += s;
+        }
+    }
 }
 
 /// The predictor `(ΔX_a, ΔS_a)` whose product `H = ΔX_a ΔS_a` is the corrector's second-order
@@ -171,17 +174,35 @@ impl System<'_> {
         second: Option<Predictor<'_>>,
     ) -> Direction {
         let (an, vals, x, f) = (it.an, it.vals, it.x, it.f);
-        let (mut dx, mut dy) = match self {
+        // The normal-equations form runs in two passes over the blocks: the right-hand side
+        // `b + 𝒜(T)` (with the corrector's `H`), then `ΔS`, `ΔX` and `𝒜(ΔX)` from `Δy`.
+        let (mut dx, mut dy, normal) = match self {
             System::Normal(solver) => {
-                let h = second.map(|(dx, ds)| second_order(an, dx, ds));
-                let t = rhs_blocks(an, x, &f.zinv, it.rd, sigma_mu, h.as_deref());
+                let first = an.map_blocks(|k, b| {
+                    let h = second.map(|(dx, ds)| second_order(b, &dx[k], &ds[k]));
+                    let t = rhs_block(b, &x[k], &f.zinv[k], &it.rd[k], sigma_mu, h.as_ref());
+                    (h, block_apply_a(an, vals, k, &t))
+                });
+                let (h, parts): (Vec<_>, Vec<_>) = first.into_iter().unzip();
                 let mut r = vals.b.clone();
-                apply_a(an, vals, &t, &mut r);
+                add_parts(an, parts, &mut r);
                 let dy = solver.solve(&r);
-                let dx = recover_x(an, vals, x, &f.zinv, it.rd, &dy, sigma_mu, h.as_deref());
-                (dx, dy)
+                let second = an.map_blocks(|k, b| {
+                    let ds = dual_block(an, vals, k, &dy, &it.rd[k]);
+                    let dx = recover_block(b, &x[k], &f.zinv[k], &ds, sigma_mu, h[k].as_ref());
+                    let part = block_apply_a(an, vals, k, &dx);
+                    (dx, (ds, part))
+                });
+                let (dx, rest): (BlockMats, Vec<_>) = second.into_iter().unzip();
+                let (ds, parts): (BlockMats, Vec<_>) = rest.into_iter().unzip();
+                let mut adx = vec![0.0; an.m];
+                add_parts(an, parts, &mut adx);
+                (dx, dy, Some((ds, adx)))
             }
-            System::LeastSquares(ls) => ls.direction(an, x, f, it.rd, it.rp, sigma_mu, second),
+            System::LeastSquares(ls) => {
+                let (dx, dy) = ls.direction(an, x, f, it.rd, it.rp, sigma_mu, second);
+                (dx, dy, None)
+            }
         };
         let correction = |e: &[f64]| -> (Vec<f64>, BlockMats) {
             match self {
@@ -193,12 +214,31 @@ impl System<'_> {
                 System::LeastSquares(ls) => ls.correction(an, x, f, e),
             }
         };
-        let error = refine(an, vals, it.rp, it.threshold, &correction, &mut dx, &mut dy);
-        let mut ds = super::blockops::zeros(an);
-        apply_at(an, vals, &dy, &mut ds);
-        for (d, r) in ds.iter_mut().zip(it.rd) {
-            *d = r - &*d;
-        }
+        let (ds, adx) = match normal {
+            Some((ds, adx)) => (Some(ds), adx),
+            None => {
+                let mut adx = vec![0.0; an.m];
+                apply_a(an, vals, &dx, &mut adx);
+                (None, adx)
+            }
+        };
+        let (error, refined) = refine(
+            it.rp,
+            adx,
+            it.threshold,
+            &correction,
+            &mut dx,
+            &mut dy,
+            |dx| {
+                let mut adx = vec![0.0; an.m];
+                apply_a(an, vals, dx, &mut adx);
+                adx
+            },
+        );
+        let ds = match ds {
+            Some(ds) if !refined => ds,
+            _ => an.map_blocks(|k, _| dual_block(an, vals, k, &dy, &it.rd[k])),
+        };
         Direction { dx, dy, ds, error }
     }
 }
@@ -231,25 +271,25 @@ fn hkm_image(
 /// the computed `ΔX` miss `r_p` by more than the tolerance; full steps would then *increase* the
 /// primal infeasibility. `ΔX` is affine in `Δy`, so `correction(e)` returns `δ` and the matching
 /// change of `ΔX` with `𝒜(·) ≈ e` (same factorisation); `Δy += δ`, `ΔX += ·` is repeated while
-/// the residual is above `threshold` and halves. Returns the final residual norm; `ΔS` is formed
-/// afterwards from the refined `Δy`.
+/// the residual is above `threshold` and halves. `adx` is `𝒜(ΔX)` of the given direction and
+/// `apply` computes `𝒜(·)`. Returns the final residual norm and whether the direction changed
+/// (`ΔS` must then be formed again from the refined `Δy`).
 fn refine(
-    an: &Analysis,
-    vals: &Values,
     rp: &[f64],
+    adx: Vec<f64>,
     threshold: f64,
     correction: &Correction<'_>,
     dx: &mut BlockMats,
     dy: &mut [f64],
-) -> f64 {
-    let residual = |dx: &[Mat<f64>]| {
-        let mut adx = vec![0.0; an.m];
-        apply_a(an, vals, dx, &mut adx);
+    apply: impl Fn(&[Mat<f64>]) -> Vec<f64>,
+) -> (f64, bool) {
+    let residual = |adx: Vec<f64>| {
         let e: Vec<f64> = rp.iter().zip(&adx).map(|(r, a)| r - a).collect();
         let n = e.iter().map(|v| v * v).sum::<f64>().sqrt();
         (e, n)
     };
-    let (mut e, mut norm) = residual(dx);
+    let (mut e, mut norm) = residual(adx);
+    let mut changed = false;
     for _ in 0..3 {
         if !(norm > threshold) {
             break;
@@ -257,7 +297,7 @@ fn refine(
         let (delta, corr) = correction(&e);
         let mut trial = dx.clone();
         axpy(&mut trial, 1.0, &corr);
-        let (e2, n2) = residual(&trial);
+        let (e2, n2) = residual(apply(&trial));
         if !(n2 < norm) {
             break;
         }
@@ -265,6 +305,7 @@ fn refine(
         for (a, d) in dy.iter_mut().zip(&delta) {
             *a += d;
         }
+        changed = true;
         let improved = n2 < 0.5 * norm;
         e = e2;
         norm = n2;
@@ -272,5 +313,5 @@ fn refine(
             break;
         }
     }
-    norm
+    (norm, changed)
 }
