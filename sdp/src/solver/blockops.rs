@@ -39,16 +39,21 @@ pub(crate) fn zero_block(b: &BlockPlan) -> Mat<f64> {
 pub(crate) fn inner(a: &[Mat<f64>], b: &[Mat<f64>]) -> f64 {
     let mut total = 0.0;
     for (u, v) in a.iter().zip(b) {
-        let mut s = 0.0;
-        for j in 0..u.ncols() {
-            let (cu, cv) = (u.col_as_slice(j), v.col_as_slice(j));
-            for i in 0..cu.len() {
-                s += cu[i] * cv[i];
-            }
-        }
-        total += s;
+        total += block_inner(u, v);
     }
     total
+}
+
+/// `⟨u, v⟩` of one block (entrywise products summed column by column).
+pub(crate) fn block_inner(u: &Mat<f64>, v: &Mat<f64>) -> f64 {
+    let mut s = 0.0;
+    for j in 0..u.ncols() {
+        let (cu, cv) = (u.col_as_slice(j), v.col_as_slice(j));
+        for i in 0..cu.len() {
+            s += cu[i] * cv[i];
+        }
+    }
+    s
 }
 
 /// Frobenius norm over all blocks.
@@ -465,26 +470,36 @@ pub(crate) fn factor_all(an: &Analysis, v: &[Mat<f64>]) -> Option<(BlockMats, Bl
     unzip_factors(an.map_blocks(|k, b| factor_block(b.kind, &v[k])))
 }
 
-/// The point `cur + alpha·d` and its [`factor_all`] factors, formed block by block in one pass;
-/// `None` if some block of the new point is not positive definite.
-pub(crate) fn step_and_factor(
+/// A new point and its [`factor_all`] factors.
+pub(crate) type Factored = (BlockMats, (BlockMats, BlockMats));
+
+/// For each `(cur, alpha, d)`, the point `cur + alpha·d` and its [`factor_all`] factors, all
+/// formed in one pass over the blocks; `None` for a point with a block that is not positive
+/// definite.
+pub(crate) fn step_and_factor<const N: usize>(
     an: &Analysis,
-    cur: &[Mat<f64>],
-    alpha: f64,
-    d: &[Mat<f64>],
-) -> Option<(BlockMats, (BlockMats, BlockMats))> {
+    steps: [(&[Mat<f64>], f64, &[Mat<f64>]); N],
+) -> [Option<Factored>; N] {
     let parts = an.map_blocks(|k, b| {
-        let mut next = cur[k].clone();
-        axpy(
-            std::slice::from_mut(&mut next),
-            alpha,
-            std::slice::from_ref(&d[k]),
-        );
-        let f = factor_block(b.kind, &next);
-        (next, f)
+        steps.map(|(cur, alpha, d)| {
+            let mut next = cur[k].clone();
+            axpy(
+                std::slice::from_mut(&mut next),
+                alpha,
+                std::slice::from_ref(&d[k]),
+            );
+            let f = factor_block(b.kind, &next);
+            (next, f)
+        })
     });
-    let (next, factors): (BlockMats, Vec<_>) = parts.into_iter().unzip();
-    Some((next, unzip_factors(factors)?))
+    let mut sides: [(BlockMats, Vec<_>); N] = std::array::from_fn(|_| (Vec::new(), Vec::new()));
+    for block in parts {
+        for ((next, factors), (n, f)) in sides.iter_mut().zip(block) {
+            next.push(n);
+            factors.push(f);
+        }
+    }
+    sides.map(|(next, factors)| Some((next, unzip_factors(factors)?)))
 }
 
 fn unzip_factors(parts: Vec<Option<(Mat<f64>, Mat<f64>)>>) -> Option<(BlockMats, BlockMats)> {

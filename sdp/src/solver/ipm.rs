@@ -4,7 +4,7 @@ use std::time::Instant;
 
 use faer::{Mat, Par};
 
-use super::blockops::{BlockMats, Factors, c_dense, factor_all, inner, step_and_factor};
+use super::blockops::{BlockMats, Factored, Factors, c_dense, factor_all, inner, step_and_factor};
 use super::certificate::InfeasibilityCertificate;
 use super::direction::{Direction, Iterate, System};
 use super::linsys::SchurSolver;
@@ -14,7 +14,7 @@ use super::schur::assemble;
 use super::settings::{IterationLog, Settings};
 use super::solution::{Solution, Status};
 use super::start::initial_point;
-use super::step::step_length;
+use super::step::{Side, step_lengths};
 use super::structure::{Analysis, Values};
 use crate::problem::Problem;
 
@@ -191,19 +191,36 @@ fn detect_infeasibility(
     None
 }
 
-/// Largest step `≤ 1` along `d` from `cur` keeping the cone interior, then backtracked until the
-/// new point has a Cholesky factorisation. Returns the step, the new point and its factors.
-fn take_step(
+/// Takes the steps `alpha_p` along `dx` from `x` and `alpha_d` along `ds` from `s` (both
+/// formed in one pass over the blocks), backtracking a side whose new point has no Cholesky
+/// factorisation. Returns per side the step, the new point and its factors.
+fn take_steps(
+    an: &Analysis,
+    (x, dx, alpha_p): (&[Mat<f64>], &[Mat<f64>], f64),
+    (s, ds, alpha_d): (&[Mat<f64>], &[Mat<f64>], f64),
+) -> Option<[(f64, Factored); 2]> {
+    let [p, d] = step_and_factor(an, [(x, alpha_p, dx), (s, alpha_d, ds)]);
+    let side = |first: Option<Factored>, cur, dir, alpha| match first {
+        Some(f) => Some((alpha, f)),
+        None => backtrack(an, cur, dir, alpha),
+    };
+    Some([side(p, x, dx, alpha_p)?, side(d, s, ds, alpha_d)?])
+}
+
+/// After a failed step `alpha` along `d` from `cur`: the step shortened by [`BACKTRACK`] until
+/// the new point has a Cholesky factorisation (at most eight steps in all).
+fn backtrack(
     an: &Analysis,
     cur: &[Mat<f64>],
     d: &[Mat<f64>],
     mut alpha: f64,
-) -> Option<(f64, BlockMats, (BlockMats, BlockMats))> {
-    for _ in 0..8 {
-        if let Some((next, f)) = step_and_factor(an, cur, alpha, d) {
-            return Some((alpha, next, f));
-        }
+) -> Option<(f64, Factored)> {
+    for _ in 1..8 {
         alpha *= BACKTRACK;
+        let [next] = step_and_factor(an, [(cur, alpha, d)]);
+        if let Some(f) = next {
+            return Some((alpha, f));
+        }
     }
     None
 }
@@ -349,8 +366,22 @@ pub(crate) fn run(
                 mode = Mode::LeastSquares;
                 continue;
             }
-            let ap = step_length(an, &x, &f.linv_x, &pred.dx, gamma);
-            let ad = step_length(an, &s, &f.linv_s, &pred.ds, gamma);
+            let [ap, ad] = step_lengths(
+                an,
+                [
+                    Side {
+                        cur: &x,
+                        linv: &f.linv_x,
+                        d: &pred.dx,
+                    },
+                    Side {
+                        cur: &s,
+                        linv: &f.linv_s,
+                        d: &pred.ds,
+                    },
+                ],
+                gamma,
+            );
             let mu_pred = if an.nu > 0 {
                 (res.xs
                     + ap * inner(&pred.dx, &s)
@@ -385,12 +416,24 @@ pub(crate) fn run(
             break Status::NumericalTrouble;
         };
         let gamma = settings.step_fraction.unwrap_or(0.9 + 0.09 * step_pred);
-        let ap = step_length(an, &x, &f.linv_x, &dx, gamma);
-        let ad = step_length(an, &s, &f.linv_s, &ds, gamma);
-        let Some((ap, xn, fxn)) = take_step(an, &x, &dx, ap) else {
-            break Status::NumericalTrouble;
-        };
-        let Some((ad, sn, fsn)) = take_step(an, &s, &ds, ad) else {
+        let [ap, ad] = step_lengths(
+            an,
+            [
+                Side {
+                    cur: &x,
+                    linv: &f.linv_x,
+                    d: &dx,
+                },
+                Side {
+                    cur: &s,
+                    linv: &f.linv_s,
+                    d: &ds,
+                },
+            ],
+            gamma,
+        );
+        let Some([(ap, (xn, fxn)), (ad, (sn, fsn))]) = take_steps(an, (&x, &dx, ap), (&s, &ds, ad))
+        else {
             break Status::NumericalTrouble;
         };
         x = xn;

@@ -6,7 +6,9 @@
 
 use faer::Mat;
 
-use super::blockops::{BlockMats, apply_a, apply_at, inner, min_eig, norm_fro, norm_max};
+use super::blockops::{
+    BlockMats, block_apply_a, block_apply_at, block_inner, min_eig, norm_fro, norm_max, zero_block,
+};
 use super::solution::Measures;
 use super::structure::{Analysis, Values};
 
@@ -81,25 +83,41 @@ pub(crate) fn residuals(
     y: &[f64],
     s: &[Mat<f64>],
 ) -> Residuals {
-    let mut ax = vec![0.0; an.m];
-    apply_a(an, vals, x, &mut ax);
-    let rp: Vec<f64> = vals.b.iter().zip(&ax).map(|(b, a)| b - a).collect();
-    let mut rd: BlockMats = super::blockops::zeros(an);
-    apply_at(an, vals, y, &mut rd);
-    for k in 0..rd.len() {
+    // One pass over the blocks: the block's part of 𝒜(X), R_d, and its shares of ⟨C, X⟩,
+    // ⟨X, S⟩ and ‖R_d‖²_F (summed below in block order, as `inner` does).
+    let parts = an.map_blocks(|k, b| {
+        let ax = block_apply_a(an, vals, k, &x[k]);
+        let mut r = zero_block(b);
+        block_apply_at(an, vals, k, y, &mut r);
         let (c, sk) = (&c_dense[k], &s[k]);
-        let r = &mut rd[k];
         for j in 0..r.ncols() {
             for i in 0..r.nrows() {
                 r[(i, j)] = c[(i, j)] - r[(i, j)] - sk[(i, j)];
             }
         }
+        let shares = [
+            block_inner(c, &x[k]),
+            block_inner(&x[k], sk),
+            block_inner(&r, &r),
+        ];
+        (ax, r, shares)
+    });
+    let mut ax = vec![0.0; an.m];
+    let mut rd: BlockMats = Vec::with_capacity(parts.len());
+    let (mut pobj, mut xs, mut rd_sq) = (0.0, 0.0, 0.0);
+    for (b, (part, r, [cx, xsk, rr])) in an.blocks.iter().zip(parts) {
+        for (pat, v) in b.cons.iter().zip(part) {
+            ax[pat.con] += v;
+        }
+        rd.push(r);
+        pobj += cx;
+        xs += xsk;
+        rd_sq += rr;
     }
-    let pobj = inner(c_dense, x);
+    let rp: Vec<f64> = vals.b.iter().zip(&ax).map(|(b, a)| b - a).collect();
     let dobj: f64 = vals.b.iter().zip(y).map(|(b, v)| b * v).sum();
-    let xs = inner(x, s);
     let rp_norm = rp.iter().map(|v| v * v).sum::<f64>().sqrt();
-    let rd_norm = norm_fro(&rd);
+    let rd_norm = rd_sq.sqrt();
     let denom = 1.0 + pobj.abs() + dobj.abs();
     Residuals {
         rel_gap: (pobj - dobj).abs() / denom,

@@ -68,79 +68,117 @@ fn nan_min(a: f64, b: f64) -> f64 {
     }
 }
 
-/// The step `min(1, γ·α_max)` along `d` from the current point `cur`, given the inverse
-/// Cholesky factors `linv` of its PSD blocks, where `α_max` is the largest `α ≥ 0` with
-/// `V + α ΔV ⪰ 0`. Returns `0` if an eigenvalue computation failed.
+/// One side (primal `X` or dual `S`) of a step-length computation: the current point, the
+/// inverse Cholesky factors `L⁻¹` of its PSD blocks and the direction.
+#[derive(Clone, Copy)]
+pub(crate) struct Side<'a> {
+    pub cur: &'a [Mat<f64>],
+    pub linv: &'a [Mat<f64>],
+    pub d: &'a [Mat<f64>],
+}
+
+impl Side<'_> {
+    /// Block `k`'s bound after the Cholesky test at `1/γ`.
+    fn bound(&self, k: usize, kind: BlockKind, gamma: f64) -> Bound {
+        let (cur, d) = (&self.cur[k], &self.d[k]);
+        match kind {
+            BlockKind::Lp => {
+                let (x, dx) = (cur.col_as_slice(0), d.col_as_slice(0));
+                let mut a = f64::INFINITY;
+                for l in 0..x.len() {
+                    if dx[l] < 0.0 {
+                        a = a.min(-x[l] / dx[l]);
+                    }
+                }
+                Bound::Known(a)
+            }
+            BlockKind::Psd => {
+                if allows(cur, d, gamma) {
+                    Bound::Known(f64::INFINITY)
+                } else {
+                    let w = congruence(&self.linv[k], d);
+                    let dmin = (0..w.nrows()).fold(f64::INFINITY, |m, i| m.min(w[(i, i)]));
+                    Bound::Pending(w, dmin)
+                }
+            }
+        }
+    }
+}
+
+/// The steps `min(1, γ·α_max)` of both sides, where `α_max` is the largest `α ≥ 0` with
+/// `V + α ΔV ⪰ 0`; a side's step is `0` if an eigenvalue computation failed. Both sides share
+/// each pass over the blocks.
 ///
 /// Eigenvalues are computed only where needed: blocks with `λ_min(W) > −γ` cannot limit the
 /// step; of the others, the one with the smallest diagonal of `W` (most likely to bind) gets
 /// its exact `α`, and any other block then needs its eigenvalue only if it fails the Cholesky
 /// test at that `α`. The result is the same as with an eigenvalue for every block, except
 /// where a Cholesky test and the eigenvalue disagree by rounding at the boundary.
-pub(crate) fn step_length(
-    an: &Analysis,
-    cur: &[Mat<f64>],
-    linv: &[Mat<f64>],
-    d: &[Mat<f64>],
-    gamma: f64,
-) -> f64 {
-    let mut bounds: Vec<Bound> = an.map_blocks(|k, b| match b.kind {
-        BlockKind::Lp => {
-            let (x, dx) = (cur[k].col_as_slice(0), d[k].col_as_slice(0));
-            let mut a = f64::INFINITY;
-            for l in 0..x.len() {
-                if dx[l] < 0.0 {
-                    a = a.min(-x[l] / dx[l]);
-                }
-            }
-            Bound::Known(a)
+pub(crate) fn step_lengths(an: &Analysis, sides: [Side<'_>; 2], gamma: f64) -> [f64; 2] {
+    let tested = an.map_blocks(|k, b| sides.map(|side| side.bound(k, b.kind, gamma)));
+    let mut bounds: [Vec<Bound>; 2] = [Vec::new(), Vec::new()];
+    for pair in tested {
+        for (list, bound) in bounds.iter_mut().zip(pair) {
+            list.push(bound);
         }
-        BlockKind::Psd => {
-            if allows(&cur[k], &d[k], gamma) {
-                Bound::Known(f64::INFINITY)
-            } else {
-                let w = congruence(&linv[k], &d[k]);
-                let dmin = (0..w.nrows()).fold(f64::INFINITY, |m, i| m.min(w[(i, i)]));
-                Bound::Pending(w, dmin)
-            }
-        }
-    });
-    let mut alpha = f64::INFINITY;
-    let mut first: Option<(usize, f64)> = None;
-    for (k, bound) in bounds.iter().enumerate() {
-        match bound {
-            Bound::Known(a) => alpha = nan_min(alpha, *a),
-            Bound::Pending(_, dmin) => {
-                if first.is_none_or(|(_, m)| *dmin < m) {
-                    first = Some((k, *dmin));
+    }
+    // Per side: the minimum over the known bounds and the pending block most likely to bind.
+    let mut alpha = [f64::INFINITY; 2];
+    let mut first: [Option<(usize, f64)>; 2] = [None, None];
+    for i in 0..2 {
+        for (k, bound) in bounds[i].iter().enumerate() {
+            match bound {
+                Bound::Known(a) => alpha[i] = nan_min(alpha[i], *a),
+                Bound::Pending(_, dmin) => {
+                    if first[i].is_none_or(|(_, m)| *dmin < m) {
+                        first[i] = Some((k, *dmin));
+                    }
                 }
             }
         }
     }
-    if let Some((k, _)) = first {
-        if let Bound::Pending(w, _) = &bounds[k] {
-            alpha = nan_min(alpha, exact_step(w));
-        }
-        bounds[k] = Bound::Known(f64::INFINITY);
-        let threshold = alpha;
-        let rest: Vec<f64> = an.exec.map(bounds.len(), |b| match &bounds[b] {
-            Bound::Known(_) => f64::INFINITY,
-            Bound::Pending(w, _) => {
-                if threshold.is_finite()
-                    && threshold > 0.0
-                    && allows(&cur[b], &d[b], 1.0 / threshold)
-                {
-                    f64::INFINITY
-                } else {
-                    exact_step(w)
-                }
-            }
+    let exact_first = an
+        .exec
+        .map(2, |i| match first[i].map(|(k, _)| &bounds[i][k]) {
+            Some(Bound::Pending(w, _)) => exact_step(w),
+            _ => f64::INFINITY,
         });
-        alpha = rest.into_iter().fold(alpha, nan_min);
+    for i in 0..2 {
+        alpha[i] = nan_min(alpha[i], exact_first[i]);
+        if let Some((k, _)) = first[i] {
+            bounds[i][k] = Bound::Known(f64::INFINITY);
+        }
     }
-    if alpha.is_nan() {
-        0.0
-    } else {
-        (gamma * alpha).min(1.0)
+    // Every other pending block needs its eigenvalue only if it fails the test at that α.
+    if first.iter().any(Option::is_some) {
+        let threshold = alpha;
+        let rest = an.map_blocks(|k, _| {
+            [0, 1].map(|i| match &bounds[i][k] {
+                Bound::Known(_) => f64::INFINITY,
+                Bound::Pending(w, _) => {
+                    let side = &sides[i];
+                    if threshold[i].is_finite()
+                        && threshold[i] > 0.0
+                        && allows(&side.cur[k], &side.d[k], 1.0 / threshold[i])
+                    {
+                        f64::INFINITY
+                    } else {
+                        exact_step(w)
+                    }
+                }
+            })
+        });
+        for pair in rest {
+            for i in 0..2 {
+                alpha[i] = nan_min(alpha[i], pair[i]);
+            }
+        }
     }
+    alpha.map(|a| {
+        if a.is_nan() {
+            0.0
+        } else {
+            (gamma * a).min(1.0)
+        }
+    })
 }
