@@ -211,6 +211,56 @@ fn sdp_solve_reports_malformed_files_with_a_line() {
     assert_clean_failure(&o, "bad.dat-s");
 }
 
+/// The SDPA file of a Ferrante et al. (2016) design LMI shipped with the `sdp` tests.
+fn ferrante_sdpa() -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("sdp/tests/data/ferrante_min_trP.dat-s")
+        .display()
+        .to_string()
+}
+
+/// `sdp solve --json` on [`ferrante_sdpa`] with the given extra arguments.
+fn solve_ferrante_lmi(extra: &[&str]) -> serde_json::Value {
+    let file = ferrante_sdpa();
+    let mut args = vec!["sdp", "solve", "--json", &file];
+    args.extend_from_slice(extra);
+    let o = sporadic(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    serde_json::from_str(&stdout(&o)).expect("one JSON object")
+}
+
+#[test]
+fn sdp_solve_tolerance_flags_trade_accuracy_for_iterations() {
+    let tight = solve_ferrante_lmi(&[]);
+    let loose = solve_ferrante_lmi(&["--tol-gap", "1e-3", "--tol-feas", "1e-3"]);
+    for r in [&tight, &loose] {
+        assert_eq!(r["status"], "optimal", "{r}");
+    }
+    let (it_tight, it_loose) = (
+        tight["iterations"].as_u64().unwrap(),
+        loose["iterations"].as_u64().unwrap(),
+    );
+    assert!(it_loose < it_tight, "{it_loose} vs {it_tight} iterations");
+    // The loose run meets its own tolerances (gap, complementarity, both infeasibilities) and
+    // the default run meets 1e-8.
+    for (r, tol) in [(&tight, 1e-8), (&loose, 1e-3)] {
+        let d: Vec<f64> = r["dimacs"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap())
+            .collect();
+        assert!(r["rel_gap"].as_f64().unwrap() <= tol, "{r}");
+        assert!(r["primal_infeasibility"].as_f64().unwrap() <= tol, "{r}");
+        assert!(r["dual_infeasibility"].as_f64().unwrap() <= tol, "{r}");
+        assert!(d[5].abs() <= tol, "complementarity {r}");
+    }
+    for bad in ["--tol-gap=0", "--tol-feas=nan"] {
+        let o = sporadic(&["sdp", "solve", bad, &ferrante_sdpa()]);
+        assert_clean_failure(&o, "tolerances must be finite and positive");
+    }
+}
+
 #[test]
 fn reproduce_rejects_unknown_papers() {
     let o = sporadic(&["reproduce", "nobody1999"]);

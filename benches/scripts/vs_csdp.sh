@@ -9,7 +9,9 @@
 # PROBLEMS (space-separated list overriding the default set), OUT (result directory,
 # default target/vs_csdp).
 #
-# For each problem it prints both mean times, their ratio ours/csdp (< 1: we are faster) and the
+# For each problem it prints both mean times, their ratio ours/csdp (< 1: we are faster), the
+# time and ratio of ours stopped at the accuracy CSDP reached (`ours@acc`: CSDP stops early with
+# "partial success" on several hinf problems, at relative gaps up to 1e-3), and the
 # status of both solvers (our status from the JSON output; CSDP's exit code: 0 success,
 # 3 partial success). It also writes the in-process table of `sporadic sdp bench DIR --vs-csdp`
 # (solve time without process start-up and file reading, same solvers) to $OUT/bench.txt.
@@ -49,24 +51,42 @@ files=()
 for p in $PROBLEMS; do files+=("$SDPLIB/$p.dat-s"); done
 files+=("$LMI_FILE")
 
-printf '%-22s %10s %10s %7s  %-18s %s\n' problem 'ours[s]' 'csdp[s]' ratio 'our status' 'csdp exit'
+printf '%-22s %10s %10s %7s %12s %7s  %-18s %-9s %s\n' problem 'ours[s]' 'csdp[s]' ratio \
+    'ours@acc[s]' ratio 'our status' 'csdp exit' 'csdp accuracy (gap, infeas.)'
 for f in "${files[@]}"; do
     name=$(basename "$f" .dat-s)
     json=$OUT/$name.json
+    # CSDP's own result first: its exit code and the accuracy it reached (its printed relative
+    # infeasibilities, real relative gap and XZ gap, which are defined as ours). Where CSDP stops
+    # short of 1e-8 ("partial success", or success on the XZ gap with a larger real gap), the
+    # `ours@acc` run stops at that same accuracy (--tol-gap/--tol-feas, never below 1e-8), which
+    # compares the two solvers at equal accuracy as well as at their defaults.
+    set +e; "$CSDP" "$f" "$OUT/$name.csdp.sol" > "$OUT/$name.csdp.txt"; code=$?; set -e
+    read -r tol_gap tol_feas < <(python3 -c '
+import re, sys
+text = open(sys.argv[1]).read()
+def last(label):
+    v = re.findall(label + r":\s*([-+0-9.eE]+)", text)
+    return abs(float(v[-1])) if v else 0.0
+gap = max(1e-8, last("Real Relative Gap"), last("XZ Relative Gap"))
+feas = max(1e-8, last("Relative primal infeasibility"), last("Relative dual infeasibility"))
+print(f"{gap:.3g} {feas:.3g}")' "$OUT/$name.csdp.txt")
     # CSDP exits with 3 ("partial success") on several of these problems, so exit codes are
     # ignored (-i) rather than wrapping csdp in a shell, whose start-up would be charged to CSDP;
-    # the exit code is reported below. -N: no intermediate shell for either command.
+    # the exit code is reported below. -N: no intermediate shell for either command. Hyperfine's
+    # warnings (outliers, ignored exit codes) go to $OUT/NAME.hyperfine.log.
     hyperfine -N -i --runs "$RUNS" --warmup "$WARMUP" --style none --export-json "$json" \
         -n ours "$SPORADIC sdp solve $f" \
-        -n csdp "$CSDP $f $OUT/$name.csdp.sol" >/dev/null
-    read -r ours csdp < <(python3 -c '
+        -n ours_acc "$SPORADIC sdp solve --tol-gap $tol_gap --tol-feas $tol_feas $f" \
+        -n csdp "$CSDP $f $OUT/$name.csdp.sol" >/dev/null 2>"$OUT/$name.hyperfine.log"
+    read -r ours ours_acc csdp < <(python3 -c '
 import json, sys
 r = {x["command"]: x["mean"] for x in json.load(open(sys.argv[1]))["results"]}
-print(r["ours"], r["csdp"])' "$json")
+print(r["ours"], r["ours_acc"], r["csdp"])' "$json")
     status=$("$SPORADIC" sdp solve "$f" --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["status"])')
-    set +e; "$CSDP" "$f" "$OUT/$name.csdp.sol" >/dev/null; code=$?; set -e
-    printf '%-22s %10.4f %10.4f %7.2f  %-18s %s\n' "$name" "$ours" "$csdp" \
-        "$(python3 -c "print($ours/$csdp)")" "$status" "$code"
+    printf '%-22s %10.4f %10.4f %7.2f %12.4f %7.2f  %-18s %-9s %s %s\n' "$name" "$ours" "$csdp" \
+        "$(python3 -c "print($ours/$csdp)")" "$ours_acc" "$(python3 -c "print($ours_acc/$csdp)")" \
+        "$status" "$code" "$tol_gap" "$tol_feas"
 done | tee "$OUT/hyperfine.txt"
 
 # In-process table on the same problems only (the whole SDPLIB directory takes hours).

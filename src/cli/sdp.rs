@@ -27,6 +27,8 @@ enum SdpCommand {
         /// Print one line per interior-point iteration (to standard error).
         #[arg(long, short)]
         verbose: bool,
+        #[command(flatten)]
+        tolerances: Tolerances,
     },
     /// Solve every `.dat-s` file in a directory and compare with the optimal values listed in
     /// the directory's `README-SDPLIB.md` (if present).
@@ -42,6 +44,36 @@ enum SdpCommand {
     },
 }
 
+/// Stopping tolerances and limits of `sdp solve` (the solver's defaults when omitted).
+#[derive(Debug, clap::Args)]
+struct Tolerances {
+    /// Relative duality gap and complementarity to stop at (default 1e-8).
+    #[arg(long, value_name = "TOL")]
+    tol_gap: Option<f64>,
+    /// Relative primal and dual infeasibility to stop at (default 1e-8).
+    #[arg(long, value_name = "TOL")]
+    tol_feas: Option<f64>,
+    /// Iteration limit (default 100).
+    #[arg(long, value_name = "N")]
+    max_iterations: Option<usize>,
+    /// Worker threads: 1 = the calling thread only, 0 = automatic (default).
+    #[arg(long, value_name = "N")]
+    threads: Option<usize>,
+}
+
+impl Tolerances {
+    /// The solver settings with these overrides; the solver rejects non-positive or non-finite
+    /// tolerances with a typed error.
+    fn settings(&self) -> Settings {
+        let mut s = Settings::default();
+        s.tol_gap = self.tol_gap.unwrap_or(s.tol_gap);
+        s.tol_feas = self.tol_feas.unwrap_or(s.tol_feas);
+        s.max_iterations = self.max_iterations.unwrap_or(s.max_iterations);
+        s.threads = self.threads.unwrap_or(s.threads);
+        s
+    }
+}
+
 /// Runs `sporadic sdp ...`.
 pub fn run(args: &Args) -> Result<(), String> {
     match &args.command {
@@ -49,7 +81,8 @@ pub fn run(args: &Args) -> Result<(), String> {
             file,
             json,
             verbose,
-        } => solve(file, *json, *verbose),
+            tolerances,
+        } => solve(file, *json, *verbose, tolerances.settings()),
         SdpCommand::Bench {
             dir,
             vs_csdp,
@@ -70,8 +103,7 @@ fn solve_file(file: &Path, settings: &Settings) -> Result<(Solution, SdpaObjecti
     Ok((solution, objectives, seconds))
 }
 
-fn solve(file: &Path, json: bool, verbose: bool) -> Result<(), String> {
-    let mut settings = Settings::default();
+fn solve(file: &Path, json: bool, verbose: bool, mut settings: Settings) -> Result<(), String> {
     if verbose {
         eprintln!(
             "iter  primal obj         dual obj           rel gap   p.infeas  d.infeas  mu        step p    step d"
