@@ -44,11 +44,30 @@ enum Mode {
 const ACCEPTED_ERROR: f64 = 10.0;
 
 /// Best iterate seen so far (by [`Residuals::merit`]).
-struct Best {
-    merit: f64,
-    x: BlockMats,
-    y: Vec<f64>,
-    s: BlockMats,
+///
+/// While the current iterate is the best one it is not copied: [`Best::Current`] only records
+/// its merit, and the iterate is moved into [`Best::Earlier`] when a step replaces it.
+enum Best {
+    /// No iterate yet.
+    None,
+    /// The current iterate, with its merit.
+    Current(f64),
+    /// An earlier iterate, better than every one since.
+    Earlier {
+        merit: f64,
+        x: BlockMats,
+        y: Vec<f64>,
+        s: BlockMats,
+    },
+}
+
+impl Best {
+    fn merit(&self) -> f64 {
+        match self {
+            Best::None => f64::INFINITY,
+            Best::Current(merit) | Best::Earlier { merit, .. } => *merit,
+        }
+    }
 }
 
 /// Consecutive iterations with `min(α_p, α_d)` below this count as stalling (SDPT3 `steptol`).
@@ -241,7 +260,7 @@ pub(crate) fn run(
     let mut fx = factor_all(an, &x);
     let mut fs = factor_all(an, &s);
     let mut steps = (0.0, 0.0);
-    let mut best: Option<Best> = None;
+    let mut best = Best::None;
     let mut progress = Progress::new();
     let mut tiny_steps = 0usize;
     let mut iteration = 0usize;
@@ -270,13 +289,8 @@ pub(crate) fn run(
         if !merit.is_finite() {
             break Status::NumericalTrouble;
         }
-        if best.as_ref().is_none_or(|b| merit < b.merit) {
-            best = Some(Best {
-                merit,
-                x: x.clone(),
-                y: y.clone(),
-                s: s.clone(),
-            });
+        if merit < best.merit() {
+            best = Best::Current(merit);
         }
         progress.update(&res, mu, settings);
         if res.rel_gap <= settings.tol_gap
@@ -295,8 +309,7 @@ pub(crate) fn run(
         if iteration >= settings.max_iterations {
             break Status::MaxIterations;
         }
-        let best_merit = best.as_ref().map_or(f64::INFINITY, |b| b.merit);
-        if tiny_steps >= 2 || progress.stalled(best_merit) {
+        if tiny_steps >= 2 || progress.stalled(best.merit()) {
             break Status::NumericalTrouble;
         }
         let (Some(fxv), Some(fsv)) = (fx.take(), fs.take()) else {
@@ -436,10 +449,19 @@ pub(crate) fn run(
         else {
             break Status::NumericalTrouble;
         };
-        x = xn;
-        s = sn;
-        for (yi, di) in y.iter_mut().zip(&dy) {
-            *yi += ad * di;
+        let yn = y.iter().zip(&dy).map(|(yi, di)| yi + ad * di).collect();
+        let (xo, yo, so) = (
+            std::mem::replace(&mut x, xn),
+            std::mem::replace(&mut y, yn),
+            std::mem::replace(&mut s, sn),
+        );
+        if let Best::Current(merit) = best {
+            best = Best::Earlier {
+                merit,
+                x: xo,
+                y: yo,
+                s: so,
+            };
         }
         fx = Some(fxn);
         fs = Some(fsn);
@@ -455,11 +477,16 @@ pub(crate) fn run(
     if !matches!(
         status,
         Status::Optimal | Status::PrimalInfeasible | Status::DualInfeasible
-    ) && let Some(b) = best
+    ) && let Best::Earlier {
+        x: bx,
+        y: by,
+        s: bs,
+        ..
+    } = best
     {
-        x = b.x;
-        y = b.y;
-        s = b.s;
+        x = bx;
+        y = by;
+        s = bs;
     }
     let res = residuals(an, vals, &cd, &norms, &x, &y, &s);
     let measures = measures(an, &norms, &res, &x, &s);
