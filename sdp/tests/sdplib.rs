@@ -57,8 +57,9 @@ const DEFAULT: &[&str] = &[
 ];
 
 /// Problems on which the issue-3 goals are still open: hinf12 takes 51 iterations (> 40; CSDP
-/// 6.2 takes 66). Its SDPA-primal optimum is not attained (`‖x‖` reaches about `1e9` while the
-/// objective falls only linearly towards `0`).
+/// 6.2 takes 66 and stops at a relative gap of 1e-5; SDPA 7 stops after 21 with `pFEAS` and
+/// objectives 3.4 and 26.3). Its SDPA-primal optimum is not attained (`‖x‖` reaches about `1e9`
+/// while the objective falls only linearly towards `0`).
 const OPEN: &[&str] = &["hinf12"];
 
 /// Problems whose printed README value is replaced by a certified upper bound (module docs).

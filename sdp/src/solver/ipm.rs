@@ -210,6 +210,47 @@ fn detect_infeasibility(
     None
 }
 
+/// A Newton `Δy` this many times larger (max-norm) than `max(1, ‖y‖∞)` is tested as a Farkas
+/// ray by [`ray_certificate`].
+const RAY_RATIO: f64 = 1e8;
+
+/// Tests a Newton direction `Δy` as a primal-infeasibility certificate.
+///
+/// With linearly dependent constraints the Schur matrix `M = 𝒜 (X ⊗ S⁻¹) 𝒜ᵀ` is singular along
+/// every `v` with `𝒜ᵀ(v) = 0`; when `bᵀv ≠ 0` the equations `𝒜(X) = b` are inconsistent, (P) is
+/// infeasible, and `v / bᵀv` is an exact Farkas certificate (`λ_max(𝒜ᵀ(v)) = 0`). The computed
+/// `Δy` of such a system is dominated by `v` (its component along `v` is `vᵀr / λ_min(M)`, with
+/// `vᵀr = vᵀb` since `vᵀ𝒜(·) = 0`), so it is the certificate the iterates would take many
+/// diverging steps to approximate — and the second-order term of the corrector, formed from
+/// the meaningless `ΔS` of that predictor, can even flip its sign (SDPT3 removes such
+/// constraints in preprocessing, `checkdepconstr.m`). The candidate is accepted only after
+/// [`InfeasibilityCertificate::verify`] on the problem data.
+fn ray_certificate(
+    problem: &Problem,
+    y: &[f64],
+    dy: &[f64],
+    settings: &Settings,
+) -> Option<InfeasibilityCertificate> {
+    let max_abs = |v: &[f64]| v.iter().fold(0.0f64, |m, a| m.max(a.abs()));
+    if !(max_abs(dy) > RAY_RATIO * max_abs(y).max(1.0)) {
+        return None;
+    }
+    let cert = InfeasibilityCertificate::primal(problem, dy)?;
+    cert.verify(problem)
+        .is_ok_and(|v| v <= settings.tol_infeas)
+        .then_some(cert)
+}
+
+/// Outcome of the direction computation of one iteration.
+enum Next {
+    /// The corrector direction and the predictor's step length `min(α_p, α_d)`.
+    Step(Direction, f64),
+    /// The predictor's `Δy` is a verified Farkas ray ([`ray_certificate`]).
+    Ray(InfeasibilityCertificate),
+    /// No direction could be computed.
+    Trouble,
+}
+
 /// Takes the steps `alpha_p` along `dx` from `x` and `alpha_d` along `ds` from `s` (both
 /// formed in one pass over the blocks), backtracking a side whose new point has no Cholesky
 /// factorisation. Returns per side the step, the new point and its factors.
@@ -340,7 +381,7 @@ pub(crate) fn run(
                     assemble(an, vals, &x, &f, &mut ws.schur);
                     if !ws.linsys.factorize(&ws.schur) {
                         if lsq_failed {
-                            break None;
+                            break Next::Trouble;
                         }
                         mode = Mode::LeastSquares;
                         continue;
@@ -358,7 +399,7 @@ pub(crate) fn run(
                     {
                         if lsq_used {
                             // Non-finite scaled constraints: the iterate itself is broken.
-                            break None;
+                            break Next::Trouble;
                         }
                         // Unavailable (too large): the normal equations carry on.
                         lsq_failed = true;
@@ -375,6 +416,9 @@ pub(crate) fn run(
 
             // Predictor (affine scaling, σ = 0).
             let pred = system.direction(&it, 0.0, None);
+            if let Some(cert) = ray_certificate(problem, &y, &pred.dy, settings) {
+                break Next::Ray(cert);
+            }
             if switch(&pred) {
                 mode = Mode::LeastSquares;
                 continue;
@@ -423,10 +467,15 @@ pub(crate) fn run(
                 mode = Mode::LeastSquares;
                 continue;
             }
-            break Some((corr, step_pred));
+            break Next::Step(corr, step_pred);
         };
-        let Some((Direction { dx, dy, ds, .. }, step_pred)) = directions else {
-            break Status::NumericalTrouble;
+        let (Direction { dx, dy, ds, .. }, step_pred) = match directions {
+            Next::Step(d, step_pred) => (d, step_pred),
+            Next::Ray(cert) => {
+                certificate = Some(cert);
+                break Status::PrimalInfeasible;
+            }
+            Next::Trouble => break Status::NumericalTrouble,
         };
         let gamma = settings.step_fraction.unwrap_or(0.9 + 0.09 * step_pred);
         let [ap, ad] = step_lengths(
