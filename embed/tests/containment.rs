@@ -103,14 +103,21 @@ proptest! {
         let a = random_matrix(KINDS[kind], n, seed);
         let t2 = t1 + len;
         let pieces = 1 + (a.norm_l2() * len).ceil() as usize;
+        // The remainder bound of a piece starting at T1' has a rounding floor of about
+        // 80 ε ‖e^{A T1'}‖_F, so the tolerance is relative to the largest ‖e^{Aτ}‖_F on the
+        // interval (an absolute 1e-11 is unreachable for growing modes: 1.3e-11 at order 60).
+        let scale = (0..=pieces)
+            .map(|i| expm_scaled(a.as_ref(), t1 + len * i as f64 / pieces as f64).unwrap().norm_l2())
+            .fold(1.0f64, f64::max);
+        let tol = 1e-11 * scale;
         let options = TaylorOptions {
-            order: TaylorOrder::Tolerance(1e-11),
+            order: TaylorOrder::Tolerance(tol),
             ..TaylorOptions::default()
         };
         let method = EmbeddingMethod::Taylor(options);
         let emb = embed_split(a.as_ref(), t1, t2, pieces, &method).unwrap();
         prop_assert!(emb.containment().is_guaranteed());
-        prop_assert!(emb.remainder_bound() <= 1e-11);
+        prop_assert!(emb.remainder_bound() <= tol);
         prop_assert!(emb.vertex_count() <= pieces * 61);
         let mut rng = Rng(seed ^ 0x7a11);
         for k in 0..3 {
