@@ -28,7 +28,7 @@ impl Rng {
 }
 
 /// Spectral structure of a random test matrix.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Kind {
     /// Dense random entries (generically distinct real and complex eigenvalues).
     Generic,
