@@ -28,7 +28,7 @@ enum SdpCommand {
         #[arg(long, short)]
         verbose: bool,
         #[command(flatten)]
-        tolerances: Tolerances,
+        options: SolveOptions,
     },
     /// Solve every `.dat-s` file in a directory and compare with the optimal values listed in
     /// the directory's `README-SDPLIB.md` (if present).
@@ -44,9 +44,9 @@ enum SdpCommand {
     },
 }
 
-/// Stopping tolerances and limits of `sdp solve` (the solver's defaults when omitted).
+/// Stopping rule and threads of `sdp solve` (the solver's defaults when omitted).
 #[derive(Debug, clap::Args)]
-struct Tolerances {
+struct SolveOptions {
     /// Relative duality gap and complementarity to stop at (default 1e-8).
     #[arg(long, value_name = "TOL")]
     tol_gap: Option<f64>,
@@ -61,7 +61,7 @@ struct Tolerances {
     threads: Option<usize>,
 }
 
-impl Tolerances {
+impl SolveOptions {
     /// The solver settings with these overrides; the solver rejects non-positive or non-finite
     /// tolerances with a typed error.
     fn settings(&self) -> Settings {
@@ -81,8 +81,8 @@ pub fn run(args: &Args) -> Result<(), String> {
             file,
             json,
             verbose,
-            tolerances,
-        } => solve(file, *json, *verbose, tolerances.settings()),
+            options,
+        } => solve(file, *json, *verbose, options.settings()),
         SdpCommand::Bench {
             dir,
             vs_csdp,
