@@ -163,7 +163,13 @@ impl Progress {
 /// Backtracking factor when the updated `X` or `S` fails its Cholesky factorisation.
 const BACKTRACK: f64 = 0.8;
 
-/// Looks for a verified infeasibility certificate at the current iterate.
+/// Pre-filter of [`detect_infeasibility`] during the iterations: a candidate ray is verified
+/// only when its cheap defect bound is below this (or below `tol_infeas` if larger).
+const PREFILTER: f64 = 1e-4;
+
+/// Looks for a verified infeasibility certificate at the current iterate; `prefilter` bounds
+/// the cheap defect estimates of the candidates that are verified ([`PREFILTER`] while
+/// iterating, `∞` for the last attempt before a stall is reported).
 fn detect_infeasibility(
     problem: &Problem,
     c_dense: &[Mat<f64>],
@@ -172,9 +178,10 @@ fn detect_infeasibility(
     y: &[f64],
     settings: &Settings,
     gram: &mut Option<SchurSolver>,
+    prefilter: f64,
 ) -> Option<(Status, InfeasibilityCertificate)> {
     // Cheap pre-filters; the certificate itself is verified on the problem data.
-    let prefilter = settings.tol_infeas.max(1e-4);
+    let prefilter = settings.tol_infeas.max(prefilter);
     if res.dobj > 0.0 && res.pinf > settings.tol_feas {
         // ‖𝒜ᵀ(y) + S‖_F = ‖C − R_d‖_F bounds λ_max(𝒜ᵀ(y)) from above.
         let mut sq = 0.0;
@@ -342,7 +349,7 @@ pub(crate) fn run(
             break Status::Optimal;
         }
         if let Some((st, cert)) =
-            detect_infeasibility(problem, &cd, &res, &x, &y, settings, &mut gram)
+            detect_infeasibility(problem, &cd, &res, &x, &y, settings, &mut gram, PREFILTER)
         {
             certificate = Some(cert);
             break st;
@@ -351,6 +358,22 @@ pub(crate) fn run(
             break Status::MaxIterations;
         }
         if tiny_steps >= 2 || progress.stalled(best.merit()) {
+            // Iterates that stall while diverging along a ray (one side blocked by tiny steps)
+            // may never bring the cheap defect bound under the pre-filter although the
+            // polished ray is an exact certificate: verify the candidates before giving up.
+            if let Some((st, cert)) = detect_infeasibility(
+                problem,
+                &cd,
+                &res,
+                &x,
+                &y,
+                settings,
+                &mut gram,
+                f64::INFINITY,
+            ) {
+                certificate = Some(cert);
+                break st;
+            }
             break Status::NumericalTrouble;
         }
         let (Some(fxv), Some(fsv)) = (fx.take(), fs.take()) else {
