@@ -348,32 +348,22 @@ pub(crate) fn run(
         {
             break Status::Optimal;
         }
+        let at_limit = iteration >= settings.max_iterations;
+        let stalled = !at_limit && (tiny_steps >= 2 || progress.stalled(best.merit()));
+        // Iterates that stall while diverging along a ray (one side blocked by tiny steps) may
+        // never bring the cheap defect bound under the pre-filter although the polished ray is
+        // an exact certificate: before a stall is reported the candidates are verified anyway.
+        let prefilter = if stalled { f64::INFINITY } else { PREFILTER };
         if let Some((st, cert)) =
-            detect_infeasibility(problem, &cd, &res, &x, &y, settings, &mut gram, PREFILTER)
+            detect_infeasibility(problem, &cd, &res, &x, &y, settings, &mut gram, prefilter)
         {
             certificate = Some(cert);
             break st;
         }
-        if iteration >= settings.max_iterations {
+        if at_limit {
             break Status::MaxIterations;
         }
-        if tiny_steps >= 2 || progress.stalled(best.merit()) {
-            // Iterates that stall while diverging along a ray (one side blocked by tiny steps)
-            // may never bring the cheap defect bound under the pre-filter although the
-            // polished ray is an exact certificate: verify the candidates before giving up.
-            if let Some((st, cert)) = detect_infeasibility(
-                problem,
-                &cd,
-                &res,
-                &x,
-                &y,
-                settings,
-                &mut gram,
-                f64::INFINITY,
-            ) {
-                certificate = Some(cert);
-                break st;
-            }
+        if stalled {
             break Status::NumericalTrouble;
         }
         let (Some(fxv), Some(fsv)) = (fx.take(), fs.take()) else {
