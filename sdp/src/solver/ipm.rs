@@ -70,8 +70,12 @@ impl Best {
     }
 }
 
-/// Consecutive iterations with `min(α_p, α_d)` below this count as stalling (SDPT3 `steptol`).
+/// Steps below this are tiny (SDPT3 `steptol`): [`STALLED_STEPS`] consecutive iterations with
+/// a tiny `min(α_p, α_d)` count as stalling, and a single one where both steps are tiny does,
+/// since the next iteration would start from the same point and repeat the same direction.
 const TINY_STEP: f64 = 1e-6;
+/// See [`TINY_STEP`].
+const STALLED_STEPS: usize = 2;
 /// A quantity "progresses" when it falls below this fraction of its value at its last progress.
 const PROGRESS_FACTOR: f64 = 0.8;
 /// Stop after this many iterations without progress …
@@ -349,7 +353,7 @@ pub(crate) fn run(
             break Status::Optimal;
         }
         let at_limit = iteration >= settings.max_iterations;
-        let stalled = !at_limit && (tiny_steps >= 2 || progress.stalled(best.merit()));
+        let stalled = !at_limit && (tiny_steps >= STALLED_STEPS || progress.stalled(best.merit()));
         // Iterates that stall while diverging along a ray (one side blocked by tiny steps) may
         // never bring the cheap defect bound under the pre-filter although the polished ray is
         // an exact certificate: before a stall is reported the candidates are verified anyway.
@@ -529,11 +533,13 @@ pub(crate) fn run(
         fs = Some(fsn);
         steps = (ap, ad);
         iteration += 1;
-        if ap.min(ad) < TINY_STEP {
-            tiny_steps += 1;
+        tiny_steps = if ap.max(ad) < TINY_STEP {
+            STALLED_STEPS
+        } else if ap.min(ad) < TINY_STEP {
+            tiny_steps + 1
         } else {
-            tiny_steps = 0;
-        }
+            0
+        };
     };
 
     if !matches!(
