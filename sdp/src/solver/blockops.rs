@@ -221,15 +221,25 @@ pub(crate) fn block_apply_at(an: &Analysis, vals: &Values, k: usize, y: &[f64], 
 }
 
 /// Copies a square `Mat` into a column-major buffer of `n²` entries (leading dimension `n`).
-fn load(m: &Mat<f64>, buf: &mut [f64]) {
+pub(crate) fn load(m: &Mat<f64>, buf: &mut [f64]) {
     let n = m.nrows();
     for j in 0..n {
         buf[j * n..(j + 1) * n].copy_from_slice(m.col_as_slice(j));
     }
 }
 
+/// Copies the transpose of a square `Mat` into a column-major buffer of `n²` entries.
+pub(crate) fn load_transposed(m: &Mat<f64>, buf: &mut [f64]) {
+    let n = m.nrows();
+    for j in 0..n {
+        for (i, &v) in m.col_as_slice(j).iter().enumerate() {
+            buf[j + i * n] = v;
+        }
+    }
+}
+
 /// A square `Mat` from a column-major buffer of order `n`.
-fn store(buf: &[f64], n: usize) -> Mat<f64> {
+pub(crate) fn store(buf: &[f64], n: usize) -> Mat<f64> {
     let mut m = Mat::zeros(n, n);
     for j in 0..n {
         m.col_as_slice_mut(j)

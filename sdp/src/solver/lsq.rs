@@ -68,9 +68,10 @@ use faer::linalg::triangular_solve::{
 use faer::{Conj, Mat, MatMut, Par};
 use rayon::prelude::*;
 
-use super::blockops::{BlockMats, Factors, mul, symmetrize};
+use super::blockops::{BlockMats, Factors, load, load_transposed, mul, store, symmetrize};
 use super::direction::Predictor;
 use super::par::Exec;
+use super::small;
 use super::structure::{Analysis, Values};
 use crate::problem::BlockKind;
 
@@ -169,7 +170,11 @@ impl LeastSquares {
             qr,
             ..
         } = self;
-        let fill = |c: usize, mut col: faer::ColMut<'_, f64>| {
+        let fill = |c: usize, col: faer::ColMut<'_, f64>| {
+            let col = col
+                .try_as_col_major_mut()
+                .expect("the columns of a Mat are contiguous")
+                .as_slice_mut();
             col.fill(0.0);
             for &(k, p) in &touches[c] {
                 let b = &an.blocks[k];
@@ -185,20 +190,18 @@ impl LeastSquares {
                     }
                     BlockKind::Psd => {
                         let n = b.n;
-                        let kp = scaled_constraint(
-                            n,
-                            &pat.rows,
-                            &pat.cols,
-                            v,
-                            &supports[k][p],
+                        add_scaled_constraint(
+                            ConstraintPattern {
+                                n,
+                                rows: &pat.rows,
+                                cols: &pat.cols,
+                                v,
+                                support: &supports[k][p],
+                            },
                             &f.lx[k],
                             &f.linv_s[k],
+                            &mut col[o..o + n * n],
                         );
-                        for j in 0..n {
-                            for i in 0..n {
-                                col[o + i + j * n] += kp[(i, j)];
-                            }
-                        }
                     }
                 }
             }
@@ -320,8 +323,19 @@ impl LeastSquares {
                 }
                 BlockKind::Psd => {
                     let n = b.n;
-                    let zk = faer::MatRef::from_column_major_slice(&z[o..o + n * n], n, n);
-                    let mut d = mul(&mul(&f.lx[k], &zk.to_owned()), &f.linv_s[k]);
+                    let zk = &z[o..o + n * n];
+                    let mut d = if n <= small::SMALL_PRODUCT {
+                        small::with_bufs(n, |[a, t, out]| {
+                            load(&f.lx[k], a);
+                            small::mul(a, zk, n, t);
+                            load(&f.linv_s[k], a);
+                            small::mul(t, a, n, out);
+                            store(out, n)
+                        })
+                    } else {
+                        let zk = faer::MatRef::from_column_major_slice(zk, n, n);
+                        mul(&mul(&f.lx[k], &zk.to_owned()), &f.linv_s[k])
+                    };
                     symmetrize(&mut d);
                     d
                 }
@@ -340,49 +354,40 @@ impl LeastSquares {
         sigma_mu: f64,
         second: Option<Predictor<'_>>,
     ) -> Vec<f64> {
-        let parts: Vec<Vec<f64>> = an.map_blocks(|k, b| match b.kind {
-            BlockKind::Lp => {
-                let (xs, zs, rs) = (
-                    x[k].col_as_slice(0),
-                    f.zinv[k].col_as_slice(0),
-                    rd[k].col_as_slice(0),
-                );
-                (0..b.n)
-                    .map(|l| {
-                        let h = second.map_or(0.0, |(dx, ds)| dx[k][(l, 0)] * ds[k][(l, 0)]);
+        let mut out = vec![0.0; self.rows];
+        let mut parts = Vec::with_capacity(an.blocks.len());
+        let mut rest = out.as_mut_slice();
+        for b in &an.blocks {
+            let len = match b.kind {
+                BlockKind::Lp => b.n,
+                BlockKind::Psd => b.n * b.n,
+            };
+            let (part, tail) = rest.split_at_mut(len);
+            parts.push(part);
+            rest = tail;
+        }
+        an.exec.for_each_mut(&mut parts, |k, part| {
+            let b = &an.blocks[k];
+            let second = second.map(|(dx, ds)| (&dx[k], &ds[k]));
+            match b.kind {
+                BlockKind::Lp => {
+                    let (xs, zs, rs) = (
+                        x[k].col_as_slice(0),
+                        f.zinv[k].col_as_slice(0),
+                        rd[k].col_as_slice(0),
+                    );
+                    for (l, g) in part.iter_mut().enumerate() {
+                        let h = second.map_or(0.0, |(dx, ds)| dx[(l, 0)] * ds[(l, 0)]);
                         // x s = x / zinv; all products kept in scaled form.
                         let xs_prod = xs[l] / zs[l];
-                        -xs_prod.sqrt()
+                        *g = -xs_prod.sqrt()
                             - (xs[l] * zs[l]).sqrt() * rs[l]
-                            - (h - sigma_mu) / xs_prod.sqrt()
-                    })
-                    .collect()
-            }
-            BlockKind::Psd => {
-                let (lx, linv_x, ls, linv_s) = (&f.lx[k], &f.linv_x[k], &f.ls[k], &f.linv_s[k]);
-                // −L_Xᵀ (L_S + R_d L_S⁻ᵀ)
-                let mut inner = mul(&rd[k], &linv_s.transpose().to_owned());
-                inner += ls;
-                let mut g = mul(&lx.transpose().to_owned(), &inner);
-                g *= faer::Scale(-1.0);
-                // + σμ L_X⁻¹ L_S⁻ᵀ − (L_X⁻¹ ΔX_a)(ΔS_a L_S⁻ᵀ)
-                if sigma_mu != 0.0 {
-                    let nmat = mul(linv_x, &linv_s.transpose().to_owned());
-                    g += &(nmat * faer::Scale(sigma_mu));
+                            - (h - sigma_mu) / xs_prod.sqrt();
+                    }
                 }
-                if let Some((dx, ds)) = second {
-                    let left = mul(linv_x, &dx[k]);
-                    let right = mul(&ds[k], &linv_s.transpose().to_owned());
-                    g -= &mul(&left, &right);
-                }
-                let n = b.n;
-                (0..n * n).map(|e| g[(e % n, e / n)]).collect()
+                BlockKind::Psd => scaled_rhs_block(f, k, &rd[k], sigma_mu, second, part),
             }
         });
-        let mut out = Vec::with_capacity(self.rows);
-        for p in parts {
-            out.extend(p);
-        }
         out
     }
 
@@ -430,20 +435,159 @@ impl LeastSquares {
     }
 }
 
-/// `K_p = L_Xᵀ A_p L_S⁻ᵀ` for a constraint with upper-triangle pattern `(rows, cols)`, values `v`
-/// and support `support`: only the rows `J` of `L_X` and the columns `J` of `L_S⁻¹` take part,
-/// `K_p = L_X[J,:]ᵀ A_p[J,J] (L_S⁻¹[:,J])ᵀ`.
-fn scaled_constraint(
+/// `vec G` of PSD block `k` into `out` (`n²` entries, column-major), with
+/// `G = −L_Xᵀ (L_S + R_d L_S⁻ᵀ) + σμ L_X⁻¹ L_S⁻ᵀ − (L_X⁻¹ ΔX_a)(ΔS_a L_S⁻ᵀ)` (the last term only
+/// for the corrector, from the predictor's `(ΔX_a, ΔS_a)` in `second`).
+fn scaled_rhs_block(
+    f: &Factors,
+    k: usize,
+    rd: &Mat<f64>,
+    sigma_mu: f64,
+    second: Option<(&Mat<f64>, &Mat<f64>)>,
+    out: &mut [f64],
+) {
+    let (lx, linv_x, ls, linv_s) = (&f.lx[k], &f.linv_x[k], &f.ls[k], &f.linv_s[k]);
+    let n = lx.nrows();
+    if n <= small::SMALL_PRODUCT {
+        // The products of the general branch below, on stack buffers.
+        small::with_bufs(n, |[lst, p, q, g, u, w]| {
+            load_transposed(linv_s, lst);
+            load(rd, p);
+            small::mul(p, lst, n, q);
+            for j in 0..n {
+                for (qi, li) in q[j * n..(j + 1) * n].iter_mut().zip(ls.col_as_slice(j)) {
+                    *qi += li;
+                }
+            }
+            load_transposed(lx, p);
+            small::mul(p, q, n, g);
+            for gi in g.iter_mut() {
+                *gi *= -1.0;
+            }
+            if sigma_mu != 0.0 {
+                load(linv_x, p);
+                small::mul(p, lst, n, q);
+                for (gi, qi) in g.iter_mut().zip(q.iter()) {
+                    *gi += qi * sigma_mu;
+                }
+            }
+            if let Some((dx, ds)) = second {
+                load(linv_x, p);
+                load(dx, u);
+                small::mul(p, u, n, q);
+                load(ds, u);
+                small::mul(u, lst, n, w);
+                small::mul(q, w, n, u);
+                for (gi, ui) in g.iter_mut().zip(u.iter()) {
+                    *gi -= ui;
+                }
+            }
+            out.copy_from_slice(g);
+        });
+        return;
+    }
+    // −L_Xᵀ (L_S + R_d L_S⁻ᵀ)
+    let mut inner = mul(rd, &linv_s.transpose().to_owned());
+    inner += ls;
+    let mut g = mul(&lx.transpose().to_owned(), &inner);
+    g *= faer::Scale(-1.0);
+    // + σμ L_X⁻¹ L_S⁻ᵀ − (L_X⁻¹ ΔX_a)(ΔS_a L_S⁻ᵀ)
+    if sigma_mu != 0.0 {
+        let nmat = mul(linv_x, &linv_s.transpose().to_owned());
+        g += &(nmat * faer::Scale(sigma_mu));
+    }
+    if let Some((dx, ds)) = second {
+        let left = mul(linv_x, dx);
+        let right = mul(ds, &linv_s.transpose().to_owned());
+        g -= &mul(&left, &right);
+    }
+    for j in 0..n {
+        out[j * n..(j + 1) * n].copy_from_slice(g.col_as_slice(j));
+    }
+}
+
+/// One constraint's part in a PSD block of order `n`: its upper-triangle pattern `(rows, cols)`,
+/// values `v` and sorted support (the indices its rows and columns touch).
+struct ConstraintPattern<'a> {
     n: usize,
-    rows: &[usize],
-    cols: &[usize],
-    v: &[f64],
-    support: &[usize],
+    rows: &'a [usize],
+    cols: &'a [usize],
+    v: &'a [f64],
+    support: &'a [usize],
+}
+
+/// Adds `K_p = L_Xᵀ A_p L_S⁻ᵀ` to `dst` (`n×n`, column-major). Only the rows `J` of `L_X` and
+/// the columns `J` of `L_S⁻¹` take part, `K_p = L_X[J,:]ᵀ A_p[J,J] (L_S⁻¹[:,J])ᵀ`, where `J` is
+/// the support, or every index when the support covers most of the block.
+fn add_scaled_constraint(
+    pattern: ConstraintPattern<'_>,
     lx: &Mat<f64>,
     linv_s: &Mat<f64>,
-) -> Mat<f64> {
-    let nj = support.len();
-    if nj as f64 >= DENSE_SUPPORT * n as f64 {
+    dst: &mut [f64],
+) {
+    let ConstraintPattern {
+        n,
+        rows,
+        cols,
+        v,
+        support,
+    } = pattern;
+    let dense = support.len() as f64 >= DENSE_SUPPORT * n as f64;
+    if n <= small::SMALL_PRODUCT {
+        // Stack buffers: `a = A_p[J,J]`, `left = L_X[J,:]ᵀ`, `right = (L_S⁻¹[:,J])ᵀ`.
+        let nj = if dense { n } else { support.len() };
+        let index = |c: usize| if dense { c } else { support[c] };
+        let pos = |i: usize| {
+            if dense {
+                i
+            } else {
+                support.binary_search(&i).unwrap_or(0)
+            }
+        };
+        small::with_bufs(n, |[a, left, right, t, out]| {
+            for e in 0..v.len() {
+                let (r, c) = (pos(rows[e]), pos(cols[e]));
+                a[r + c * nj] += v[e];
+                if r != c {
+                    a[c + r * nj] += v[e];
+                }
+            }
+            for c in 0..nj {
+                let jc = index(c);
+                for i in 0..n {
+                    left[i + c * n] = lx[(jc, i)];
+                    right[c + i * nj] = linv_s[(i, jc)];
+                }
+            }
+            if dense {
+                small::mul(left, a, n, t);
+                small::mul(t, right, n, out);
+            } else {
+                // faer's kernel, as for larger blocks (same rounding on every block size).
+                fn view(b: &[f64], r: usize, c: usize) -> faer::MatRef<'_, f64> {
+                    faer::MatRef::from_column_major_slice(&b[..r * c], r, c)
+                }
+                fn prod(out: &mut [f64], l: faer::MatRef<'_, f64>, r: faer::MatRef<'_, f64>) {
+                    let (nr, nc) = (l.nrows(), r.ncols());
+                    faer::linalg::matmul::matmul(
+                        faer::MatMut::from_column_major_slice_mut(&mut out[..nr * nc], nr, nc),
+                        faer::Accum::Replace,
+                        l,
+                        r,
+                        1.0,
+                        Par::Seq,
+                    )
+                }
+                prod(t, view(left, n, nj), view(a, nj, nj));
+                prod(out, view(t, n, nj), view(right, nj, n));
+            }
+            for (d, o) in dst.iter_mut().zip(out.iter()) {
+                *d += o;
+            }
+        });
+        return;
+    }
+    let kp = if dense {
         let mut a = Mat::<f64>::zeros(n, n);
         for e in 0..v.len() {
             let (r, c) = (rows[e], cols[e]);
@@ -452,21 +596,124 @@ fn scaled_constraint(
                 a[(c, r)] += v[e];
             }
         }
-        return mul(
+        mul(
             &mul(&lx.transpose().to_owned(), &a),
             &linv_s.transpose().to_owned(),
-        );
-    }
-    let pos = |i: usize| support.binary_search(&i).unwrap_or(0);
-    let mut a = Mat::<f64>::zeros(nj, nj);
-    for e in 0..v.len() {
-        let (r, c) = (pos(rows[e]), pos(cols[e]));
-        a[(r, c)] += v[e];
-        if r != c {
-            a[(c, r)] += v[e];
+        )
+    } else {
+        let nj = support.len();
+        let pos = |i: usize| support.binary_search(&i).unwrap_or(0);
+        let mut a = Mat::<f64>::zeros(nj, nj);
+        for e in 0..v.len() {
+            let (r, c) = (pos(rows[e]), pos(cols[e]));
+            a[(r, c)] += v[e];
+            if r != c {
+                a[(c, r)] += v[e];
+            }
+        }
+        let lxj_t = Mat::from_fn(n, nj, |i, c| lx[(support[c], i)]);
+        let lsj_t = Mat::from_fn(nj, n, |r, j| linv_s[(j, support[r])]);
+        mul(&mul(&lxj_t, &a), &lsj_t)
+    };
+    for j in 0..n {
+        for i in 0..n {
+            dst[i + j * n] += kp[(i, j)];
         }
     }
-    let lxj_t = Mat::from_fn(n, nj, |i, c| lx[(support[c], i)]);
-    let lsj_t = Mat::from_fn(nj, n, |r, j| linv_s[(j, support[r])]);
-    mul(&mul(&lxj_t, &a), &lsj_t)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// A lower-triangular factor with diagonal in `[0.5, 1.5]` (the shape of `L_X`, `L_S⁻¹`).
+    fn lower(n: usize, e: &[f64], shift: usize) -> Mat<f64> {
+        Mat::from_fn(n, n, |i, j| match i.cmp(&j) {
+            std::cmp::Ordering::Greater => e[(shift + i * 16 + j) % e.len()],
+            std::cmp::Ordering::Equal => 1.0 + 0.5 * e[(shift + i * 17) % e.len()],
+            std::cmp::Ordering::Less => 0.0,
+        })
+    }
+
+    fn max_diff(a: &[f64], b: &Mat<f64>) -> f64 {
+        let n = b.nrows();
+        (0..n * n).fold(0.0f64, |m, e| m.max((a[e] - b[(e % n, e / n)]).abs()))
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+
+        /// `K_p = L_Xᵀ A_p L_S⁻ᵀ` against faer's dense products, on block orders on both sides
+        /// of the stack-buffer limit and on sparse and dense supports.
+        #[test]
+        fn scaled_constraint_matches_dense_formula(
+            n in 1usize..=12,
+            e in proptest::collection::vec(-1.0f64..1.0, 256),
+            entries in proptest::collection::vec((0usize..12, 0usize..12, -1.0f64..1.0), 1..20),
+        ) {
+            let (lx, linv_s) = (lower(n, &e, 0), lower(n, &e, 7));
+            let mut rows = Vec::new();
+            let mut cols = Vec::new();
+            let mut v = Vec::new();
+            for &(r, c, x) in &entries {
+                let (r, c) = (r % n, c % n);
+                rows.push(r.min(c));
+                cols.push(r.max(c));
+                v.push(x);
+            }
+            let support = support_of(&rows, &cols);
+            let mut dst = vec![0.25; n * n];
+            add_scaled_constraint(
+                ConstraintPattern { n, rows: &rows, cols: &cols, v: &v, support: &support },
+                &lx,
+                &linv_s,
+                &mut dst,
+            );
+            let mut a = Mat::<f64>::zeros(n, n);
+            for e in 0..v.len() {
+                a[(rows[e], cols[e])] += v[e];
+                if rows[e] != cols[e] {
+                    a[(cols[e], rows[e])] += v[e];
+                }
+            }
+            let mut reference = lx.transpose() * &a * linv_s.transpose();
+            for j in 0..n {
+                for i in 0..n {
+                    reference[(i, j)] += 0.25;
+                }
+            }
+            prop_assert!(max_diff(&dst, &reference) <= 1e-13 * (n * n * v.len()) as f64);
+        }
+
+        /// `G = −L_Xᵀ (L_S + R_d L_S⁻ᵀ) + σμ L_X⁻¹ L_S⁻ᵀ − (L_X⁻¹ ΔX_a)(ΔS_a L_S⁻ᵀ)` against
+        /// faer's dense products, with and without the corrector term.
+        #[test]
+        fn scaled_rhs_matches_dense_formula(
+            n in 1usize..=12,
+            e in proptest::collection::vec(-1.0f64..1.0, 256),
+            sigma_mu in 0.0f64..2.0,
+            corrector in any::<bool>(),
+        ) {
+            let m = |shift: usize| Mat::from_fn(n, n, |i, j| e[(shift + 13 * i + 5 * j) % 256]);
+            let f = Factors {
+                lx: vec![lower(n, &e, 0)],
+                linv_x: vec![lower(n, &e, 3)],
+                linv_s: vec![lower(n, &e, 7)],
+                ls: vec![lower(n, &e, 11)],
+                zinv: vec![Mat::zeros(n, n)],
+            };
+            let (rd, dx, ds) = (m(1), m(2), m(4));
+            let second = corrector.then_some((&dx, &ds));
+            let mut out = vec![f64::NAN; n * n];
+            scaled_rhs_block(&f, 0, &rd, sigma_mu, second, &mut out);
+            let (lx, linv_x, ls, linv_s) = (&f.lx[0], &f.linv_x[0], &f.ls[0], &f.linv_s[0]);
+            let mut reference = -(lx.transpose() * (ls + &rd * linv_s.transpose()))
+                + linv_x * linv_s.transpose() * faer::Scale(sigma_mu);
+            if corrector {
+                reference -= (linv_x * &dx) * (&ds * linv_s.transpose());
+            }
+            prop_assert!(max_diff(&out, &reference) <= 1e-13 * (n * n) as f64);
+        }
+    }
 }

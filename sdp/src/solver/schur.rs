@@ -170,31 +170,31 @@ fn syrk_share(
     columns.chunks_mut(
         &mut kbuf,
         nn,
-        || (),
-        |_, p, chunk| {
-            let a = match dense {
-                Some(d) => Mat::from_fn(n, n, |r, c| d[p * nn + r + c * n]),
+        // `A_p` and `L_Xᵀ A_p`, reused for every column of a task.
+        || (vec![0.0; nn], vec![0.0; nn]),
+        |(a, t), p, chunk| {
+            match dense {
+                Some(d) => a.copy_from_slice(&d[p * nn..(p + 1) * nn]),
                 None => {
                     let (pat, v) = (&plan.cons[p], &vals[p]);
-                    let mut a = Mat::<f64>::zeros(n, n);
+                    a.fill(0.0);
                     for e in 0..v.len() {
                         let (r, c) = (pat.rows[e], pat.cols[e]);
-                        a[(r, c)] += v[e];
+                        a[r + c * n] += v[e];
                         if r != c {
-                            a[(c, r)] += v[e];
+                            a[c + r * n] += v[e];
                         }
                     }
-                    a
                 }
-            };
-            let mut t = Mat::<f64>::zeros(n, n);
+            }
+            let mut t = MatMut::from_column_major_slice_mut(t, n, n);
             tri_matmul(
-                t.as_mut(),
+                t.rb_mut(),
                 BlockStructure::Rectangular,
                 Accum::Replace,
                 lx.transpose(),
                 BlockStructure::TriangularUpper,
-                a.as_ref(),
+                MatRef::from_column_major_slice(a, n, n),
                 BlockStructure::Rectangular,
                 1.0,
                 Par::Seq,
@@ -204,7 +204,7 @@ fn syrk_share(
                 kp,
                 BlockStructure::Rectangular,
                 Accum::Replace,
-                t.as_ref(),
+                t.rb(),
                 BlockStructure::Rectangular,
                 linv_s.transpose(),
                 BlockStructure::TriangularUpper,

@@ -5,7 +5,7 @@
 //! than in arithmetic (measured with callgrind on hinf1, blocks 4/4/6: faer's triangular
 //! products, Cholesky scratch buffers and eigenvalue solver took over half of the solve's
 //! instructions). These kernels are plain loops over columns, allocate nothing, and work on
-//! stack arrays sized by [`with_bufs`]; [`super::blockops`] and [`super::step`] use them for
+//! stack arrays sized by [`with_bufs`]; [`super::blockops`], [`super::step`] and [`super::lsq`] use them for
 //! small blocks and faer above that size.
 //!
 //! Every kernel reads and writes column-major `n×n` arrays whose leading dimension is `n`.
@@ -112,16 +112,21 @@ pub(crate) fn gram_of_lower(linv: &[f64], n: usize, out: &mut [f64]) {
 
 /// `out = a · b` for `n×n` `a` and `b`.
 pub(crate) fn mul(a: &[f64], b: &[f64], n: usize, out: &mut [f64]) {
-    for j in 0..n {
-        let bj = &b[j * n..(j + 1) * n];
-        let oj = &mut out[j * n..(j + 1) * n];
+    mul_rect(a, b, [n, n, n], out);
+}
+
+/// `out = a · b` for `r×k` `a` and `k×c` `b` (`[r, k, c]`), all column-major with leading
+/// dimensions `r`, `k` and `r`.
+pub(crate) fn mul_rect(a: &[f64], b: &[f64], [r, k, c]: [usize; 3], out: &mut [f64]) {
+    for j in 0..c {
+        let bj = &b[j * k..(j + 1) * k];
+        let oj = &mut out[j * r..(j + 1) * r];
         oj.fill(0.0);
-        for k in 0..n {
-            let bkj = bj[k];
-            if bkj != 0.0 {
-                let ak = &a[k * n..(k + 1) * n];
-                for i in 0..n {
-                    oj[i] += ak[i] * bkj;
+        for (l, &blj) in bj.iter().enumerate() {
+            if blj != 0.0 {
+                let al = &a[l * r..(l + 1) * r];
+                for i in 0..r {
+                    oj[i] += al[i] * blj;
                 }
             }
         }
@@ -312,6 +317,24 @@ mod tests {
             congruence(&to_vec(&lower), &to_vec(&d), n, &mut tmp, &mut out);
             let reference = &lower * &d * lower.transpose();
             prop_assert!(max_abs_diff(&out, &reference) <= 1e-13 * (n * n) as f64);
+        }
+
+        /// Rectangular products against faer's (`r×k` times `k×c`).
+        #[test]
+        fn rectangular_products_match_faer(
+            r in 1usize..=SMALL, k in 1usize..=SMALL, c in 1usize..=SMALL,
+            e1 in entries(), e2 in entries(),
+        ) {
+            let a = Mat::from_fn(r, k, |i, j| e1[i * SMALL + j]);
+            let b = Mat::from_fn(k, c, |i, j| e2[i * SMALL + j]);
+            let flat = |m: &Mat<f64>| -> Vec<f64> {
+                (0..m.ncols()).flat_map(|j| m.col_as_slice(j).to_vec()).collect()
+            };
+            let mut out = vec![f64::NAN; r * c];
+            mul_rect(&flat(&a), &flat(&b), [r, k, c], &mut out);
+            let reference = flat(&(&a * &b));
+            let err = out.iter().zip(&reference).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+            prop_assert!(err <= 1e-14 * k as f64, "error {err}");
         }
 
         /// Jacobi's smallest eigenvalue agrees with faer's symmetric eigensolver, and Cholesky of
