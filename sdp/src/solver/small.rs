@@ -5,8 +5,8 @@
 //! than in arithmetic (measured with callgrind on hinf1, blocks 4/4/6: faer's triangular
 //! products, Cholesky scratch buffers and eigenvalue solver took over half of the solve's
 //! instructions). These kernels are plain loops over columns, allocate nothing, and work on
-//! stack arrays sized by [`with_bufs`]; [`super::blockops`], [`super::step`] and [`super::lsq`] use them for
-//! small blocks and faer above that size.
+//! stack arrays sized by [`with_bufs`]; [`super::blockops`], [`super::step`] and
+//! [`super::lsq`] use them for small blocks and faer above that size.
 //!
 //! Every kernel reads and writes column-major `n×n` arrays whose leading dimension is `n`.
 
