@@ -29,7 +29,7 @@
 //!   gap, smallest eigenvalues of `X` and `S`);
 //! * infeasible problems (`infp*`, `infd*`): the right status and a certificate whose defect,
 //!   recomputed here, is `≤ 1e-7`;
-//! * at most 40 iterations.
+//! * at most 40 iterations, except the problems listed in [`OPEN`] with their own cap.
 
 mod common;
 
@@ -45,22 +45,26 @@ use sporadic_sdp::{
     sdpa_objectives, solve,
 };
 
-/// Problems of the default run: every problem of the issue-3 list except [`OPEN`] (about
-/// 25 s in total in release mode).
+/// Problems of the default run: every problem of the issue-3 list (about 25 s in total in
+/// release mode).
 const DEFAULT: &[&str] = &[
     "control1", "control2", "control3", "control4", "control5", "control6", "control7", "control8",
     "truss1", "truss2", "truss3", "truss4", "truss5", "truss6", "truss7", "truss8", "theta1",
     "theta2", "theta3", "theta4", "hinf1", "hinf2", "hinf3", "hinf4", "hinf5", "hinf6", "hinf7",
-    "hinf8", "hinf9", "hinf10", "hinf11", "hinf14", "qap5", "qap6", "qap7", "qap8", "mcp100",
-    "mcp124-1", "mcp124-2", "mcp124-3", "mcp124-4", "gpp100", "gpp124-1", "gpp124-2", "gpp124-3",
-    "gpp124-4", "arch0", "ss30", "infp1", "infp2", "infd1", "infd2", "hinf13", "hinf15",
+    "hinf8", "hinf9", "hinf10", "hinf11", "hinf12", "hinf14", "qap5", "qap6", "qap7", "qap8",
+    "mcp100", "mcp124-1", "mcp124-2", "mcp124-3", "mcp124-4", "gpp100", "gpp124-1", "gpp124-2",
+    "gpp124-3", "gpp124-4", "arch0", "ss30", "infp1", "infp2", "infd1", "infd2", "hinf13",
+    "hinf15",
 ];
 
-/// Problems on which the issue-3 goals are still open: hinf12 takes 51 iterations (> 40; CSDP
-/// 6.2 takes 66 and stops at a relative gap of 1e-5; SDPA 7 stops after 21 with `pFEAS` and
-/// objectives 3.4 and 26.3). Its SDPA-primal optimum is not attained (`‖x‖` reaches about `1e9`
-/// while the objective falls only linearly towards `0`).
-const OPEN: &[&str] = &["hinf12"];
+/// Problems that miss the issue-3 cap of [`MAX_ITERATIONS`], with the cap the default run
+/// holds them to instead. hinf12 takes 51 iterations: its SDPA-primal optimum is not attained
+/// (`‖x‖` reaches about `1e9` while the objective falls only linearly, by about 0.6 per
+/// iteration, towards `0`), and neither reference meets the cap either (CSDP 6.2 takes 65
+/// iterations and stops at a relative gap of 1e-5; SDPA 7 stops after 21 with `pFEAS` and
+/// objectives 3.4 and 26.3). [`sdplib_open`] keeps the issue's cap on it as a reported,
+/// non-gating test.
+const OPEN: &[(&str, usize)] = &[("hinf12", 60)];
 
 /// Problems whose printed README value is replaced by a certified upper bound (module docs).
 const CERTIFIED: &[&str] = &["hinf13", "hinf15"];
@@ -169,7 +173,7 @@ fn reduced_accuracy(name: &str) -> f64 {
 }
 
 /// Solves one problem and returns a description of every failed check (empty = pass).
-fn check(dir: &Path, refs: &HashMap<String, Expected>, name: &str) -> Vec<String> {
+fn check(dir: &Path, refs: &HashMap<String, Expected>, name: &str, cap: usize) -> Vec<String> {
     let mut fails = Vec::new();
     let Some(&expected) = refs.get(name) else {
         return vec![format!("{name}: no reference value in README-SDPLIB.md")];
@@ -183,10 +187,11 @@ fn check(dir: &Path, refs: &HashMap<String, Expected>, name: &str) -> Vec<String
     let (reference, rel_err) = match expected {
         Expected::Value { value, .. } => (
             format!("{value:.6e}"),
-            format!(
-                "{:.1e}",
-                (obj.primal - value).abs() / value.abs().max(1e-300)
-            ),
+            if value == 0.0 {
+                "-".into()
+            } else {
+                format!("{:.1e}", (obj.primal - value).abs() / value.abs())
+            },
         ),
         Expected::CertifiedBelow { printed, .. } => (format!("<{printed:.6e}"), "-".into()),
         Expected::SdpaPrimalInfeasible => ("p-infeas".into(), "-".into()),
@@ -201,11 +206,8 @@ fn check(dir: &Path, refs: &HashMap<String, Expected>, name: &str) -> Vec<String
         k.pinf,
         k.dinf
     );
-    if sol.iterations > MAX_ITERATIONS {
-        fails.push(format!(
-            "{name}: {} iterations > {MAX_ITERATIONS}",
-            sol.iterations
-        ));
+    if sol.iterations > cap {
+        fails.push(format!("{name}: {} iterations > {cap}", sol.iterations));
     }
     match expected {
         Expected::Value { value, tol } => {
@@ -325,13 +327,17 @@ fn check_point(name: &str, sol: &Solution, k: &common::Kkt, fails: &mut Vec<Stri
     }
 }
 
-fn run(names: &[&str]) {
+/// Solves and checks `names`, each held to the iteration cap `cap(name)`.
+fn run(names: &[&str], cap: impl Fn(&str) -> usize) {
     let Some(dir) = sdplib_dir() else { return };
     let refs = references(&dir);
     println!(
         "| problem | SDPA objective (ours) | reference | rel err | it | time s | status | recomputed |"
     );
-    let fails: Vec<String> = names.iter().flat_map(|n| check(&dir, &refs, n)).collect();
+    let fails: Vec<String> = names
+        .iter()
+        .flat_map(|n| check(&dir, &refs, n, cap(n)))
+        .collect();
     assert!(fails.is_empty(), "SDPLIB failures:\n{}", fails.join("\n"));
 }
 
@@ -353,13 +359,18 @@ fn printed_tolerance_rule() {
 
 #[test]
 fn sdplib_default() {
-    run(DEFAULT);
+    run(DEFAULT, |name| {
+        OPEN.iter()
+            .find(|(open, _)| *open == name)
+            .map_or(MAX_ITERATIONS, |&(_, cap)| cap)
+    });
 }
 
 #[test]
-#[ignore = "known open in issue 3 (see OPEN); run, not gating, by .ci/run: cargo test --workspace --release --test sdplib -- --ignored sdplib_open"]
+#[ignore = "the issue-3 cap of 40 iterations, unmet on hinf12 (see OPEN); run, not gating, by .ci/run: cargo test --workspace --release --test sdplib -- --ignored sdplib_open"]
 fn sdplib_open() {
-    run(OPEN);
+    let names: Vec<&str> = OPEN.iter().map(|&(name, _)| name).collect();
+    run(&names, |_| MAX_ITERATIONS);
 }
 
 /// `problem` with `C` replaced by `C − εI` (every PSD and LP block): a dual-feasible `y` of it
