@@ -170,31 +170,36 @@ fn syrk_share(
     columns.chunks_mut(
         &mut kbuf,
         nn,
-        // `A_p` and `L_Xᵀ A_p`, reused for every column of a task.
-        || (vec![0.0; nn], vec![0.0; nn]),
+        // `A_p` and `L_Xᵀ A_p`, reused for every column of a task (faer matrices: their
+        // aligned, padded columns keep faer's kernels on their fast path).
+        || (Mat::<f64>::zeros(n, n), Mat::<f64>::zeros(n, n)),
         |(a, t), p, chunk| {
             match dense {
-                Some(d) => a.copy_from_slice(&d[p * nn..(p + 1) * nn]),
+                Some(d) => {
+                    for c in 0..n {
+                        a.col_as_slice_mut(c)
+                            .copy_from_slice(&d[p * nn + c * n..p * nn + (c + 1) * n]);
+                    }
+                }
                 None => {
                     let (pat, v) = (&plan.cons[p], &vals[p]);
                     a.fill(0.0);
                     for e in 0..v.len() {
                         let (r, c) = (pat.rows[e], pat.cols[e]);
-                        a[r + c * n] += v[e];
+                        a[(r, c)] += v[e];
                         if r != c {
-                            a[c + r * n] += v[e];
+                            a[(c, r)] += v[e];
                         }
                     }
                 }
             }
-            let mut t = MatMut::from_column_major_slice_mut(t, n, n);
             tri_matmul(
-                t.rb_mut(),
+                t.as_mut(),
                 BlockStructure::Rectangular,
                 Accum::Replace,
                 lx.transpose(),
                 BlockStructure::TriangularUpper,
-                MatRef::from_column_major_slice(a, n, n),
+                a.as_ref(),
                 BlockStructure::Rectangular,
                 1.0,
                 Par::Seq,
@@ -204,7 +209,7 @@ fn syrk_share(
                 kp,
                 BlockStructure::Rectangular,
                 Accum::Replace,
-                t.rb(),
+                t.as_ref(),
                 BlockStructure::Rectangular,
                 linv_s.transpose(),
                 BlockStructure::TriangularUpper,
