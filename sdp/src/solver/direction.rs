@@ -22,11 +22,12 @@
 use faer::Mat;
 
 use super::blockops::{
-    BlockMats, Factors, apply_a, apply_at, axpy, block_apply_a, block_apply_at, mul, symmetrize,
-    zero_block,
+    BlockMats, Factors, apply_a, apply_at, axpy, block_apply_a, block_apply_at, load, mul, store,
+    symmetrize, zero_block,
 };
 use super::linsys::SchurSolver;
 use super::lsq::LeastSquares;
+use super::small;
 use super::structure::{Analysis, BlockPlan, Values};
 use crate::problem::BlockKind;
 
@@ -47,17 +48,49 @@ fn rhs_block(
                 (xs[l] * rs[l] + hl - sigma_mu) * zs[l]
             })
         }
-        BlockKind::Psd => {
-            let mut w = mul(x, rd);
-            if let Some(h) = h {
-                w += h;
-            }
-            for i in 0..b.n {
-                w[(i, i)] -= sigma_mu;
-            }
-            mul(&w, zinv)
-        }
+        BlockKind::Psd => hkm_product(x, rd, zinv, sigma_mu, h),
     }
+}
+
+/// `(X M + H − σμ I) S⁻¹` for a PSD block: `T` of [`rhs_block`] (`M = R_d`) and the core of
+/// [`recover_block`] (`M = ΔS`). Blocks of order ≤ [`small::SMALL_PRODUCT`] are formed on stack
+/// buffers with the same products as [`mul`] uses for them.
+fn hkm_product(
+    x: &Mat<f64>,
+    m: &Mat<f64>,
+    zinv: &Mat<f64>,
+    sigma_mu: f64,
+    h: Option<&Mat<f64>>,
+) -> Mat<f64> {
+    let n = x.nrows();
+    if n <= small::SMALL_PRODUCT {
+        return small::with_bufs(n, |[a, b, w, out]| {
+            load(x, a);
+            load(m, b);
+            small::mul(a, b, n, w);
+            if let Some(h) = h {
+                for j in 0..n {
+                    for (wi, hi) in w[j * n..(j + 1) * n].iter_mut().zip(h.col_as_slice(j)) {
+                        *wi += hi;
+                    }
+                }
+            }
+            for i in 0..n {
+                w[i + i * n] -= sigma_mu;
+            }
+            load(zinv, a);
+            small::mul(w, a, n, out);
+            store(out, n)
+        });
+    }
+    let mut w = mul(x, m);
+    if let Some(h) = h {
+        w += h;
+    }
+    for i in 0..n {
+        w[(i, i)] -= sigma_mu;
+    }
+    mul(&w, zinv)
 }
 
 /// `ΔX_k = sym(−X_k − (X_k ΔS_k + H_k − σμI) S_k⁻¹)` for block `k`.
@@ -78,14 +111,7 @@ fn recover_block(
             })
         }
         BlockKind::Psd => {
-            let mut w = mul(x, ds);
-            if let Some(h) = h {
-                w += h;
-            }
-            for i in 0..b.n {
-                w[(i, i)] -= sigma_mu;
-            }
-            let mut d = mul(&w, zinv);
+            let mut d = hkm_product(x, ds, zinv, sigma_mu, h);
             d += x;
             d *= faer::Scale(-1.0);
             symmetrize(&mut d);
@@ -98,7 +124,12 @@ fn recover_block(
 fn dual_block(an: &Analysis, vals: &Values, k: usize, dy: &[f64], rd: &Mat<f64>) -> Mat<f64> {
     let mut o = zero_block(&an.blocks[k]);
     block_apply_at(an, vals, k, dy, &mut o);
-    rd - &o
+    for j in 0..o.ncols() {
+        for (oi, ri) in o.col_as_slice_mut(j).iter_mut().zip(rd.col_as_slice(j)) {
+            *oi = ri - *oi;
+        }
+    }
+    o
 }
 
 /// Second-order term `H_k = ΔX_k ΔS_k` of the corrector (elementwise for LP blocks).
