@@ -532,26 +532,31 @@ fn add_scaled_constraint(
         v,
         support,
     } = pattern;
+    // `J`: the support, or every index when the support covers most of the block.
     let dense = support.len() as f64 >= DENSE_SUPPORT * n as f64;
+    let nj = if dense { n } else { support.len() };
+    let index = |c: usize| if dense { c } else { support[c] };
+    let pos = |i: usize| {
+        if dense {
+            i
+        } else {
+            support.binary_search(&i).unwrap_or(0)
+        }
+    };
+    // Calls `add(r, c, value)` for every entry of `A_p[J,J]` (both triangles).
+    let scatter = |add: &mut dyn FnMut(usize, usize, f64)| {
+        for e in 0..v.len() {
+            let (r, c) = (pos(rows[e]), pos(cols[e]));
+            add(r, c, v[e]);
+            if r != c {
+                add(c, r, v[e]);
+            }
+        }
+    };
     if n <= small::SMALL_PRODUCT {
         // Stack buffers: `a = A_p[J,J]`, `left = L_X[J,:]ᵀ`, `right = (L_S⁻¹[:,J])ᵀ`.
-        let nj = if dense { n } else { support.len() };
-        let index = |c: usize| if dense { c } else { support[c] };
-        let pos = |i: usize| {
-            if dense {
-                i
-            } else {
-                support.binary_search(&i).unwrap_or(0)
-            }
-        };
         small::with_bufs(n, |[a, left, right, t, out]| {
-            for e in 0..v.len() {
-                let (r, c) = (pos(rows[e]), pos(cols[e]));
-                a[r + c * nj] += v[e];
-                if r != c {
-                    a[c + r * nj] += v[e];
-                }
-            }
+            scatter(&mut |r, c, x| a[r + c * nj] += x);
             for c in 0..nj {
                 let jc = index(c);
                 for i in 0..n {
@@ -587,34 +592,11 @@ fn add_scaled_constraint(
         });
         return;
     }
-    let kp = if dense {
-        let mut a = Mat::<f64>::zeros(n, n);
-        for e in 0..v.len() {
-            let (r, c) = (rows[e], cols[e]);
-            a[(r, c)] += v[e];
-            if r != c {
-                a[(c, r)] += v[e];
-            }
-        }
-        mul(
-            &mul(&lx.transpose().to_owned(), &a),
-            &linv_s.transpose().to_owned(),
-        )
-    } else {
-        let nj = support.len();
-        let pos = |i: usize| support.binary_search(&i).unwrap_or(0);
-        let mut a = Mat::<f64>::zeros(nj, nj);
-        for e in 0..v.len() {
-            let (r, c) = (pos(rows[e]), pos(cols[e]));
-            a[(r, c)] += v[e];
-            if r != c {
-                a[(c, r)] += v[e];
-            }
-        }
-        let lxj_t = Mat::from_fn(n, nj, |i, c| lx[(support[c], i)]);
-        let lsj_t = Mat::from_fn(nj, n, |r, j| linv_s[(j, support[r])]);
-        mul(&mul(&lxj_t, &a), &lsj_t)
-    };
+    let mut a = Mat::<f64>::zeros(nj, nj);
+    scatter(&mut |r, c, x| a[(r, c)] += x);
+    let left = Mat::from_fn(n, nj, |i, c| lx[(index(c), i)]);
+    let right = Mat::from_fn(nj, n, |r, j| linv_s[(j, index(r))]);
+    let kp = mul(&mul(&left, &a), &right);
     for j in 0..n {
         for i in 0..n {
             dst[i + j * n] += kp[(i, j)];

@@ -112,21 +112,16 @@ pub(crate) fn gram_of_lower(linv: &[f64], n: usize, out: &mut [f64]) {
 
 /// `out = a · b` for `n×n` `a` and `b`.
 pub(crate) fn mul(a: &[f64], b: &[f64], n: usize, out: &mut [f64]) {
-    mul_rect(a, b, [n, n, n], out);
-}
-
-/// `out = a · b` for `r×k` `a` and `k×c` `b` (`[r, k, c]`), all column-major with leading
-/// dimensions `r`, `k` and `r`.
-pub(crate) fn mul_rect(a: &[f64], b: &[f64], [r, k, c]: [usize; 3], out: &mut [f64]) {
-    for j in 0..c {
-        let bj = &b[j * k..(j + 1) * k];
-        let oj = &mut out[j * r..(j + 1) * r];
+    for j in 0..n {
+        let bj = &b[j * n..(j + 1) * n];
+        let oj = &mut out[j * n..(j + 1) * n];
         oj.fill(0.0);
-        for (l, &blj) in bj.iter().enumerate() {
-            if blj != 0.0 {
-                let al = &a[l * r..(l + 1) * r];
-                for i in 0..r {
-                    oj[i] += al[i] * blj;
+        for k in 0..n {
+            let bkj = bj[k];
+            if bkj != 0.0 {
+                let ak = &a[k * n..(k + 1) * n];
+                for i in 0..n {
+                    oj[i] += ak[i] * bkj;
                 }
             }
         }
@@ -317,24 +312,6 @@ mod tests {
             congruence(&to_vec(&lower), &to_vec(&d), n, &mut tmp, &mut out);
             let reference = &lower * &d * lower.transpose();
             prop_assert!(max_abs_diff(&out, &reference) <= 1e-13 * (n * n) as f64);
-        }
-
-        /// Rectangular products against faer's (`r×k` times `k×c`).
-        #[test]
-        fn rectangular_products_match_faer(
-            r in 1usize..=SMALL, k in 1usize..=SMALL, c in 1usize..=SMALL,
-            e1 in entries(), e2 in entries(),
-        ) {
-            let a = Mat::from_fn(r, k, |i, j| e1[i * SMALL + j]);
-            let b = Mat::from_fn(k, c, |i, j| e2[i * SMALL + j]);
-            let flat = |m: &Mat<f64>| -> Vec<f64> {
-                (0..m.ncols()).flat_map(|j| m.col_as_slice(j).to_vec()).collect()
-            };
-            let mut out = vec![f64::NAN; r * c];
-            mul_rect(&flat(&a), &flat(&b), [r, k, c], &mut out);
-            let reference = flat(&(&a * &b));
-            let err = out.iter().zip(&reference).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
-            prop_assert!(err <= 1e-14 * k as f64, "error {err}");
         }
 
         /// Jacobi's smallest eigenvalue agrees with faer's symmetric eigensolver, and Cholesky of
