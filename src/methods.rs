@@ -226,12 +226,12 @@ fn write_error_figure(
     norms: &[f64],
 ) -> Result<PathBuf, MethodError> {
     let path = out_dir.join(format!("{method}_error.svg"));
-    let spec = sporadic_sim::figures::PlotSpec::new(
+    let spec = sporadic_figures::PlotSpec::new(
         &format!("{method}: estimation error, {}", plant.name),
         "time [s]",
         "|x - x_hat|",
     );
-    sporadic_sim::figures::plot_error_norm(&path, &spec, t, j, norms, None)
+    sporadic_figures::plot_error_norm(&path, &spec, t, j, norms, None)
         .map_err(|e| simulation_error(method)(format!("{}: {e}", path.display())))?;
     Ok(path)
 }
@@ -910,7 +910,7 @@ mod rabehi {
             .map(|(l, y)| (l.as_str(), y.as_slice()))
             .collect();
         let path = out_dir.join("rabehi2021_width.svg");
-        let spec = sporadic_sim::figures::PlotSpec::new(
+        let spec = sporadic_figures::PlotSpec::new(
             &format!(
                 "rabehi2021: interval width x_upper - x_lower, {}",
                 plant.name
@@ -918,7 +918,7 @@ mod rabehi {
             "time [s]",
             "width",
         );
-        sporadic_sim::figures::plot_components(&path, &spec, run.times(), run.jumps(), &components)
+        sporadic_figures::plot_components(&path, &spec, run.times(), run.jumps(), &components)
             .map_err(|e| err(format!("{}: {e}", path.display())))?;
         let last: Vec<String> = widths
             .iter()

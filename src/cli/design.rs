@@ -340,16 +340,16 @@ pub fn compare(args: &CompareArgs) -> Result<(), String> {
             .enumerate()
             .map(|(k, (label, t1, t2))| (label.clone(), [*t1, *t2], [k as f64 + 1.0; 2]))
             .collect();
-        let series: Vec<sporadic_sim::figures::Series<'_>> = series_data
+        let series: Vec<sporadic_figures::Series<'_>> = series_data
             .iter()
-            .map(|(label, x, y)| sporadic_sim::figures::Series { label, x, y })
+            .map(|(label, x, y)| sporadic_figures::Series { label, x, y })
             .collect();
-        let spec = sporadic_sim::figures::PlotSpec::new(
+        let spec = sporadic_figures::PlotSpec::new(
             &format!("certified sampling windows: {}", plant.name),
             "sampling interval [s]",
             "design (one row per certified window)",
         );
-        sporadic_sim::figures::plot_eigen_curves(&path, &spec, &series)
+        sporadic_figures::plot_eigen_curves(&path, &spec, &series)
             .map_err(|e| format!("{}: {e}", path.display()))?;
         println!("figure: {}", path.display());
     }

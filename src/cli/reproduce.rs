@@ -1,7 +1,7 @@
 //! `sporadic reproduce`: runs the paper reproductions and prints their checked claims.
 
-use sporadic_report::Reproduction;
-use std::path::{Path, PathBuf};
+use sporadic_reproductions::PAPERS;
+use std::path::PathBuf;
 
 /// Arguments of `sporadic reproduce`.
 #[derive(Debug, clap::Args)]
@@ -17,66 +17,15 @@ pub struct Args {
     pub out: PathBuf,
 }
 
-type Runner = fn(&Path) -> Result<Reproduction, String>;
-
-/// The papers of the project, in seed order: id, title, and the reproduction if it has landed.
-const PAPERS: [(&str, &str, Option<Runner>); 5] = [
-    (
-        "ferrante2016",
-        "Ferrante et al. 2016, observer with sporadic measurements",
-        Some(ferrante2016),
-    ),
-    (
-        "sferlazza2021",
-        "Sferlazza et al. 2021, round-robin observer with jitter",
-        Some(sferlazza2021),
-    ),
-    (
-        "andrieu2014",
-        "Andrieu et al. 2014, high-gain observer with updated sampling",
-        Some(andrieu2014),
-    ),
-    (
-        "etienne2017",
-        "Etienne et al. 2017, impulsive observer for Lipschitz systems",
-        Some(etienne2017),
-    ),
-    (
-        "rabehi2021",
-        "Rabehi et al. 2021, interval impulsive observer",
-        Some(rabehi2021),
-    ),
-];
-
-fn ferrante2016(out: &Path) -> Result<Reproduction, String> {
-    sporadic_ferrante2016::reproduce(out).map_err(|e| e.to_string())
-}
-
-fn sferlazza2021(out: &Path) -> Result<Reproduction, String> {
-    sporadic_sferlazza2021::reproduce(out).map_err(|e| e.to_string())
-}
-
-fn andrieu2014(out: &Path) -> Result<Reproduction, String> {
-    sporadic_andrieu2014::reproduce(out).map_err(|e| e.to_string())
-}
-
-fn etienne2017(out: &Path) -> Result<Reproduction, String> {
-    sporadic_etienne2017::reproduce(out).map_err(|e| e.to_string())
-}
-
-fn rabehi2021(out: &Path) -> Result<Reproduction, String> {
-    sporadic_rabehi2021::reproduce(out).map_err(|e| e.to_string())
-}
-
 /// Runs the requested reproductions; fails if any reproduction fails to run (a claim that
 /// differs from the paper is reported, not an error).
 pub fn run(args: &Args) -> Result<(), String> {
     let selected: Vec<_> = PAPERS
         .iter()
-        .filter(|(id, _, _)| args.paper == "all" || *id == args.paper)
+        .filter(|p| args.paper == "all" || p.id == args.paper)
         .collect();
     if selected.is_empty() {
-        let ids: Vec<&str> = PAPERS.iter().map(|(id, _, _)| *id).collect();
+        let ids: Vec<&str> = PAPERS.iter().map(|p| p.id).collect();
         return Err(format!(
             "unknown paper '{}'; expected 'all' or one of: {}",
             args.paper,
@@ -84,21 +33,10 @@ pub fn run(args: &Args) -> Result<(), String> {
         ));
     }
     let mut summary = Vec::new();
-    for (id, title, runner) in selected {
-        let Some(runner) = runner else {
-            if args.json {
-                println!(
-                    "{}",
-                    serde_json::json!({"paper": id, "claim": "reproduction", "paper_value": null,
-                        "ours": null, "tolerance": null, "status": "not-implemented"})
-                );
-            } else {
-                println!("== {id} ({title}) ==\nreproduction not implemented yet\n");
-            }
-            continue;
-        };
+    for paper in selected {
+        let (id, title) = (paper.id, paper.title);
         let dir = args.out.join(id);
-        let reproduction = runner(&dir).map_err(|e| format!("{id}: {e}"))?;
+        let reproduction = (paper.run)(&dir).map_err(|e| format!("{id}: {e}"))?;
         if args.json {
             for claim in &reproduction.claims {
                 println!("{}", claim.to_json(id));
@@ -112,7 +50,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         } else {
             println!("{}", reproduction.table(&format!("{id} ({title})")));
         }
-        summary.push((*id, reproduction.tally()));
+        summary.push((id, reproduction.tally()));
     }
     if !args.json {
         println!(

@@ -1,0 +1,307 @@
+//! The contract every observer method implements.
+
+use crate::outcome::{NotApplicable, Reason, Status};
+use crate::plant::Plant;
+use crate::report::{DesignReport, MAX_INTERVAL_SCHEMA, MaxIntervalReport, SimulationReport};
+use crate::search::{SearchError, Verdict, WindowSearchOptions, search_upper};
+use crate::window::Sampling;
+use std::time::{Duration, Instant};
+
+/// A boxed error with its chain of causes (a paper crate's typed error).
+pub type BoxedError = Box<dyn std::error::Error + Send + Sync + 'static>;
+
+/// Why a method call returned no report: bad input, or a failure that is not a verdict.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum MethodError {
+    /// The plant, sampling or options are invalid for this method (dimensions, values).
+    #[error("{method}: invalid input: {source}")]
+    InvalidInput {
+        /// The method id.
+        method: &'static str,
+        /// The paper crate's error.
+        #[source]
+        source: BoxedError,
+    },
+    /// A numerical kernel failed in a way that is not a verdict on the plant.
+    #[error("{method}: numerical failure: {source}")]
+    Numerical {
+        /// The method id.
+        method: &'static str,
+        /// The paper crate's error.
+        #[source]
+        source: BoxedError,
+    },
+    /// The method offers no simulation for this design.
+    #[error("{method}: simulation is not available: {why}")]
+    SimulationUnavailable {
+        /// The method id.
+        method: &'static str,
+        /// Why.
+        why: String,
+    },
+}
+
+impl MethodError {
+    /// The message of the error and of each of its causes, joined by `: `.
+    pub fn chain(&self) -> String {
+        let mut s = self.to_string();
+        let mut cur = std::error::Error::source(self);
+        while let Some(e) = cur {
+            let m = e.to_string();
+            if !s.contains(&m) {
+                s.push_str(": ");
+                s.push_str(&m);
+            }
+            cur = e.source();
+        }
+        s
+    }
+}
+
+/// Options common to every method (the method-specific ones live in the method's own struct).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MethodOptions {
+    /// The window search of [`ObserverMethod::largest_window`].
+    pub search: WindowSearchOptions,
+    /// Wall-time budget of one call (`None`: unlimited). A search that runs out of it stops with
+    /// the bracket found so far.
+    pub time_limit: Option<Duration>,
+}
+
+impl Default for MethodOptions {
+    fn default() -> Self {
+        Self {
+            search: WindowSearchOptions::default(),
+            time_limit: None,
+        }
+    }
+}
+
+/// How the sampling intervals of a simulation are chosen.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SamplingScenario {
+    /// Uniformly at random in the window (each sensor's, for round-robin), with this seed.
+    Uniform {
+        /// Seed of the random intervals.
+        seed: u64,
+    },
+    /// Always the shortest interval `T1`.
+    PeriodicT1,
+    /// Always the longest interval `T2`.
+    PeriodicT2,
+}
+
+/// A simulation request.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scenario {
+    /// Simulated time (`None`: the method's default, a few dozen longest intervals).
+    pub horizon: Option<f64>,
+    /// Initial estimation error `x(0) − x̂(0)` (`None`: all ones; for an interval observer,
+    /// the half-width of the initial enclosure).
+    pub initial_error: Option<Vec<f64>>,
+    /// The sampling intervals.
+    pub sampling: SamplingScenario,
+}
+
+impl Default for Scenario {
+    fn default() -> Self {
+        Self {
+            horizon: None,
+            initial_error: None,
+            sampling: SamplingScenario::Uniform { seed: 1 },
+        }
+    }
+}
+
+/// A simulated design: time series on the hybrid time domain and the summary.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Trajectory {
+    /// What `signals` are (e.g. "estimation error x − x̂", "interval width x̄ − x̲").
+    pub quantity: String,
+    /// Times `t`.
+    pub t: Vec<f64>,
+    /// Jump counters `j` (a sample increments `j` at the same `t`).
+    pub j: Vec<usize>,
+    /// Named signals, each with one value per `(t, j)`.
+    pub signals: Vec<(String, Vec<f64>)>,
+    /// The norm of the signals at each `(t, j)`.
+    pub norm: Vec<f64>,
+    /// The summary.
+    pub report: SimulationReport,
+}
+
+/// An observer design method of one paper.
+///
+/// Every method answers, for a validated [`Plant`] and its [`Sampling`]: does it apply
+/// ([`applies`](Self::applies)), which observer does it certify ([`design`](Self::design)), how
+/// long may the sampling intervals be ([`largest_window`](Self::largest_window)), and how does
+/// the designed observer behave ([`simulate`](Self::simulate)). A verdict on the plant (not
+/// certified, not applicable) is a report; only bad input and non-verdict failures are `Err`.
+pub trait ObserverMethod: Send + Sync {
+    /// The id used on the command line, e.g. `ferrante2016`.
+    fn id(&self) -> &'static str;
+    /// The paper: authors, year, title, venue.
+    fn citation(&self) -> &'static str;
+    /// One line: what the method designs.
+    fn summary(&self) -> &'static str;
+    /// The observer's equations (flow and jump) and the sign convention of its gains.
+    fn observer(&self) -> &'static str;
+    /// Whether the method covers this plant and sampling.
+    fn applies(&self, plant: &Plant, sampling: &Sampling) -> Result<(), NotApplicable>;
+    /// Designs and re-verifies an observer for every sampling sequence of `sampling`.
+    fn design(
+        &self,
+        plant: &Plant,
+        sampling: &Sampling,
+        options: &MethodOptions,
+    ) -> Result<DesignReport, MethodError>;
+
+    /// The largest certified upper end `T2 ≤ limit` with `T1` of `sampling` fixed (for
+    /// round-robin, every sensor's upper end is moved together, see [`Sampling::with_t2`]).
+    ///
+    /// The default runs the shared [`search_upper`] with [`design`](Self::design) as the probe;
+    /// `progress` sees every probe as it is made.
+    fn largest_window(
+        &self,
+        plant: &Plant,
+        sampling: &Sampling,
+        limit: f64,
+        options: &MethodOptions,
+        progress: &mut dyn FnMut(&crate::report::Probe),
+    ) -> Result<MaxIntervalReport, MethodError> {
+        default_largest_window(self, plant, sampling, limit, options, progress)
+    }
+
+    /// Simulates a certified design of this method (from [`design`](Self::design)).
+    fn simulate(
+        &self,
+        plant: &Plant,
+        design: &DesignReport,
+        scenario: &Scenario,
+    ) -> Result<Trajectory, MethodError> {
+        let _ = (plant, design, scenario);
+        Err(MethodError::SimulationUnavailable {
+            method: self.id(),
+            why: "this method has no simulation".into(),
+        })
+    }
+}
+
+/// The search behind [`ObserverMethod::largest_window`]'s default: [`search_upper`] with
+/// [`ObserverMethod::design`] as the probe, stopped early by [`MethodOptions::time_limit`].
+pub fn default_largest_window<M: ObserverMethod + ?Sized>(
+    method: &M,
+    plant: &Plant,
+    sampling: &Sampling,
+    limit: f64,
+    options: &MethodOptions,
+    progress: &mut dyn FnMut(&crate::report::Probe),
+) -> Result<MaxIntervalReport, MethodError> {
+    let start = Instant::now();
+    let t1 = sampling.t1();
+    let mut report = MaxIntervalReport {
+        schema: MAX_INTERVAL_SCHEMA.into(),
+        plant: plant.name().into(),
+        method: method.id().into(),
+        status: Status::NotCertified,
+        reason: None,
+        t1,
+        limit,
+        largest_certified_t2: None,
+        first_failing_t2: None,
+        search_end: None,
+        monotone: true,
+        probes: Vec::new(),
+        design: None,
+        seconds: 0.0,
+    };
+    if let Err(na) = method.applies(plant, sampling) {
+        report.status = Status::NotApplicable;
+        report.reason = Some(na.reason);
+        return Ok(report);
+    }
+    let invalid = |e: BoxedError| MethodError::InvalidInput {
+        method: method.id(),
+        source: e,
+    };
+    let mut best: Option<(f64, DesignReport)> = None;
+    let mut probe = |t2: f64| -> Result<Verdict, MethodError> {
+        if let Some(limit) = options.time_limit
+            && start.elapsed() > limit
+        {
+            return Err(MethodError::Numerical {
+                method: method.id(),
+                source: Box::new(TimeLimit(limit)),
+            });
+        }
+        let s = sampling.with_t2(t2).map_err(|e| invalid(Box::new(e)))?;
+        let d = method.design(plant, &s, options)?;
+        let v = Verdict {
+            certified: d.status.is_certified(),
+            margin: d.margin.as_ref().map(|m| m.value),
+            reason: d.reason.clone(),
+        };
+        progress(&crate::report::Probe {
+            t1,
+            t2,
+            certified: v.certified,
+            margin: v.margin,
+            reason: v.reason.clone(),
+        });
+        if v.certified && best.as_ref().is_none_or(|(b, _)| *b < t2) {
+            best = Some((t2, d));
+        }
+        Ok(v)
+    };
+    let search = search_upper(t1, limit, &options.search, &mut probe);
+    let search = match search {
+        Ok(s) => s,
+        Err(SearchError::Input(e)) => return Err(invalid(Box::new(e))),
+        Err(SearchError::Probe(MethodError::Numerical { source, .. }))
+            if source.downcast_ref::<TimeLimit>().is_some() =>
+        {
+            report.reason = Some(Reason::BudgetExhausted {
+                message: source.to_string(),
+            });
+            report.search_end = Some(crate::report::SearchEnd::BudgetExhausted);
+            report.largest_certified_t2 = best.as_ref().map(|(t2, _)| *t2);
+            report.status = if best.is_some() {
+                Status::Certified
+            } else {
+                Status::NotCertified
+            };
+            report.design = best.map(|(_, d)| d);
+            report.seconds = start.elapsed().as_secs_f64();
+            return Ok(report);
+        }
+        Err(SearchError::Probe(e)) => return Err(e),
+    };
+    report.largest_certified_t2 = search.best;
+    report.first_failing_t2 = search.first_failure;
+    report.search_end = Some(search.end);
+    report.monotone = search.monotone;
+    report.status = if search.best.is_some() {
+        Status::Certified
+    } else {
+        Status::NotCertified
+    };
+    if search.best.is_none() {
+        report.reason = search.probes.iter().rev().find_map(|p| p.reason.clone());
+    } else if search.end == crate::report::SearchEnd::BudgetExhausted {
+        report.reason = Some(Reason::BudgetExhausted {
+            message: format!("window search stopped after {} probes", search.probes.len()),
+        });
+    }
+    report.probes = search.probes;
+    report.design = best
+        .filter(|(t2, _)| Some(*t2) == search.best)
+        .map(|(_, d)| d);
+    report.seconds = start.elapsed().as_secs_f64();
+    Ok(report)
+}
+
+/// The wall-time budget ran out.
+#[derive(Debug, thiserror::Error)]
+#[error("time limit of {0:?} reached")]
+pub struct TimeLimit(pub Duration);
