@@ -11,7 +11,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .ok_or_else(|| format!("unknown paper {id}"))?;
     let r = (paper.run)(&std::path::Path::new(&out).join(id))?;
     for c in &r.claims {
-        println!("{}", c.to_json(id));
+        println!("{}", c.to_json(&id));
     }
     Ok(())
 }
