@@ -9,7 +9,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .iter()
         .find(|p| p.id == id)
         .ok_or_else(|| format!("unknown paper {}", &id))?;
-    let r = (paper.run)(&std::path::Path::new(&out).join(id))?;
+    let r = (paper.run)(&std::path::Path::new(&out).join(&id))?;
     for c in &r.claims {
         println!("{}", c.to_json(&id));
     }
