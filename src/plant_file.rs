@@ -32,17 +32,21 @@
 
 use faer::Mat;
 use serde::Deserialize;
+use sporadic_model::{
+    Bounds as ModelBounds, Lipschitz as ModelLipschitz, Plant, Sampling, SamplingWindow,
+};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 use toml::Spanned;
 
 /// What was wrong with a plant file, and where.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{}:{line}: {field}: {message}", path.display())]
+#[error("{}{}: {field}: {message}", path.display(), line_suffix(*line))]
 pub struct PlantFileError {
     /// The file (as given by the user).
     pub path: PathBuf,
-    /// 1-based line of the offending value (or of the section that lacks a field).
+    /// 1-based line of the offending value (or of the section that lacks a field); 0 when the
+    /// error concerns the whole file (e.g. it cannot be read).
     pub line: usize,
     /// The field, e.g. `plant.A` or `sensors[1].window`.
     pub field: String,
@@ -50,13 +54,13 @@ pub struct PlantFileError {
     pub message: String,
 }
 
-/// A sampling window `[T1, T2]`: every interval between two consecutive samples lies in it.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SamplingWindow {
-    /// Shortest interval `T1 > 0`.
-    pub t1: f64,
-    /// Longest interval `T2 ≥ T1`.
-    pub t2: f64,
+/// `:line` for a line in the file, nothing for the whole file.
+fn line_suffix(line: usize) -> String {
+    if line == 0 {
+        String::new()
+    } else {
+        format!(":{line}")
+    }
 }
 
 /// One round-robin sensor: its output matrix and its own sampling window.
@@ -246,7 +250,7 @@ impl Ctx<'_> {
         if t1 > t2 {
             return Err(self.err(span, field, format!("T1 = {t1} exceeds T2 = {t2}")));
         }
-        Ok(SamplingWindow { t1, t2 })
+        SamplingWindow::new(t1, t2).map_err(|e| self.err(span, field, e.to_string()))
     }
 
     fn bound_vector(
@@ -413,9 +417,117 @@ impl PlantFile {
         })
     }
 
+    /// The plant file of a validated plant and its sampling (the inverse of [`PlantFile::setups`]
+    /// for one setup): lets a program build what a TOML file would give.
+    pub fn from_plant(plant: &Plant, sampling: &Sampling) -> Self {
+        use sporadic_model::Outputs;
+        let (c, window, sensors) = match (plant.output_structure(), sampling) {
+            (Outputs::Synchronous(c), Sampling::Synchronous(w)) => {
+                (Some(c.clone()), Some(*w), vec![])
+            }
+            (Outputs::Synchronous(c), Sampling::RoundRobin(ws)) => (
+                Some(c.clone()),
+                None,
+                ws.iter()
+                    .map(|w| Sensor {
+                        c: c.clone(),
+                        window: *w,
+                    })
+                    .collect(),
+            ),
+            (Outputs::RoundRobin(cs), s) => (
+                None,
+                None,
+                cs.iter()
+                    .zip(s.windows().iter().cycle())
+                    .map(|(c, w)| Sensor {
+                        c: c.clone(),
+                        window: *w,
+                    })
+                    .collect(),
+            ),
+        };
+        Self {
+            name: plant.name().to_string(),
+            a: plant.a().to_owned(),
+            b: (plant.b().ncols() > 0).then(|| plant.b().to_owned()),
+            c,
+            window,
+            sensors,
+            lipschitz: plant.lipschitz().map(|l| Lipschitz {
+                g: l.g().to_owned(),
+                h: l.h().to_owned(),
+                jacobian_lower: l.jacobian_lower().to_owned(),
+                jacobian_upper: l.jacobian_upper().to_owned(),
+            }),
+            bounds: plant.bounds().map(|b| Bounds {
+                disturbance: b.disturbance().to_vec(),
+                noise: b.noise().to_vec(),
+            }),
+        }
+    }
+
     /// State dimension `n`.
     pub fn n(&self) -> usize {
         self.a.nrows()
+    }
+
+    /// The plant with all its outputs sampled at once (`plant.C` and `[sampling] window`), if
+    /// the file gives both.
+    pub fn synchronous(&self) -> Option<(Plant, Sampling)> {
+        let (c, w) = (self.c.as_ref()?, self.window?);
+        let plant = Plant::linear(
+            self.a.as_ref(),
+            self.b.as_ref().map(|b| b.as_ref()),
+            c.as_ref(),
+        )
+        .ok()?;
+        Some((self.decorate(plant), Sampling::Synchronous(w)))
+    }
+
+    /// The plant with its `[[sensors]]` polled round-robin, if the file has sensors.
+    pub fn round_robin(&self) -> Option<(Plant, Sampling)> {
+        if self.sensors.is_empty() {
+            return None;
+        }
+        let cs: Vec<_> = self.sensors.iter().map(|s| s.c.as_ref()).collect();
+        let plant =
+            Plant::round_robin(self.a.as_ref(), self.b.as_ref().map(|b| b.as_ref()), &cs).ok()?;
+        let windows = self.sensors.iter().map(|s| s.window).collect();
+        Some((self.decorate(plant), Sampling::RoundRobin(windows)))
+    }
+
+    /// The sampling setups the file describes, round-robin first: a method is run on the
+    /// first one it applies to.
+    pub fn setups(&self) -> Vec<(Plant, Sampling)> {
+        self.round_robin()
+            .into_iter()
+            .chain(self.synchronous())
+            .collect()
+    }
+
+    /// The file's name, Lipschitz data and bounds added to `plant` (bounds that do not fit the
+    /// plant's outputs, e.g. per-`C` noise bounds on round-robin sensors, are left out).
+    fn decorate(&self, plant: Plant) -> Plant {
+        let mut plant = plant.named(self.name.clone());
+        if let Some(l) = &self.lipschitz
+            && let Ok(lip) = ModelLipschitz::new(
+                l.g.as_ref(),
+                l.h.as_ref(),
+                l.jacobian_lower.as_ref(),
+                l.jacobian_upper.as_ref(),
+            )
+            && let Ok(p) = plant.clone().with_lipschitz(lip)
+        {
+            plant = p;
+        }
+        if let Some(b) = &self.bounds
+            && let Ok(bounds) = ModelBounds::new(b.disturbance.clone(), b.noise.clone())
+            && let Ok(p) = plant.clone().with_bounds(bounds)
+        {
+            plant = p;
+        }
+        plant
     }
 }
 
@@ -442,7 +554,7 @@ window = [0.1, 0.5]
         assert_eq!(p.name, "oscillator");
         assert_eq!(p.n(), 2);
         assert_eq!(p.a[(1, 0)], -1.0);
-        assert_eq!(p.window, Some(SamplingWindow { t1: 0.1, t2: 0.5 }));
+        assert_eq!(p.window, Some(SamplingWindow::new(0.1, 0.5).unwrap()));
         assert!(p.sensors.is_empty() && p.lipschitz.is_none() && p.b.is_none());
     }
 
@@ -492,7 +604,10 @@ window = [0.1, 0.5]
         }
         assert!(count >= 6, "{count} example files");
         let s = PlantFile::read(&dir.join("sferlazza2021-suspension.toml")).unwrap();
-        assert_eq!(s.sensors[1].window, SamplingWindow { t1: 0.04, t2: 0.09 });
+        assert_eq!(
+            s.sensors[1].window,
+            SamplingWindow::new(0.04, 0.09).unwrap()
+        );
         assert_eq!(s.a[(3, 0)], 1.6e4 / 45.0);
     }
 
@@ -523,7 +638,7 @@ disturbance = [0.1, 0.2]
 "#;
         let p = parse(text).unwrap();
         assert_eq!(p.sensors.len(), 2);
-        assert_eq!(p.sensors[1].window.t1, 0.03);
+        assert_eq!(p.sensors[1].window.t1(), 0.03);
         assert_eq!(p.lipschitz.as_ref().unwrap().h.ncols(), 2);
         assert_eq!(p.bounds.as_ref().unwrap().disturbance, vec![0.1, 0.2]);
         let e = parse(&text.replace("jacobian_upper = [[1.0]]", "jacobian_upper = [[-2.0]]"))

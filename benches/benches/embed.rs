@@ -6,7 +6,7 @@
 //! * the residue box (Ferrante et al. 2016, §4.1): `residue_decomposition` (contour moments,
 //!   independent of the window), `residue_vertices` (coefficient extrema, 2^K box corners and
 //!   the 201-point reconstruction self-check) and `residue_total` (both);
-//! * the Taylor polytope (Rabehi et al. 2021; spec 004 §5.3) with the order chosen for a
+//! * the Taylor polytope (Rabehi et al. 2021, §IV) with the order chosen for a
 //!   remainder bound of 1e-10;
 //!
 //! and, as the reference measured in the same run, one matrix exponential `e^{A T2}`

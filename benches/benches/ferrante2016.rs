@@ -18,7 +18,7 @@ use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use faer::Mat;
 use faer::linalg::solvers::Solve;
 use sporadic_ferrante2016::examples::example2;
-use sporadic_ferrante2016::{DesignOptions, LmiForm, Plant, Window, design};
+use sporadic_ferrante2016::{DesignOptions, LmiForm, Plant, SamplingWindow, design};
 use sporadic_sim::SimRng;
 
 /// `A = V diag(−(0.3 + 0.4 i)) V⁻¹` with `V = I + U(−0.3, 0.3)`, `M ~ U(−1, 1)^{1×n}`.
@@ -64,7 +64,7 @@ fn bench(c: &mut Criterion) {
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(8);
-    let window = Window::new(0.1, 0.6).expect("window");
+    let window = SamplingWindow::new(0.1, 0.6).expect("window");
     for (name, form) in [
         ("random_corollary1", LmiForm::Corollary1),
         ("random_reduced", LmiForm::Reduced),

@@ -200,7 +200,8 @@ fn bench(c: &mut Criterion) {
 }
 
 /// LMIs (20) of Etienne et al. with `L0 = L1` (Corollary 2); returns the model, the parameters
-/// `1/τ̄` and `τ_low/τ̄`, and the options (gains unnormalised, as in the spec's formulation F).
+/// `1/τ̄` and `τ_low/τ̄`, and the options (gain variable left out of the normalisation, as in the
+/// formulation of the independent reference implementation: maximise `t` with `P1, P2 ⪯ I`).
 fn etienne(tau_low: f64, tau_bar: f64) -> (Model, Param, Param, FeasibilityOptions) {
     let a = mat![
         [0.0, 1.0, 0.0, 0.0],

@@ -20,11 +20,11 @@
 use std::hint::black_box;
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use sporadic_sferlazza2021::design::{DesignSettings, design};
+use sporadic_sferlazza2021::design::{DesignOptions, design};
 use sporadic_sferlazza2021::example::suspension;
 use sporadic_sferlazza2021::synthesis::{Synthesis, default_solve_options};
 use sporadic_sferlazza2021::validation::{
-    UniformGrid, ValidationSettings, XiFamily, validate_naive,
+    UniformGrid, ValidationOptions, XiFamily, validate_naive,
 };
 
 const POINTS: usize = 100_000;
@@ -43,12 +43,12 @@ fn bench(c: &mut Criterion) {
     for sigma in 0..2 {
         let fam = XiFamily::new(&plant, &p, sigma).expect("family");
         let w = plant.sensor(sigma).expect("sensor").window();
-        let grid = UniformGrid::covering(w, w.width() / (POINTS - 1) as f64, 1e9).expect("grid");
-        let seq = ValidationSettings {
+        let grid = UniformGrid::covering(w, (w.t2() - w.t1()) / (POINTS - 1) as f64, 1e9).expect("grid");
+        let seq = ValidationOptions {
             parallel: false,
-            ..ValidationSettings::default()
+            ..ValidationOptions::default()
         };
-        let par = ValidationSettings::default();
+        let par = ValidationOptions::default();
         let id = format!("sigma{}", sigma + 1);
         g.bench_function(BenchmarkId::new("fast_1thread", &id), |b| {
             b.iter(|| black_box(fam.validate_grid(grid, MU, &seq).expect("validation")))
@@ -76,7 +76,7 @@ fn bench(c: &mut Criterion) {
     g.bench_function("suspension_paper_grid", |b| {
         b.iter(|| {
             black_box(
-                design(&plant, &DesignSettings::default())
+                design(&plant, &DesignOptions::default())
                     .expect("design")
                     .p_star,
             )

@@ -132,7 +132,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         &x1,
     )?;
 
-    // Spectral radius of e^{Av}(I − LM) against v ∈ [0.2, 3] (spec 000 §5: max 0.95882 at v = 0.2).
+    // Spectral radius of e^{Av}(I − LM) against v ∈ [0.2, 3] (independent reference
+    // implementation: max 0.95882 at v = 0.2).
     let jm = Mat::<f64>::identity(5, 5)
         - mat![[0.77524], [0.18123], [-0.12123], [-0.17406], [0.22469]]
             * mat![[1.0, 0.0, 0.0, 0.0, 1.0]];

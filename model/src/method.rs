@@ -60,22 +60,13 @@ impl MethodError {
 }
 
 /// Options common to every method (the method-specific ones live in the method's own struct).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct MethodOptions {
     /// The window search of [`ObserverMethod::largest_window`].
     pub search: WindowSearchOptions,
     /// Wall-time budget of one call (`None`: unlimited). A search that runs out of it stops with
     /// the bracket found so far.
     pub time_limit: Option<Duration>,
-}
-
-impl Default for MethodOptions {
-    fn default() -> Self {
-        Self {
-            search: WindowSearchOptions::default(),
-            time_limit: None,
-        }
-    }
 }
 
 /// How the sampling intervals of a simulation are chosen.
@@ -206,8 +197,8 @@ pub fn default_largest_window<M: ObserverMethod + ?Sized>(
         method: method.id().into(),
         status: Status::NotCertified,
         reason: None,
-        t1,
-        limit,
+        t1: Some(t1),
+        limit: Some(limit),
         largest_certified_t2: None,
         first_failing_t2: None,
         search_end: None,

@@ -331,10 +331,10 @@ pub struct MaxIntervalReport {
     pub status: Status,
     /// Why nothing was certified, or why the method does not apply.
     pub reason: Option<Reason>,
-    /// The lower end kept fixed.
-    pub t1: f64,
-    /// The largest upper end searched.
-    pub limit: f64,
+    /// The lower end kept fixed (`None` when the plant has no sampling window).
+    pub t1: Option<f64>,
+    /// The largest upper end searched (`None` when there was nothing to search).
+    pub limit: Option<f64>,
     /// Largest certified `T2` (`None`: not even `[T1, T1]`).
     pub largest_certified_t2: Option<f64>,
     /// The first failing `T2` above it (`None` when `limit` itself is certified).

@@ -3,8 +3,12 @@
 //! Usage: `cargo run --release -p sporadic-reproductions --example claims -- <paper> [out_dir]`.
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let id = std::env::args().nth(1).ok_or("usage: claims <paper> [out_dir]")?;
-    let out = std::env::args().nth(2).unwrap_or_else(|| "target/claims".into());
+    let id = std::env::args()
+        .nth(1)
+        .ok_or("usage: claims <paper> [out_dir]")?;
+    let out = std::env::args()
+        .nth(2)
+        .unwrap_or_else(|| "target/claims".into());
     let paper = sporadic_reproductions::PAPERS
         .iter()
         .find(|p| p.id == id)

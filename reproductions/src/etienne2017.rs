@@ -1,5 +1,5 @@
-//! Reproduction of §4 ("Example: flexible joint") of Etienne et al. (2017) and of the reference
-//! computations of the spec (§4.5).
+//! Reproduction of §4 ("Example: flexible joint") of Etienne et al. (2017) and of an independent
+//! reference computation of the numbers the paper does not print.
 //!
 //! What the paper states, checked as claims with the paper's value:
 //! * Corollary 2 is feasible on `[0.01, 0.2]` (and the design of Raff et al. 2008 only reached
@@ -11,13 +11,13 @@
 //!   `τ̄` (claims with status `beats`: a larger certified window than the paper's).
 //!
 //! Numbers the paper does not print (margins `t*`, the largest `τ̄` table, spectral radii,
-//! simulated error norms) are compared with the spec's independent reference implementation
+//! simulated error norms) are compared with an independent reference implementation
 //! (CVXPY + Clarabel, formulation F; fixed-step RK4), and every such claim says so in its note.
-//! The spec's simulated `|z(t)|` is the error just after the first sample at or after `t`
+//! The reference's simulated `|z(t)|` is the error just after the first sample at or after `t`
 //! ([`error_norm_after_sample`]); with that reading all eight reference values are reproduced.
 //!
 //! Figures 1–2 of the paper are missing from the OCR and its initial states and sampling
-//! sequences are not given; ours use the setup of spec §4.4 (`x(0) = 0`, `x̂(0) = (1,1,1,1)'`,
+//! sequences are not given; ours use the setup `x(0) = 0`, `x̂(0) = (1,1,1,1)'`,
 //! i.i.d. uniform intervals from a seeded generator) and the printed gains — a choice, not the
 //! paper's data.
 
@@ -31,7 +31,7 @@ use crate::ReproductionError as Error;
 use sporadic_etienne2017::Error as MethodError;
 use sporadic_etienne2017::bisection::{BisectionOptions, MaxTauBar, max_period, max_tau_bar_table};
 use sporadic_etienne2017::design::{
-    Design, DesignOptions, analyse, analyse_margin, design, solve_margin,
+    Design, DesignOptions, analyse, analyse_margin, design, solve_margin_without_dwell,
 };
 use sporadic_etienne2017::example::{
     flexible_joint, input, paper_static_schedule, paper_tv_schedule, phi,
@@ -41,26 +41,27 @@ use sporadic_etienne2017::lmi::Condition;
 use sporadic_etienne2017::simulation::{
     SimulationSetup, error_norm_after, error_norm_after_sample, simulate_observer,
 };
-use sporadic_etienne2017::system::{Plant, Window};
+use sporadic_etienne2017::system::Plant;
 use sporadic_etienne2017::verify::discrete_check;
+use sporadic_etienne2017::{SamplingWindow, solve_margin};
 
 /// Paper id used by `sporadic reproduce`.
 pub const PAPER: &str = "etienne2017";
 
-/// The `τ_low` values of the spec's table of largest `τ̄` (§4.5).
+/// The `τ_low` values of the reference table of largest `τ̄`.
 pub const TABLE_TAU_LOW: [f64; 6] = [0.001, 0.005, 0.01, 0.02, 0.05, 0.1];
 
-/// Spec §4.5: largest `τ̄` of Corollary 2 for [`TABLE_TAU_LOW`] (4 decimals).
+/// Reference: largest `τ̄` of Corollary 2 for [`TABLE_TAU_LOW`] (4 decimals).
 pub const SPEC_MAX_TAU_BAR_COR2: [f64; 6] = [0.2820, 0.2856, 0.2898, 0.2971, 0.3105, 0.3224];
 
-/// Spec §4.5: largest `τ̄` of Theorem 3 for [`TABLE_TAU_LOW`] (4 decimals).
+/// Reference: largest `τ̄` of Theorem 3 for [`TABLE_TAU_LOW`] (4 decimals).
 pub const SPEC_MAX_TAU_BAR_THM3: [f64; 6] = [0.3415, 0.3417, 0.3417, 0.3417, 0.3417, 0.3417];
 
-/// Absolute tolerance on a largest `τ̄`: the spec prints 4 decimals (its bracket at
+/// Absolute tolerance on a largest `τ̄`: the reference prints 4 decimals (its bracket at
 /// `τ_low = 0.01` is `(0.2897, 0.2899)`), so one unit of the last digit plus rounding.
 const TAU_TOL: f64 = 1.5e-4;
 
-/// Relative tolerance on a margin `t*` of formulation F (spec §5 items 3, 4, 7: ±2 %).
+/// Relative tolerance on a margin `t*` of the margin problem (±2 %).
 const MARGIN_REL_TOL: f64 = 0.02;
 
 /// Horizon of the reference simulations: past the first samples at or after `t = 4` of every
@@ -85,12 +86,12 @@ fn outcome(r: Result<Design, MethodError>) -> Result<Option<Design>, Error> {
 fn bracket(r: &MaxTauBar) -> String {
     format!(
         "bracket ({:.6}, {:.6}), {} probes, design verified at τ̄ = {}",
-        r.feasible.unwrap_or(f64::NAN),
-        r.infeasible.unwrap_or(f64::NAN),
-        r.probes.len(),
+        r.feasible().unwrap_or(f64::NAN),
+        r.infeasible().unwrap_or(f64::NAN),
+        r.probes().len(),
         r.certified
             .as_ref()
-            .map_or("none".into(), |d| format!("{:.6}", d.lmi.window.tau_bar()))
+            .map_or("none".into(), |d| format!("{:.6}", d.lmi.window.t2()))
     )
 }
 
@@ -160,7 +161,7 @@ pub fn reproduce(out_dir: &Path) -> Result<Reproduction, Error> {
     simulation_claims(&plant, &mut rep)?;
     rep.figures = figures(&plant, out_dir, &mut rep)?;
     rep.notes.push(format!(
-        "designed gains (not unique, spec §5 item 10: the LMIs have a continuum of solutions; \
+        "designed gains (not unique: the LMIs have a continuum of solutions; \
          paper: K' = [[0.87 0.03 0.66 0.65] [0.04 0.99 0.09 -0.12]], \
          K0' = [[0.92 0.00 0.77 0.40] [0.00 1 0.04 -0.06]], K1' = [[0.98 0.01 0.91 0.94] [0.01 1 0.05 0.01]]): \
          Corollary 2 [0.01,0.2] K' = {}; Theorem 3 [0.01,0.3] K0' = {}, K1' = {}",
@@ -171,7 +172,7 @@ pub fn reproduce(out_dir: &Path) -> Result<Reproduction, Error> {
     Ok(rep)
 }
 
-/// Lemma 1 vertices of the example (spec §4.2; the paper gives no `R_i`).
+/// Lemma 1 vertices of the example (the paper gives no `R_i`).
 fn lemma1_claims(plant: &Plant, rep: &mut Reproduction) {
     let r = plant.vertices();
     for (v, want) in [(0, -22.8), (1, -16.2)] {
@@ -180,7 +181,7 @@ fn lemma1_claims(plant: &Plant, rep: &mut Reproduction) {
             want,
             r[v][(3, 2)],
             1e-12,
-            "A ∓ 3.3 e4 e3' (DMVT vertices; the paper gives no R_i, spec §4.2)",
+            "A ∓ 3.3 e4 e3' (DMVT vertices; the paper gives no R_i)",
         ));
     }
 }
@@ -192,8 +193,8 @@ fn synthesis_claims(
     rep: &mut Reproduction,
 ) -> Result<(Design, Design), Error> {
     let claims = &mut rep.claims;
-    let w_c2 = Window::new(0.01, 0.2)?;
-    let w_t3 = Window::new(0.01, 0.3)?;
+    let w_c2 = SamplingWindow::new(0.01, 0.2)?;
+    let w_t3 = SamplingWindow::new(0.01, 0.3)?;
     let cor2 = outcome(design(plant, Condition::Corollary2, &w_c2, opts))?;
     claims.push(Claim::compare(
         "cor2.[0.01,0.2].feasible",
@@ -219,7 +220,7 @@ fn synthesis_claims(
         0.0,
         format!(
             "§4: Theorem 3's class of sampling sequences is larger than Corollary 2's; \
-             Corollary 2 is not strictly feasible on [0.01, 0.3] (t* = {:.2e}; spec §4.5 −1.5e-9)",
+             Corollary 2 is not strictly feasible on [0.01, 0.3] (t* = {:.2e}; reference −1.5e-9)",
             cor2_03.margin
         ),
     ));
@@ -240,11 +241,11 @@ fn synthesis_claims(
             reference,
             d.lmi.margin,
             MARGIN_REL_TOL * reference,
-            "margin of formulation F; spec §4.5 reference (CVXPY + Clarabel), not printed in the paper",
+            "margin of the margin problem (formulation F); reference CVXPY + Clarabel solve, not printed in the paper",
         ));
     }
     for (cond, hi) in [(Condition::Corollary2, 0.2), (Condition::Theorem3, 0.3)] {
-        let s = solve_margin(plant, cond, &Window::new(0.0, hi)?, opts)?;
+        let s = solve_margin_without_dwell(plant, cond, hi, opts)?;
         claims.push(Claim::compare(
             format!("{}.[0,{hi}].feasible", short(cond)),
             0.0,
@@ -252,7 +253,7 @@ fn synthesis_claims(
             0.0,
             format!(
                 "τ_low = 0 (t* = {:.2e}): rank C < n forces (τ_low/τ̄)(P2 − P1) ≻ 0 on ker C in (20c) \
-                 (spec §3.3 note 4; the paper requires τ_low > 0)",
+                 (the paper requires τ_low > 0)",
                 s.margin
             ),
         ));
@@ -267,7 +268,7 @@ fn printed_gain_claims(
     rep: &mut Reproduction,
 ) -> Result<(), Error> {
     let claims = &mut rep.claims;
-    let paper_k = paper_static_schedule(Window::new(0.01, 0.2)?)?;
+    let paper_k = paper_static_schedule(SamplingWindow::new(0.01, 0.2)?)?;
     let paper_tv = paper_tv_schedule()?;
     let a_k = outcome(analyse(plant, &paper_k, opts))?;
     let a_tv = outcome(analyse(plant, &paper_tv, opts))?;
@@ -298,12 +299,12 @@ fn printed_gain_claims(
             reference,
             d.lmi.margin,
             MARGIN_REL_TOL * reference,
-            "fixed-gain margin (LMI in P1, P2); spec §4.5 reference, not in the paper",
+            "fixed-gain margin (LMI in P1, P2); reference solve, not in the paper",
         ));
     }
     let a_k25 = analyse_margin(
         plant,
-        &paper_static_schedule(Window::new(0.01, 0.25)?)?,
+        &paper_static_schedule(SamplingWindow::new(0.01, 0.25)?)?,
         opts,
     )?;
     claims.push(Claim::compare(
@@ -312,7 +313,7 @@ fn printed_gain_claims(
         verdict(a_k25.verified()),
         0.0,
         format!(
-            "the printed K is not certifiable on [0.01, 0.25] (t* = {:.2e}); spec §4.5, not in the paper",
+            "the printed K is not certifiable on [0.01, 0.25] (t* = {:.2e}); reference solve, not in the paper",
             a_k25.margin
         ),
     ));
@@ -334,10 +335,10 @@ fn printed_gain_claims(
             1e-3,
             format!(
                 "max ρ((I − K(τ)C)e^(R_p τ)) on {} points of [{}, {}], at τ = {}, p = {}; \
-                 M'P1M − P1 ≺ 0 too (max λ = {:.2e}); spec §4.5, not in the paper",
+                 M'P1M − P1 ≺ 0 too (max λ = {:.2e}); reference computation, not in the paper",
                 opts.check.discrete_grid,
-                w.tau_low(),
-                w.tau_bar(),
+                w.t1(),
+                w.t2(),
                 c.spectral_radius.tau,
                 c.spectral_radius.vertex.map_or(0, |v| v + 1),
                 c.contraction.map_or(f64::NAN, |e| e.value),
@@ -347,7 +348,7 @@ fn printed_gain_claims(
     Ok(())
 }
 
-/// Largest `τ̄` (not in the paper; spec §4.5 table), and the largest period of Remark 6.
+/// Largest `τ̄` (not in the paper; reference table), and the largest period of Remark 6.
 fn largest_tau_bar_claims(plant: &Plant, rep: &mut Reproduction) -> Result<(), Error> {
     let bis = BisectionOptions::default();
     let table = max_tau_bar_table(
@@ -372,13 +373,10 @@ fn largest_tau_bar_claims(plant: &Plant, rep: &mut Reproduction) -> Result<(), E
                 spec,
                 estimate,
                 TAU_TOL,
-                format!("spec §4.5 table, not in the paper; {}", bracket(r)),
+                format!("reference table, not in the paper; {}", bracket(r)),
             ));
             if row.tau_low == 0.01 {
-                let certified = r
-                    .certified
-                    .as_ref()
-                    .map_or(f64::NAN, |d| d.lmi.window.tau_bar());
+                let certified = r.certified.as_ref().map_or(f64::NAN, |d| d.lmi.window.t2());
                 rep.claims.push(beats(
                     format!("{name}.certified_tau_bar(tau_low=0.01)"),
                     paper,
@@ -405,17 +403,17 @@ fn largest_tau_bar_claims(plant: &Plant, rep: &mut Reproduction) -> Result<(), E
         per.estimate().unwrap_or(f64::NAN),
         TAU_TOL,
         format!(
-            "periodic case (Remark 6: (20a), (20b), (20d) with τ_low = τ̄ = h); spec §4.5, not in the paper; {}",
+            "periodic case (Remark 6: (20a), (20b), (20d) with τ_low = τ̄ = h); reference bisection, not in the paper; {}",
             bracket(&per)
         ),
     ));
     Ok(())
 }
 
-/// The spec's reference simulations (§4.5) with the printed gains: `|z|` just after the first
+/// The reference simulations with the printed gains: `|z|` just after the first
 /// sample at or after `t`, `|z(0)| = 2`.
 fn simulation_claims(plant: &Plant, rep: &mut Reproduction) -> Result<(), Error> {
-    let paper_k = paper_static_schedule(Window::new(0.01, 0.2)?)?;
+    let paper_k = paper_static_schedule(SamplingWindow::new(0.01, 0.2)?)?;
     let paper_tv = paper_tv_schedule()?;
     type Case<'a> = (
         &'a str,
@@ -463,7 +461,7 @@ fn simulation_claims(plant: &Plant, rep: &mut Reproduction) -> Result<(), Error>
                 unit,
                 format!(
                     "just after the first sample at or after t = {t} (t_k = {tk:.4}), x(0) = 0, \
-                     x̂(0) = (1,1,1,1)'; spec §4.5 reference (fixed-step RK4), not in the paper"
+                     x̂(0) = (1,1,1,1)'; reference simulation (fixed-step RK4), not in the paper"
                 ),
             ));
         }
@@ -477,7 +475,7 @@ fn figures(
     out_dir: &Path,
     rep: &mut Reproduction,
 ) -> Result<Vec<std::path::PathBuf>, Error> {
-    let paper_k = paper_static_schedule(Window::new(0.01, 0.2)?)?;
+    let paper_k = paper_static_schedule(SamplingWindow::new(0.01, 0.2)?)?;
     let paper_tv = paper_tv_schedule()?;
     let mut paths = Vec::new();
     for (name, gain, seed, title) in [
@@ -495,7 +493,7 @@ fn figures(
         ),
     ] {
         let w = gain.window();
-        let mut rule = UniformRandom::new(w.tau_low(), w.tau_bar(), seed)?;
+        let mut rule = UniformRandom::new(w.t1(), w.t2(), seed)?;
         let sim = simulate(plant, gain, &mut rule, 5.0)?;
         let path = out_dir.join(format!("{PAPER}_{name}.svg"));
         figure(&sim, &path, title)?;

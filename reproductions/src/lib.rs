@@ -105,3 +105,14 @@ pub const PAPERS: [Paper; 5] = [
         run: rabehi2021::reproduce,
     },
 ];
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn every_paper_has_a_unique_id() {
+        let ids: Vec<&str> = super::PAPERS.iter().map(|p| p.id).collect();
+        for (k, id) in ids.iter().enumerate() {
+            assert!(!ids[..k].contains(id), "duplicate id {id}");
+        }
+    }
+}

@@ -18,6 +18,7 @@ use sporadic_figures::{
 
 use crate::ReproductionError as Error;
 use sporadic_rabehi2021::Error as MethodError;
+use sporadic_rabehi2021::SamplingWindow;
 use sporadic_rabehi2021::analysis::{AnalysisOptions, analyse, analyse_gain};
 use sporadic_rabehi2021::example::{
     TAU_MIN, example_bounds, example_window, figure_scenario, paper_gain, paper_reset_matrix,
@@ -29,11 +30,11 @@ use sporadic_rabehi2021::observer::IntervalObserver;
 use sporadic_rabehi2021::polytope::PolytopeOptions;
 use sporadic_rabehi2021::simulation::{IntervalRun, simulate_interval};
 use sporadic_rabehi2021::synthesis::{Design, SynthesisOptions, synthesise};
-use sporadic_rabehi2021::system::{Bounds, Plant, Window};
+use sporadic_rabehi2021::system::{Bounds, Plant};
 use sporadic_rabehi2021::table::{TableRow, table1};
 use sporadic_rabehi2021::verify::{GridOptions, verify_theorem1};
 use sporadic_rabehi2021::width::WidthDynamics;
-use sporadic_rabehi2021::window::{WindowSearchOptions, largest_tau_max_for_gain};
+use sporadic_rabehi2021::window::{TauMaxOptions, largest_tau_max_for_gain};
 
 /// Paper id used by `sporadic reproduce`.
 pub const PAPER: &str = "rabehi2021";
@@ -136,7 +137,7 @@ fn ipr_claims(plant: &Plant, rep: &mut Reproduction) -> Result<(), Error> {
 /// Spec A3–A4: Theorem 1 for the printed gain.
 fn paper_gain_claims(
     plant: &Plant,
-    window: &Window,
+    window: &SamplingWindow,
     rep: &mut Reproduction,
 ) -> Result<Theorem1Constants, Error> {
     let l = paper_gain();
@@ -212,18 +213,29 @@ fn paper_gain_claims(
     )?;
     rep.claims.push(Claim::not_in_paper(
         "paper_L.theorem1.largest_tau_max",
-        gw.certified.unwrap_or(f64::NAN),
+        gw.best.unwrap_or(f64::NAN),
         format!(
             "largest tau_max (tau_min = 0.04) with Theorem 1 certified for the printed L (bracket \
              up to {:.4}, {} analyses); spec A4: ~1.77",
-            gw.refuted, gw.probes
+            gw.first_failure.unwrap_or(f64::NAN),
+            gw.probes
+                .iter()
+                .filter(|p| !matches!(
+                    p.reason,
+                    Some(sporadic_rabehi2021::Reason::Undetectable { .. })
+                ))
+                .count()
         ),
     ));
     Ok(c)
 }
 
 /// Spec A5: Proposition 1 on the design window.
-fn design_claims(plant: &Plant, window: &Window, rep: &mut Reproduction) -> Result<Design, Error> {
+fn design_claims(
+    plant: &Plant,
+    window: &SamplingWindow,
+    rep: &mut Reproduction,
+) -> Result<Design, Error> {
     let design = synthesise(plant, window, &SynthesisOptions::default())?;
     let steps: Vec<String> = design
         .log
@@ -272,13 +284,13 @@ fn design_claims(plant: &Plant, window: &Window, rep: &mut Reproduction) -> Resu
 
 fn row_claim(row: &TableRow) -> Claim {
     let s = &row.search;
-    let ours = s.certified.unwrap_or(f64::NAN);
+    let ours = s.certified().unwrap_or(f64::NAN);
     let note = format!(
         "Prop. 1 on the paper's single Taylor polytope (remainder <= 1e-9), full pipeline; \
          certified (Theorem 1 re-verified with Gamma(L)); bracket ({:.3}, {:.3}], no gain can pass \
          (44) on that polytope beyond its vertex limit {:.3}",
         ours,
-        s.refuted,
+        s.refuted().unwrap_or(f64::NAN),
         s.polytope_limit.unwrap_or(f64::NAN)
     );
     let note = match row.paper {
@@ -319,7 +331,7 @@ fn row_claim(row: &TableRow) -> Claim {
 
 /// Table I (paper construction), its `F = I` column, and the split-polytope refinement.
 fn table_claims(rep: &mut Reproduction) -> Result<(), Error> {
-    let paper_like = WindowSearchOptions {
+    let paper_like = TauMaxOptions {
         synthesis: SynthesisOptions {
             polytope: PolytopeOptions {
                 pieces: Some(1),
@@ -327,13 +339,13 @@ fn table_claims(rep: &mut Reproduction) -> Result<(), Error> {
             },
             ..SynthesisOptions::default()
         },
-        ..WindowSearchOptions::default()
+        ..TauMaxOptions::default()
     };
     let mut option1 = paper_like.clone();
     option1.synthesis.polytope = PolytopeOptions::paper(10);
     option1.synthesis.max_alternations = 0;
     option1.synthesis.sequential = false;
-    let split = WindowSearchOptions::default();
+    let split = TauMaxOptions::default();
     let start = std::time::Instant::now();
     let rows = table1(&paper_like)?;
     let t_main = start.elapsed();
@@ -346,7 +358,7 @@ fn table_claims(rep: &mut Reproduction) -> Result<(), Error> {
     for (k, row) in rows1.iter().enumerate() {
         rep.claims.push(Claim::not_in_paper(
             format!("table1.option1.cs={}", row.damping),
-            row.search.certified.unwrap_or(f64::NAN),
+            row.search.certified().unwrap_or(f64::NAN),
             format!(
                 "convex restriction F = I only, single Taylor polytope of order 10 (the spec's \
                  setting); spec §6 [independent CVXPY/Clarabel]: {:.2}",
@@ -358,7 +370,7 @@ fn table_claims(rep: &mut Reproduction) -> Result<(), Error> {
         let s = &row.search;
         rep.claims.push(Claim::not_in_paper(
             format!("table1.split_polytope.cs={}", row.damping),
-            s.certified.unwrap_or(f64::NAN),
+            s.certified().unwrap_or(f64::NAN),
             format!(
                 "Prop. 1 on a Taylor polytope split into pieces with ||A-bar||h <= 0.5 (ours); the \
                  necessary limit of (19) for any gain is {:.3} (spec A6: {:.3})",
@@ -378,10 +390,10 @@ fn table_claims(rep: &mut Reproduction) -> Result<(), Error> {
             "  {:.1} | {} | {} | {} | {} | {} | {}\n",
             r.damping,
             fmt(r.paper),
-            fmt(r.search.certified),
-            fmt(r1.search.certified),
+            fmt(r.search.certified()),
+            fmt(r1.search.certified()),
             fmt(r.search.polytope_limit),
-            fmt(rs.search.certified),
+            fmt(rs.search.certified()),
             fmt(rs.search.necessary_limit)
         );
     }
@@ -395,7 +407,11 @@ fn table_claims(rep: &mut Reproduction) -> Result<(), Error> {
 }
 
 /// Spec A10: the deterministic width dynamics with the printed gain.
-fn width_claims(plant: &Plant, window: &Window, rep: &mut Reproduction) -> Result<(), Error> {
+fn width_claims(
+    plant: &Plant,
+    window: &SamplingWindow,
+    rep: &mut Reproduction,
+) -> Result<(), Error> {
     let w = WidthDynamics::new(plant, &example_bounds(), paper_gain().as_ref())?;
     for (period, spec) in [
         (0.04, (0.690, 5.187)),
@@ -715,8 +731,8 @@ fn figures(
     let times = clean.sample_times();
     let intervals = clean.intervals();
     let window = example_window();
-    let lo = vec![window.tau_min(); times.len()];
-    let hi = vec![window.tau_max(); times.len()];
+    let lo = vec![window.t1(); times.len()];
+    let hi = vec![window.t2(); times.len()];
     let path = out_dir.join("rabehi2021_fig2_intervals.svg");
     plot_eigen_curves(
         &path,

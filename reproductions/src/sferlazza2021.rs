@@ -1,14 +1,14 @@
 //! Reproduction of the §6 example (quarter-car suspension) as a [`crate::claim::Reproduction`]:
 //! the design loop with its iteration log next to the paper's, checked claims against the paper and
-//! against the reference values of spec 001 (`[repro]`, an independent Python/Clarabel run), and
-//! Figures 3–5 as SVG.
+//! against reference values of an independent Python/Clarabel run (`[repro]`, "spec 001" in the
+//! claim notes), and Figures 3–5 as SVG.
 //!
 //! The paper prints very few numbers for its example: the iteration count, the two added points
 //! τ̄ and the matrices (52), which are not a valid certificate (the printed `P_2` is indefinite).
-//! Reference values of the spec that are unique (optimal values p* of (47), the growth of
+//! Reference values of that run that are unique (optimal values p* of (47), the growth of
 //! `e^{−Aτ}`, the printed (52) checked against (44)) are compared with a stated tolerance and named
 //! as such in the note; values that depend on the non-unique optimiser `P*` or on random draws are
-//! reported as `not-in-paper`, with the spec's value in the note. The iteration log is in the notes.
+//! reported as `not-in-paper`, with the reference run's value in the note. The iteration log is in the notes.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -20,18 +20,19 @@ use sporadic_linalg::min_eigenvalue;
 use sporadic_sim::SimRng;
 
 use crate::ReproductionError as Error;
-use sporadic_sferlazza2021::design::{Design, DesignSettings, IterationRecord, design};
-use sporadic_sferlazza2021::detectability::{DetectabilitySettings, check_detectability};
+use sporadic_sferlazza2021::SamplingWindow;
+use sporadic_sferlazza2021::design::{Design, DesignOptions, IterationRecord, design};
+use sporadic_sferlazza2021::detectability::{DetectabilityOptions, check_detectability};
 use sporadic_sferlazza2021::example::{
     DISTURBANCE_BOUNDS, NOISE_BOUNDS, printed_solution, suspension,
 };
 use sporadic_sferlazza2021::exponential_bound::sampled_growth;
-use sporadic_sferlazza2021::iss::{IssSettings, iss_constants};
+use sporadic_sferlazza2021::iss::{IssOptions, iss_constants};
 use sporadic_sferlazza2021::jitter_free;
-use sporadic_sferlazza2021::plant::{RoundRobinPlant, Window};
-use sporadic_sferlazza2021::simulation::{ErrorTrajectory, SimulationSettings, simulate_error};
+use sporadic_sferlazza2021::plant::{RoundRobinPlant, window_contains, window_grid};
+use sporadic_sferlazza2021::simulation::{ErrorTrajectory, SimulationOptions, simulate_error};
 use sporadic_sferlazza2021::synthesis::{Synthesis, default_solve_options};
-use sporadic_sferlazza2021::validation::{GridPolicy, ValidationSettings, XiFamily, grid_spacing};
+use sporadic_sferlazza2021::validation::{GridPolicy, ValidationOptions, XiFamily, grid_spacing};
 
 /// The iteration log printed in §6: `(iteration, failing sensor if stated, τ̄ added)`; the third
 /// iteration passed validation.
@@ -40,11 +41,11 @@ const PAPER_LOG: [(usize, Option<usize>, f64); 2] = [(1, Some(1), 0.0534), (2, N
 /// Iterations of the paper's run.
 const PAPER_ITERATIONS: f64 = 3.0;
 
-/// Relative tolerance of the comparisons of the unique optimal values p* of (47) with spec 001
+/// Relative tolerance of the comparisons of the unique optimal values p* of (47) with the reference run
 /// (printed with 4–6 significant digits; its acceptance check 12 asks for about 1e-3).
 const P_STAR_REL_TOL: f64 = 1e-4;
 
-/// Reference values of spec 001 §2/§4/§5 (`[repro]`: Clarabel, orthonormal `C^⊥` as given).
+/// Reference values of the independent run (`[repro]`: Clarabel, orthonormal `C^⊥` as given).
 mod spec {
     /// `max ρ(e^{AT})` over the 26 × 26 detectability grid.
     pub const MAX_SPECTRAL_RADIUS: f64 = 0.99996;
@@ -88,26 +89,67 @@ mod spec {
     pub const SIM_MEDIAN_RATIO: f64 = 0.973;
 }
 
-/// Settings of [`reproduce_with`].
+/// Options of [`reproduce_with`]; the defaults are those of the recorded reproduction.
 #[derive(Debug, Clone, PartialEq)]
-pub struct ReproduceSettings {
-    /// Margin μ (the paper does not report it; spec 001's references use 0.01).
+pub struct ReproduceOptions {
+    /// Margin μ (the paper does not report it; the reference run uses 0.01). Default 0.01.
     pub mu: f64,
     /// Random τ per sensor for the independent check of the final design (fresh exponentials).
+    /// Default 10⁶.
     pub random_samples: usize,
-    /// Simulation horizon for Figures 4–5 and the noise-free checks.
+    /// Simulation horizon for Figures 4–5 and the noise-free checks. Default 5 s.
     pub horizon: f64,
-    /// Horizon of the long noise-free run (convergence of the slow 1.15 rad/s mode).
+    /// Horizon of the long noise-free run (convergence of the slow 1.15 rad/s mode). Default 60 s.
     pub long_horizon: f64,
-    /// Initial error (spec 001 §5: the paper does not report it).
+    /// Initial error (the paper does not report it). Default `(0.1, 1, 0.05, 1)`.
     pub x0: Vec<f64>,
-    /// Seed of the random intervals, noise and τ samples.
+    /// Seed of the random intervals, noise and τ samples. Default 2021.
     pub seed: u64,
-    /// Points per window of the Figure 3 curves.
+    /// Points per window of the Figure 3 curves. Default 400.
     pub fig3_points: usize,
 }
 
-impl Default for ReproduceSettings {
+impl ReproduceOptions {
+    /// Checks every field; the error names the offending one.
+    ///
+    /// # Errors
+    /// [`sporadic_linalg::InputError::InvalidParameter`] naming the field.
+    pub fn validate(&self) -> Result<(), sporadic_linalg::InputError> {
+        use sporadic_linalg::InputError;
+        let positive = |name: &str, x: f64| {
+            if x > 0.0 && x.is_finite() {
+                Ok(())
+            } else {
+                Err(InputError::parameter(
+                    name,
+                    x,
+                    "must be a positive finite number",
+                ))
+            }
+        };
+        positive("mu", self.mu)?;
+        positive("horizon", self.horizon)?;
+        positive("long_horizon", self.long_horizon)?;
+        if self.random_samples == 0 {
+            return Err(InputError::parameter(
+                "random_samples",
+                0.0,
+                "must be at least 1",
+            ));
+        }
+        if self.fig3_points < 2 {
+            return Err(InputError::parameter(
+                "fig3_points",
+                self.fig3_points as f64,
+                "must be at least 2",
+            ));
+        }
+        sporadic_linalg::input::check_len(&self.x0, 4, "x0")?;
+        sporadic_linalg::input::check_finite_slice(&self.x0, "x0")
+    }
+}
+
+impl Default for ReproduceOptions {
     fn default() -> Self {
         Self {
             mu: 0.01,
@@ -126,7 +168,7 @@ impl Default for ReproduceSettings {
 /// # Errors
 /// See [`reproduce_with`].
 pub fn reproduce(out_dir: &Path) -> Result<Reproduction, Error> {
-    reproduce_with(out_dir, &ReproduceSettings::default())
+    reproduce_with(out_dir, &ReproduceOptions::default())
 }
 
 /// A comparison with a reference value within a relative tolerance.
@@ -135,9 +177,9 @@ fn compare_rel(id: &str, reference: f64, ours: f64, rel: f64, note: impl Into<St
 }
 
 /// `min_τ λ_min(Ξ_σ(τ))` on `points` equally spaced τ of the window, and where.
-fn min_xi_on_grid(fam: &XiFamily, w: Window, points: usize) -> Result<(f64, f64), Error> {
+fn min_xi_on_grid(fam: &XiFamily, w: SamplingWindow, points: usize) -> Result<(f64, f64), Error> {
     let mut best = (f64::INFINITY, f64::NAN);
-    for tau in w.grid(points)? {
+    for tau in window_grid(w, points)? {
         let l = fam.min_eigenvalue(tau)?;
         if l < best.0 {
             best = (l, tau);
@@ -151,7 +193,7 @@ fn fig3(out_dir: &Path, d: &Design, points: usize) -> Result<Vec<PathBuf>, Error
     let mut paths = Vec::new();
     for (s, sensor) in plant.sensors().iter().enumerate() {
         let w = sensor.window();
-        let taus = w.grid(points)?;
+        let taus = window_grid(w, points)?;
         let mut curves: Vec<(String, Vec<f64>)> = Vec::new();
         for r in &d.log {
             let fam = XiFamily::new(plant, &r.p, s)?;
@@ -180,8 +222,8 @@ fn fig3(out_dir: &Path, d: &Design, points: usize) -> Result<Vec<PathBuf>, Error
             &format!(
                 "Fig. 3: λ_min(Ξ_P{}(τ)) on [{}, {}] after each iteration",
                 s + 1,
-                w.t_min,
-                w.t_max
+                w.t1(),
+                w.t2()
             ),
             "τ [s]",
             "λ_min",
@@ -274,7 +316,8 @@ fn log_line(r: &IterationRecord) -> String {
 ///
 /// # Errors
 /// I/O errors, or any failure of the design, validation or simulation.
-pub fn reproduce_with(out_dir: &Path, rs: &ReproduceSettings) -> Result<Reproduction, Error> {
+pub fn reproduce_with(out_dir: &Path, rs: &ReproduceOptions) -> Result<Reproduction, Error> {
+    rs.validate()?;
     std::fs::create_dir_all(out_dir).map_err(|source| Error::Io {
         path: out_dir.to_path_buf(),
         source,
@@ -282,8 +325,8 @@ pub fn reproduce_with(out_dir: &Path, rs: &ReproduceSettings) -> Result<Reproduc
     let plant = suspension()?;
     let mut rep = Reproduction::default();
 
-    // Proposition 1 screen on a 26 × 26 grid (spec §2).
-    let det = check_detectability(&plant, &DetectabilitySettings::default())?;
+    // Proposition 1 screen on a 26 × 26 grid.
+    let det = check_detectability(&plant, &DetectabilityOptions::default())?;
     rep.claims.push(Claim::compare(
         "prop1.detectable",
         1.0,
@@ -304,9 +347,9 @@ pub fn reproduce_with(out_dir: &Path, rs: &ReproduceSettings) -> Result<Reproduc
     ));
 
     // The §5.3 design.
-    let settings = DesignSettings {
+    let settings = DesignOptions {
         mu: rs.mu,
-        ..DesignSettings::default()
+        ..DesignOptions::default()
     };
     let t0 = Instant::now();
     let d = design(&plant, &settings)?;
@@ -326,8 +369,11 @@ pub fn reproduce_with(out_dir: &Path, rs: &ReproduceSettings) -> Result<Reproduc
     final_design_claims(&plant, &d, rs, &mut rep)?;
     printed_solution_claims(&plant, &d, &mut rep)?;
 
-    // Jitter-free check at T = (0.05, 0.07) (spec §5).
-    let jf_plant = plant.with_windows(&[Window::fixed(0.05), Window::fixed(0.07)])?;
+    // Jitter-free check at T = (0.05, 0.07).
+    let jf_plant = plant.with_windows(&[
+        SamplingWindow::periodic(0.05)?,
+        SamplingWindow::periodic(0.07)?,
+    ])?;
     let jf = jitter_free::design(&jf_plant, rs.mu, &default_solve_options())?;
     rep.claims.push(compare_rel(
         "jitter_free.p_star",
@@ -348,7 +394,7 @@ pub fn reproduce_with(out_dir: &Path, rs: &ReproduceSettings) -> Result<Reproduc
     ));
 
     // Theorem 3 constants and the simulations of (53).
-    let iss = iss_constants(d.gains(), &IssSettings::default())?;
+    let iss = iss_constants(d.gains(), &IssOptions::default())?;
     for s in 0..2 {
         rep.claims.push(Claim::not_in_paper(
             format!("thm3.min_lambda_M_sigma{}", s + 1),
@@ -404,7 +450,7 @@ pub fn reproduce_with(out_dir: &Path, rs: &ReproduceSettings) -> Result<Reproduc
          window, disturbance and noise uniform with the paper's bounds (held {} s), seed {}.",
         rs.x0,
         rs.horizon,
-        SimulationSettings::noise_free(rs.horizon, rs.x0.clone()).disturbance_period,
+        SimulationOptions::noise_free(rs.horizon, rs.x0.clone()).disturbance_period,
         rs.seed
     ));
     Ok(rep)
@@ -457,7 +503,7 @@ fn step1_claims(plant: &RoundRobinPlant, d: &Design, rep: &mut Reproduction) -> 
 fn loop_claims(
     plant: &RoundRobinPlant,
     d: &Design,
-    rs: &ReproduceSettings,
+    rs: &ReproduceOptions,
     rep: &mut Reproduction,
 ) -> Result<(), Error> {
     let first = &d.log[0];
@@ -553,12 +599,12 @@ fn loop_claims(
 fn final_design_claims(
     plant: &RoundRobinPlant,
     d: &Design,
-    rs: &ReproduceSettings,
+    rs: &ReproduceOptions,
     rep: &mut Reproduction,
 ) -> Result<(), Error> {
     let mut dense = Synthesis::new(plant, rs.mu, &default_solve_options())?;
     for (s, sensor) in plant.sensors().iter().enumerate() {
-        let grid = sensor.window().grid(101)?;
+        let grid = window_grid(sensor.window(), 101)?;
         for &tau in &grid[1..grid.len() - 1] {
             dense.add_point(plant, s, tau)?;
         }
@@ -615,10 +661,10 @@ fn final_design_claims(
         ));
         let w = plant.sensor(s)?.window();
         let taus: Vec<f64> = (0..rs.random_samples)
-            .map(|_| rng.uniform(w.t_min, w.t_max))
+            .map(|_| rng.uniform(w.t1(), w.t2()))
             .collect();
         let fam = XiFamily::new(plant, &d.p, s)?;
-        let r = fam.validate_points(&taus, 0.0, &ValidationSettings::default())?;
+        let r = fam.validate_points(&taus, 0.0, &ValidationOptions::default())?;
         rep.claims.push(Claim::compare(
             format!("final.random_tau_failures_sigma{}", s + 1),
             0.0,
@@ -629,8 +675,8 @@ fn final_design_claims(
                  stepper and the grid), the number with λ_min(Ξ_{}(τ)) ≤ 0 (spec 001 §6 check 14; \
                  min found {:.4}{})",
                 rs.random_samples,
-                w.t_min,
-                w.t_max,
+                w.t1(),
+                w.t2(),
                 s + 1,
                 r.min_eigenvalue,
                 if r.min_is_exact {
@@ -712,10 +758,10 @@ fn simulation_claims(
     d: &Design,
     rho: f64,
     iss: &sporadic_sferlazza2021::iss::IssConstants,
-    rs: &ReproduceSettings,
+    rs: &ReproduceOptions,
     rep: &mut Reproduction,
 ) -> Result<ErrorTrajectory, Error> {
-    let mut nf = SimulationSettings::noise_free(rs.horizon, rs.x0.clone());
+    let mut nf = SimulationOptions::noise_free(rs.horizon, rs.x0.clone());
     nf.seed = rs.seed;
     nf.rho = rho;
     let tr0 = simulate_error(d.gains(), &nf)?;
@@ -725,7 +771,7 @@ fn simulation_claims(
     let outside = tr0
         .jumps
         .iter()
-        .filter(|j| !plant.sensors()[j.sensor].window().contains(j.tau))
+        .filter(|j| !window_contains(plant.sensors()[j.sensor].window(), j.tau))
         .count();
     rep.claims.push(Claim::not_in_paper(
         "sim.noise_free.jumps",

@@ -1,5 +1,5 @@
-//! `reproduce` end to end (issue 9 item 5): every claim matches the paper or the spec's reference
-//! (§4.5), the largest certified `τ̄` beats the single window the paper reports, and Figures 1–2
+//! `reproduce` end to end (issue 9 item 5): every claim matches the paper or the independent
+//! reference computation, the largest certified `τ̄` beats the single window the paper reports, and Figures 1–2
 //! are written as SVG files.
 
 use sporadic_reproductions::claim::ClaimStatus;

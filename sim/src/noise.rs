@@ -1,8 +1,9 @@
 //! Disturbance and measurement-noise generators, all seeded and reproducible.
 //!
-//! Examples from the paper specs: uniform bounded noise `|d_i| <= d̄_i` (Sferlazza et al. 2021, §6), the
-//! sinusoidal measurement noise `v(t_k) = 0.4 cos(2 t_k)` (Rabehi et al., §V), Gaussian output noise
-//! `N(0, 0.001²)` (Andrieu et al. 2014, §4), and the noise-free case.
+//! Examples from the papers' numerical examples: uniform bounded noise `|d_i| <= d̄_i`
+//! (Sferlazza et al. 2021, §6), the sinusoidal measurement noise `v(t_k) = 0.4 cos(2 t_k)`
+//! (Rabehi et al., §V), Gaussian output noise `N(0, 0.001²)` (Andrieu et al. 2014, §4; the law
+//! and level are a reproduction setting, not given in the paper), and the noise-free case.
 
 use crate::error::SimError;
 use crate::rng::SimRng;

@@ -1,4 +1,5 @@
-//! End-to-end simulations against closed forms and the acceptance numbers of the paper specs.
+//! End-to-end simulations against closed forms, the papers' printed values and values from
+//! independent reference implementations.
 
 use faer::{Mat, mat};
 use proptest::prelude::*;
@@ -13,7 +14,8 @@ const E: f64 = std::f64::consts::E;
 
 #[test]
 fn ferrante_example1_bound_and_contraction() {
-    // A = M = 1, T1 = T2 = 1, P = 1, L = 1.1 − e^{-1} (Ferrante et al. 2016, Example 1 and spec §5/§6.9).
+    // A = M = 1, T1 = T2 = 1, P = 1, L = 1.1 − e^{-1} (Ferrante et al. 2016, Example 1; κ and γ to
+    // full precision from an independent reference implementation).
     let l = 1.1 - (-1f64).exp();
     let alpha2 = E * E;
     let beta = 1.0 - (1.0 - l).powi(2) * E * E;
@@ -62,7 +64,8 @@ fn ferrante_example2() -> (Mat<f64>, Mat<f64>, Mat<f64>) {
 
 #[test]
 fn ferrante_example2_slowest_sequence() {
-    // Spec 000 §6.9 [ours]: all intervals 0.2, ε0 = ones ⇒ ‖ε‖²/‖ε0‖² = 3.86e-6 after 100 jumps.
+    // Independent reference implementation: all intervals 0.2, ε0 = ones ⇒ ‖ε‖²/‖ε0‖² = 3.86e-6
+    // after 100 jumps.
     let (a, m, l) = ferrante_example2();
     let mut plant = SampledPlant {
         flow: LtiFlow::new(a.as_ref()).unwrap(),
@@ -183,7 +186,8 @@ fn round_robin_resets_measured_components() {
 
 #[test]
 fn andrieu_state_triggered_sampling() {
-    // Spec 002 check C1/B: n = 2, f2 = −sin(x1) (c ≡ 1), K = [−2, −1]ᵀ, α = 0.2, a1 = 0.0693280, a3 = 4,
+    // Andrieu et al. (2014), theorem-conforming design (Theorem 2) on a pendulum in normal form:
+    // n = 2, f2 = −sin(x1) (c ≡ 1), K = [−2, −1]ᵀ, α = 0.2, a1 = 0.0693280, a3 = 4,
     // a2 = 56.2298; x(0) = (1, 0), x̂(0) = (−1, 2), L(0) = 1, horizon 2. Sample when s·L = α.
     let (alpha, a1, a2, a3, k) = (0.2, 0.0693280, 56.2298, 4.0, [-2.0, -1.0]);
     let plant_flow = FnFlow::new(2, |_t, x: &[f64], dx: &mut [f64]| {
@@ -268,7 +272,8 @@ fn andrieu_state_triggered_sampling() {
         dmin = dmin.min(delta);
         dmax = dmax.max(delta);
     }
-    // Reference ranges: L⁻ ∈ [6.43, 807], δ ∈ [2.5e-4, 0.031] (spec 002, C2).
+    // Reference ranges: L⁻ ∈ [6.43, 807], δ ∈ [2.5e-4, 0.031] (independent reference
+    // implementation).
     assert!(
         (6.0..7.0).contains(&lmin) && (750.0..860.0).contains(&lmax),
         "L⁻ ∈ [{lmin}, {lmax}]"
@@ -284,7 +289,7 @@ fn andrieu_state_triggered_sampling() {
 
 #[test]
 fn interval_observer_encloses_the_state() {
-    // Rabehi et al. §V (spec 004, A9): spring–mass–damper with u = 10[2 sin 10t + sin 16t + sin 24t],
+    // Rabehi et al. §V: spring–mass–damper with u = 10[2 sin 10t + sin 16t + sin 24t],
     // disturbance |d_i| <= 1 resampled every 0.01 s, noise v(t_k) = 0.4 cos(2 t_k), random sampling in
     // [0.04, 0.3], reported gain L = [−0.5004, −0.0494]ᵀ, C = [2, 0]. Bounds must enclose the state.
     let a = mat![[0.0, 1.0], [-1.0, -1.0]];
@@ -375,7 +380,8 @@ fn interval_observer_encloses_the_state() {
             );
         }
     }
-    // After the transient, the post-jump width of x1 is small (spec A10: ≈ 0.401).
+    // After the transient, the post-jump width of x1 is small (≈ 0.401, independent reference
+    // implementation).
     let last = sim.arc.jumps().last().copied().unwrap();
     let z = sim.arc.state(last.after);
     let w1 = z[4] - z[2];

@@ -1,37 +1,37 @@
 //! `sporadic design`, `sporadic max-interval` and `sporadic compare`: observer design for a
-//! user's plant file.
+//! user's plant file, printed as text or as the typed reports of `sporadic_model::report`.
 
-use sporadic::methods::{
-    self, DesignSummary, MaxInterval, Method, MethodError, NamedMatrix, SimulationSummary,
-};
+use super::{Failure, Outcome};
+use sporadic::methods;
 use sporadic::plant_file::PlantFile;
+use sporadic_model::{
+    DesignReport, MaxIntervalReport, MethodError, MethodOptions, NamedMatrix, ObserverMethod,
+    Probe, SamplingScenario, Scenario, Status, Trajectory,
+};
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 
-/// A method name on the command line.
-#[derive(Debug, Clone, Copy, clap::ValueEnum)]
-pub enum MethodArg {
-    /// Ferrante et al. 2016 (sporadic sampling, polytopic embedding).
-    Ferrante2016,
-    /// Sferlazza et al. 2021 (round-robin sensors with jitter).
-    Sferlazza2021,
-    /// Etienne et al. 2017 (Lipschitz nonlinearity, impulsive observer).
-    Etienne2017,
-    /// Rabehi et al. 2021 (interval observer).
-    Rabehi2021,
-    /// Andrieu et al. 2014 (high-gain observer, updated sampling).
-    Andrieu2014,
+/// How a report is printed.
+#[derive(Debug, Clone, Copy, clap::Args)]
+pub struct Format {
+    /// Print the report as one JSON object (schema in README, "Reports").
+    #[arg(long, conflicts_with = "toml")]
+    pub json: bool,
+    /// Print the report as a TOML document (same fields as --json).
+    #[arg(long)]
+    pub toml: bool,
 }
 
-impl From<MethodArg> for Method {
-    fn from(m: MethodArg) -> Self {
-        match m {
-            MethodArg::Ferrante2016 => Method::Ferrante2016,
-            MethodArg::Sferlazza2021 => Method::Sferlazza2021,
-            MethodArg::Etienne2017 => Method::Etienne2017,
-            MethodArg::Rabehi2021 => Method::Rabehi2021,
-            MethodArg::Andrieu2014 => Method::Andrieu2014,
-        }
+/// A method id, checked against the registry.
+fn method_arg(id: &str) -> Result<String, String> {
+    let ids = methods::ids();
+    if ids.contains(&id) {
+        Ok(id.to_string())
+    } else {
+        Err(format!(
+            "unknown method '{id}'; expected one of: {}",
+            ids.join(", ")
+        ))
     }
 }
 
@@ -40,17 +40,15 @@ impl From<MethodArg> for Method {
 pub struct DesignArgs {
     /// The plant file (TOML; see `examples/`).
     pub plant: PathBuf,
-    /// The observer design method.
-    #[arg(long)]
-    pub method: MethodArg,
-    /// Print the gains and certificate as one JSON object.
-    #[arg(long, conflicts_with = "toml")]
-    pub json: bool,
-    /// Print the gains and certificate as a TOML document.
-    #[arg(long)]
-    pub toml: bool,
-    /// Also simulate the observer (random sampling in the certified window) and write an SVG
-    /// figure of the estimation error into this folder (ferrante2016, rabehi2021).
+    /// The observer design method (ferrante2016, sferlazza2021, andrieu2014, etienne2017,
+    /// rabehi2021).
+    #[arg(long, value_parser = method_arg)]
+    pub method: String,
+    #[command(flatten)]
+    pub format: Format,
+    /// Also simulate the certified observer and write an SVG figure of the estimation error
+    /// (interval width for rabehi2021) into this folder. Offered by ferrante2016,
+    /// sferlazza2021 and rabehi2021.
     #[arg(long, value_name = "OUT_DIR")]
     pub simulate: Option<PathBuf>,
     /// Seed of the random sampling intervals of `--simulate`.
@@ -64,14 +62,17 @@ pub struct MaxIntervalArgs {
     /// The plant file (TOML).
     pub plant: PathBuf,
     /// The observer design method.
-    #[arg(long)]
-    pub method: MethodArg,
-    /// Largest upper end searched (default: 10 × the file's T2).
+    #[arg(long, value_parser = method_arg)]
+    pub method: String,
+    /// Largest upper end searched (default: 10 × the file's largest T2).
     #[arg(long)]
     pub limit: Option<f64>,
-    /// Print the result as one JSON object.
-    #[arg(long)]
-    pub json: bool,
+    /// Wall-time budget of the search in seconds; when it runs out the search reports the
+    /// bracket found so far (reason `budget_exhausted`).
+    #[arg(long, value_name = "SECONDS")]
+    pub time_limit: Option<f64>,
+    #[command(flatten)]
+    pub format: Format,
 }
 
 /// Arguments of `sporadic compare`.
@@ -82,148 +83,182 @@ pub struct CompareArgs {
     /// Folder for the figure of the certified windows.
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
+    #[command(flatten)]
+    pub format: Format,
 }
 
-fn read(path: &Path) -> Result<PlantFile, String> {
-    PlantFile::read(path).map_err(|e| e.to_string())
+fn read(path: &Path) -> Result<PlantFile, Failure> {
+    PlantFile::read(path).map_err(|e| Failure::Input(e.to_string()))
 }
 
-fn matrix_json(m: &NamedMatrix) -> serde_json::Value {
-    serde_json::json!({ "name": m.name, "rows": m.rows() })
+fn lookup(id: &str) -> Result<Box<dyn ObserverMethod>, Failure> {
+    methods::method(id).ok_or_else(|| Failure::Input(format!("unknown method '{id}'")))
 }
 
-fn design_json(d: &DesignSummary) -> serde_json::Value {
-    serde_json::json!({
-        "method": d.method.id(),
-        "window": d.window,
-        "margin": d.margin,
-        "gains": d.gains.iter().map(matrix_json).collect::<Vec<_>>(),
-        "certificate": d.certificate.iter().map(matrix_json).collect::<Vec<_>>(),
-        "notes": d.notes,
-        "seconds": d.seconds,
-    })
+/// Bad input is exit 2; a numerical failure reaching here (none should) is reported as such.
+fn method_failure(e: MethodError) -> Failure {
+    match e {
+        MethodError::InvalidInput { .. } => Failure::Input(e.chain()),
+        _ => Failure::Run(e.chain()),
+    }
 }
 
-fn print_matrix(m: &NamedMatrix) {
-    println!("{} =", m.name);
-    for row in m.rows() {
+fn print_report<T: serde::Serialize>(format: Format, report: &T) -> Result<bool, Failure> {
+    if format.json {
+        let s = serde_json::to_string(report).map_err(|e| Failure::Run(format!("JSON: {e}")))?;
+        println!("{s}");
+        Ok(true)
+    } else if format.toml {
+        let s = toml::to_string(report).map_err(|e| Failure::Run(format!("TOML: {e}")))?;
+        print!("{s}");
+        Ok(true)
+    } else {
+        Ok(false)
+    }
+}
+
+fn print_matrix(name: &str, rows: &[Vec<f64>]) {
+    println!("{name} =");
+    for row in rows {
         let cells: Vec<String> = row.iter().map(|x| format!("{x:>13.6e}")).collect();
         println!("  [{}]", cells.join(" "));
     }
 }
 
-fn print_design(plant: &PlantFile, d: &DesignSummary) {
-    println!("plant    {}", plant.name);
-    println!("method   {}", d.method);
-    println!("window   {}", d.window);
-    println!("status   certified (margin {:.4e})", d.margin);
-    println!("time     {:.3} s", d.seconds);
-    for g in &d.gains {
-        print_matrix(g);
+fn windows_words(d: &DesignReport) -> String {
+    let ws = d.sampling_windows();
+    if ws.is_empty() {
+        return "-".into();
     }
-    for c in &d.certificate {
-        print_matrix(c);
+    ws.iter()
+        .map(|w| w.to_string())
+        .collect::<Vec<_>>()
+        .join(" then ")
+}
+
+fn print_design(d: &DesignReport) {
+    println!("plant    {}", d.plant);
+    println!("method   {}", d.method);
+    println!("window   {}", windows_words(d));
+    match (&d.reason, &d.margin) {
+        (Some(r), _) => println!("status   {} ({}): {}", d.status, r.kind(), r.message()),
+        (None, Some(m)) => println!("status   {} (margin {:.4e})", d.status, m.value),
+        (None, None) => println!("status   {}", d.status),
+    }
+    println!("time     {:.3} s", d.seconds);
+    if !d.status.is_certified() {
+        return;
+    }
+    println!("observer {}", d.observer);
+    for g in &d.gains {
+        print_matrix(&g.name, &g.rows);
+        if let Some(s) = &g.schedule {
+            println!(
+                "  (schedule: {}; {} samples on tau in [{}, {}] in --json)",
+                s.law,
+                s.tau.len(),
+                s.tau.first().copied().unwrap_or(f64::NAN),
+                s.tau.last().copied().unwrap_or(f64::NAN)
+            );
+        }
+    }
+    for NamedMatrix { name, rows, .. } in &d.certificate {
+        print_matrix(name, rows);
+    }
+    if let Some(m) = &d.margin {
+        println!("margin: {:.4e}, {}", m.value, m.definition);
+    }
+    for c in &d.checks {
+        let value = c.value.map(|v| format!(": {v:.4e}")).unwrap_or_default();
+        let verdict = if c.passed { "passed" } else { "FAILED" };
+        println!("check: {} ({}){value} {verdict}", c.what, c.how);
     }
     for n in &d.notes {
         println!("note: {n}");
     }
 }
 
-/// The design as a TOML document: scalars first, then one `[[gains]]` / `[[certificate]]`
-/// table per matrix (`name`, `rows`).
-fn design_toml<'a>(
-    d: &'a DesignSummary,
-    simulation: Option<&'a SimulationSummary>,
-) -> Result<String, String> {
-    #[derive(serde::Serialize)]
-    struct Matrix<'a> {
-        name: &'a str,
-        rows: Vec<Vec<f64>>,
+/// Exit status of a report: certified → 0, otherwise 1.
+fn verdict(status: Status) -> Outcome {
+    if status.is_certified() {
+        Outcome::Certified
+    } else {
+        Outcome::NothingCertified
     }
-    #[derive(serde::Serialize)]
-    struct Simulation<'a> {
-        figure: String,
-        setup: &'a str,
-        result: &'a str,
-    }
-    #[derive(serde::Serialize)]
-    struct Doc<'a> {
-        method: &'a str,
-        window: &'a str,
-        margin: f64,
-        seconds: f64,
-        notes: &'a [String],
-        gains: Vec<Matrix<'a>>,
-        certificate: Vec<Matrix<'a>>,
-        #[serde(skip_serializing_if = "Option::is_none")]
-        simulation: Option<Simulation<'a>>,
-    }
-    let matrices = |ms: &'a [NamedMatrix]| -> Vec<Matrix<'a>> {
-        ms.iter()
-            .map(|m| Matrix {
-                name: &m.name,
-                rows: m.rows(),
-            })
-            .collect()
-    };
-    let doc = Doc {
-        method: d.method.id(),
-        window: &d.window,
-        margin: d.margin,
-        seconds: d.seconds,
-        notes: &d.notes,
-        gains: matrices(&d.gains),
-        certificate: matrices(&d.certificate),
-        simulation: simulation.map(|s| Simulation {
-            figure: s.figure.display().to_string(),
-            setup: &s.setup,
-            result: &s.result,
-        }),
-    };
-    toml::to_string(&doc).map_err(|e| format!("TOML output: {e}"))
-}
-
-fn simulation_json(s: &SimulationSummary) -> serde_json::Value {
-    serde_json::json!({
-        "figure": s.figure.display().to_string(),
-        "setup": s.setup,
-        "result": s.result,
-    })
 }
 
 /// Runs `sporadic design`.
-pub fn design(args: &DesignArgs) -> Result<(), String> {
-    let plant = read(&args.plant)?;
-    let d = methods::design(&plant, args.method.into()).map_err(|e| e.to_string())?;
-    let simulation = args
-        .simulate
-        .as_ref()
-        .map(|dir| methods::simulate(&plant, &d, dir, args.seed))
-        .transpose()
-        .map_err(|e| e.to_string())?;
-    if args.json {
-        let mut v = design_json(&d);
-        if let Some(s) = &simulation {
-            v["simulation"] = simulation_json(s);
-        }
-        println!("{v}");
-    } else if args.toml {
-        print!("{}", design_toml(&d, simulation.as_ref())?);
-    } else {
-        print_design(&plant, &d);
-        if let Some(s) = &simulation {
+pub fn design(args: &DesignArgs) -> Result<Outcome, Failure> {
+    let file = read(&args.plant)?;
+    let method = lookup(&args.method)?;
+    let mut report = methods::design(&file, method.as_ref(), &MethodOptions::default())
+        .map_err(method_failure)?;
+    if let Some(dir) = &args.simulate
+        && report.status.is_certified()
+    {
+        let scenario = Scenario {
+            sampling: SamplingScenario::Uniform { seed: args.seed },
+            ..Scenario::default()
+        };
+        let run =
+            methods::simulate(&file, method.as_ref(), &report, &scenario).map_err(|e| match e {
+                MethodError::SimulationUnavailable { .. } => Failure::Input(e.chain()),
+                e => method_failure(e),
+            })?;
+        let mut sim = run.report.clone();
+        sim.figure = Some(draw_trajectory(dir, &file.name, method.id(), &run)?);
+        report.simulation = Some(sim);
+    }
+    if !print_report(args.format, &report)? {
+        print_design(&report);
+        if let Some(s) = &report.simulation {
             println!("simulation: {}", s.setup);
             println!("simulation: {}", s.result);
-            println!("figure: {}", s.figure.display());
+            if let Some(f) = &s.figure {
+                println!("figure: {f}");
+            }
         }
     }
-    Ok(())
+    Ok(verdict(report.status))
+}
+
+/// Writes `<method>_error.svg` (or `_width.svg`): the norm of the simulated signal over
+/// hybrid time `(t, j)`.
+fn draw_trajectory(
+    dir: &Path,
+    plant: &str,
+    method: &str,
+    run: &Trajectory,
+) -> Result<String, Failure> {
+    std::fs::create_dir_all(dir).map_err(|e| Failure::Input(format!("{}: {e}", dir.display())))?;
+    let width = run.quantity.contains("width");
+    let path = dir.join(format!(
+        "{method}_{}.svg",
+        if width { "width" } else { "error" }
+    ));
+    let spec = sporadic_figures::PlotSpec::new(
+        &format!("{method}: {}, {plant}", run.quantity),
+        "time [s]",
+        if width { "|width|" } else { "|x - x_hat|" },
+    );
+    sporadic_figures::plot_error_norm(&path, &spec, &run.t, &run.j, &run.norm, None)
+        .map_err(|e| Failure::Run(format!("{}: {e}", path.display())))?;
+    Ok(path.display().to_string())
 }
 
 /// Progress lines: overwritten in place on a terminal, one per line otherwise.
-fn progress_printer() -> impl FnMut(&str) {
+fn progress_printer() -> impl FnMut(&Probe) {
     let tty = std::io::stderr().is_terminal();
-    move |line: &str| {
+    move |p: &Probe| {
+        let line = format!(
+            "T2 = {:.6}: {}",
+            p.t2,
+            if p.certified {
+                "certified"
+            } else {
+                "not certified"
+            }
+        );
         let mut err = std::io::stderr();
         if tty {
             let _ = write!(err, "\r\x1b[2K{line}");
@@ -234,124 +269,169 @@ fn progress_printer() -> impl FnMut(&str) {
     }
 }
 
-fn default_limit(plant: &PlantFile) -> f64 {
-    let t2 = plant
+fn default_limit(file: &PlantFile) -> Option<f64> {
+    let t2 = file
         .sensors
         .iter()
-        .map(|s| s.window.t2)
-        .chain(plant.window.map(|w| w.t2))
+        .map(|s| s.window.t2())
+        .chain(file.window.map(|w| w.t2()))
         .fold(0.0, f64::max);
-    10.0 * t2
+    (t2 > 0.0).then_some(10.0 * t2)
 }
 
-fn max_interval_json(r: &MaxInterval) -> serde_json::Value {
-    serde_json::json!({
-        "method": r.method.id(),
-        "t1": r.t1,
-        "largest_certified_t2": r.best,
-        "first_failing_t2": r.first_failure,
-        "design": r.design.as_ref().map(design_json),
-        "seconds": r.seconds,
-    })
-}
-
-/// Runs `sporadic max-interval`.
-pub fn max_interval(args: &MaxIntervalArgs) -> Result<(), String> {
-    let plant = read(&args.plant)?;
-    let limit = args.limit.unwrap_or_else(|| default_limit(&plant));
-    if !(limit.is_finite() && limit > 0.0) {
-        return Err(format!("--limit must be a positive number, got {limit}"));
-    }
-    let mut progress = progress_printer();
-    let r = methods::max_interval(&plant, args.method.into(), limit, &mut progress)
-        .map_err(|e| e.to_string())?;
-    if std::io::stderr().is_terminal() {
-        eprintln!();
-    }
-    if args.json {
-        println!("{}", max_interval_json(&r));
-        return Ok(());
-    }
-    println!("plant    {}", plant.name);
+fn print_max_interval(r: &MaxIntervalReport) {
+    println!("plant    {}", r.plant);
     println!("method   {}", r.method);
-    match (r.best, r.first_failure) {
+    match (r.largest_certified_t2, r.first_failing_t2) {
         (Some(b), None) => println!(
             "result   certified up to the search limit: T2 = {b} (raise --limit to search further)"
         ),
         (Some(b), Some(f)) => println!(
             "result   largest certified T2 = {b:.6} (fails at {f:.6}), T1 = {}",
-            r.t1
+            r.t1.unwrap_or(f64::NAN)
         ),
+        (None, _) if r.status.is_not_applicable() => {}
         (None, _) => println!(
             "result   not certified even for the shortest window (T1 = {})",
-            r.t1
+            r.t1.unwrap_or(f64::NAN)
         ),
+    }
+    if let Some(reason) = &r.reason {
+        println!(
+            "status   {} ({}): {}",
+            r.status,
+            reason.kind(),
+            reason.message()
+        );
     }
     println!("time     {:.2} s", r.seconds);
     if let Some(d) = &r.design {
         println!("-- certificate at the largest certified window --");
-        print_design(&plant, d);
+        print_design(d);
     }
-    Ok(())
+}
+
+/// Runs `sporadic max-interval`.
+pub fn max_interval(args: &MaxIntervalArgs) -> Result<Outcome, Failure> {
+    let file = read(&args.plant)?;
+    let method = lookup(&args.method)?;
+    let mut options = MethodOptions::default();
+    if let Some(s) = args.time_limit {
+        if !(s.is_finite() && s > 0.0) {
+            return Err(Failure::Input(format!(
+                "--time-limit must be a positive number of seconds, got {s}"
+            )));
+        }
+        options.time_limit = Some(std::time::Duration::from_secs_f64(s));
+    }
+    let limit = match (args.limit, default_limit(&file)) {
+        (Some(l), _) if !(l.is_finite() && l > 0.0) => {
+            return Err(Failure::Input(format!(
+                "--limit must be a positive finite number, got {l}"
+            )));
+        }
+        (Some(l), _) => l,
+        (None, Some(l)) => l,
+        // No sampling in the file: the method reports it as missing data.
+        (None, None) => f64::NAN,
+    };
+    let mut progress = progress_printer();
+    let r = methods::max_interval(&file, method.as_ref(), limit, &options, &mut progress)
+        .map_err(method_failure)?;
+    if std::io::stderr().is_terminal() {
+        eprintln!();
+    }
+    if !print_report(args.format, &r)? {
+        print_max_interval(&r);
+    }
+    Ok(verdict(r.status))
 }
 
 /// Runs `sporadic compare`.
-pub fn compare(args: &CompareArgs) -> Result<(), String> {
-    let plant = read(&args.plant)?;
-    println!("plant: {}", plant.name);
+pub fn compare(args: &CompareArgs) -> Result<Outcome, Failure> {
+    let file = read(&args.plant)?;
+    let report = methods::compare(&file, &MethodOptions::default()).map_err(method_failure)?;
+    let any = report.results.iter().any(|d| d.status.is_certified());
+    let mut bars: Vec<(String, f64, f64)> = Vec::new();
+    for d in report.results.iter().filter(|d| d.status.is_certified()) {
+        let ws = d.sampling_windows();
+        let many = ws.len() > 1;
+        bars.extend(ws.iter().enumerate().map(|(i, w)| {
+            let label = if many {
+                format!("{} sensor {}", d.method, i + 1)
+            } else {
+                d.method.clone()
+            };
+            (label, w.t1(), w.t2())
+        }));
+    }
+    let figure = if bars.is_empty() {
+        None
+    } else {
+        Some(draw_windows(&args.out, &file.name, &bars)?)
+    };
+    if print_report(args.format, &report)? {
+        return Ok(if any {
+            Outcome::Certified
+        } else {
+            Outcome::NothingCertified
+        });
+    }
+    println!("plant: {}", file.name);
     println!(
         "{:<14} {:<34} {:>12} {:>9}  note",
         "method", "certified window", "margin", "time [s]"
     );
-    let mut bars: Vec<(String, f64, f64)> = Vec::new();
-    for method in Method::ALL {
-        match methods::design(&plant, method) {
-            Ok(d) => {
-                let many = d.windows.len() > 1;
-                bars.extend(d.windows.iter().enumerate().map(|(i, w)| {
-                    let label = if many {
-                        format!("{method} sensor {}", i + 1)
-                    } else {
-                        method.to_string()
-                    };
-                    (label, w.t1, w.t2)
-                }));
-                println!(
-                    "{:<14} {:<34} {:>12.4e} {:>9.3}  certified",
-                    method, d.window, d.margin, d.seconds
-                );
-            }
-            Err(MethodError::NotApplicable { why, .. }) => {
-                println!(
-                    "{:<14} {:<34} {:>12} {:>9}  not applicable: {why}",
-                    method, "-", "-", "-"
-                );
-            }
-            Err(e) => {
-                println!("{:<14} {:<34} {:>12} {:>9}  {e}", method, "-", "-", "-");
-            }
+    for d in &report.results {
+        match (&d.reason, &d.margin) {
+            (None, m) => println!(
+                "{:<14} {:<34} {:>12} {:>9.3}  certified",
+                d.method,
+                windows_words(d),
+                m.as_ref()
+                    .map_or("-".into(), |m| format!("{:.4e}", m.value)),
+                d.seconds
+            ),
+            (Some(r), _) => println!(
+                "{:<14} {:<34} {:>12} {:>9}  {}: {}",
+                d.method,
+                "-",
+                "-",
+                "-",
+                d.status,
+                r.message()
+            ),
         }
     }
-    if !bars.is_empty() {
-        std::fs::create_dir_all(&args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
-        let path = args.out.join("certified_windows.svg");
-        let series_data: Vec<(String, [f64; 2], [f64; 2])> = bars
-            .iter()
-            .enumerate()
-            .map(|(k, (label, t1, t2))| (label.clone(), [*t1, *t2], [k as f64 + 1.0; 2]))
-            .collect();
-        let series: Vec<sporadic_figures::Series<'_>> = series_data
-            .iter()
-            .map(|(label, x, y)| sporadic_figures::Series { label, x, y })
-            .collect();
-        let spec = sporadic_figures::PlotSpec::new(
-            &format!("certified sampling windows: {}", plant.name),
-            "sampling interval [s]",
-            "design (one row per certified window)",
-        );
-        sporadic_figures::plot_eigen_curves(&path, &spec, &series)
-            .map_err(|e| format!("{}: {e}", path.display()))?;
-        println!("figure: {}", path.display());
+    if let Some(f) = figure {
+        println!("figure: {f}");
     }
-    Ok(())
+    Ok(if any {
+        Outcome::Certified
+    } else {
+        Outcome::NothingCertified
+    })
+}
+
+/// Writes `certified_windows.svg`: one horizontal segment per certified window.
+fn draw_windows(out: &Path, plant: &str, bars: &[(String, f64, f64)]) -> Result<String, Failure> {
+    std::fs::create_dir_all(out).map_err(|e| Failure::Input(format!("{}: {e}", out.display())))?;
+    let path = out.join("certified_windows.svg");
+    let series_data: Vec<(String, [f64; 2], [f64; 2])> = bars
+        .iter()
+        .enumerate()
+        .map(|(k, (label, t1, t2))| (label.clone(), [*t1, *t2], [k as f64 + 1.0; 2]))
+        .collect();
+    let series: Vec<sporadic_figures::Series<'_>> = series_data
+        .iter()
+        .map(|(label, x, y)| sporadic_figures::Series { label, x, y })
+        .collect();
+    let spec = sporadic_figures::PlotSpec::new(
+        &format!("certified sampling windows: {plant}"),
+        "sampling interval [s]",
+        "design (one row per certified window)",
+    );
+    sporadic_figures::plot_eigen_curves(&path, &spec, &series)
+        .map_err(|e| Failure::Run(format!("{}: {e}", path.display())))?;
+    Ok(path.display().to_string())
 }

@@ -1,4 +1,5 @@
-//! Command-line interface: argument parsing and dispatch to the subcommands.
+//! Command-line interface: argument parsing, dispatch to the subcommands, and the exit-code
+//! policy shared by every subcommand.
 
 mod design;
 mod reproduce;
@@ -8,8 +9,13 @@ use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
 /// Observer design and certification for plants with sporadic measurements.
+///
+/// Exit status, for every subcommand: 0 = ran and certified (compare: at least one method
+/// certified; reproduce: the reproductions ran, whatever their claims' statuses; sdp solve: an
+/// optimal status); 1 = ran, but nothing was certified or the method does not apply (sdp solve:
+/// any non-optimal status); 2 = invalid or unreadable input, or a usage error.
 #[derive(Debug, Parser)]
-#[command(name = "sporadic", version, about)]
+#[command(name = "sporadic", version, about, long_about)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -21,7 +27,7 @@ enum Command {
     Design(design::DesignArgs),
     /// Find the largest certified sampling window of a plant file with one method.
     MaxInterval(design::MaxIntervalArgs),
-    /// Run every applicable method on a plant file and compare the certified windows.
+    /// Run every method on a plant file and compare the certified windows.
     Compare(design::CompareArgs),
     /// Reproduce the examples of the implemented papers (`all`, or one paper id).
     Reproduce(reproduce::Args),
@@ -29,8 +35,26 @@ enum Command {
     Sdp(sdp::Args),
 }
 
-/// Parses the command line, runs the subcommand and maps errors to a non-zero exit code with a
-/// one-line message (never a panic backtrace).
+/// What a subcommand established (exit 0 or 1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Outcome {
+    /// Certified (or: ran, for commands without a verdict).
+    Certified,
+    /// Ran, but nothing was certified or the method does not apply.
+    NothingCertified,
+}
+
+/// Why a subcommand did not run to its verdict.
+#[derive(Debug)]
+pub enum Failure {
+    /// Invalid or unreadable input, a usage error (exit 2).
+    Input(String),
+    /// The run itself failed (exit 1).
+    Run(String),
+}
+
+/// Parses the command line, runs the subcommand and maps the outcome to the exit status (never
+/// a panic backtrace; errors are one line on standard error).
 pub fn run() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
@@ -38,13 +62,20 @@ pub fn run() -> ExitCode {
         Command::MaxInterval(args) => design::max_interval(&args),
         Command::Compare(args) => design::compare(&args),
         Command::Reproduce(args) => reproduce::run(&args),
-        Command::Sdp(args) => sdp::run(&args),
+        Command::Sdp(args) => sdp::run(&args)
+            .map(|()| Outcome::Certified)
+            .map_err(Failure::Input),
     };
     match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(message) => {
+        Ok(Outcome::Certified) => ExitCode::SUCCESS,
+        Ok(Outcome::NothingCertified) => ExitCode::from(1),
+        Err(Failure::Run(message)) => {
             eprintln!("error: {message}");
-            ExitCode::FAILURE
+            ExitCode::from(1)
+        }
+        Err(Failure::Input(message)) => {
+            eprintln!("error: {message}");
+            ExitCode::from(2)
         }
     }
 }

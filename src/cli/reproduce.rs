@@ -1,6 +1,8 @@
 //! `sporadic reproduce`: runs the paper reproductions and prints their checked claims.
 
-use sporadic_reproductions::PAPERS;
+use super::{Failure, Outcome};
+use sporadic::methods;
+use sporadic_reproductions::{PAPERS, Paper};
 use std::path::PathBuf;
 
 /// Arguments of `sporadic reproduce`.
@@ -17,26 +19,35 @@ pub struct Args {
     pub out: PathBuf,
 }
 
+/// The reproductions in the order of the method registry (every registered method has one; a
+/// test checks it).
+fn papers() -> Vec<&'static Paper> {
+    methods::ids()
+        .into_iter()
+        .filter_map(|id| PAPERS.iter().find(|p| p.id == id))
+        .collect()
+}
+
 /// Runs the requested reproductions; fails if any reproduction fails to run (a claim that
 /// differs from the paper is reported, not an error).
-pub fn run(args: &Args) -> Result<(), String> {
-    let selected: Vec<_> = PAPERS
-        .iter()
+pub fn run(args: &Args) -> Result<Outcome, Failure> {
+    let selected: Vec<&Paper> = papers()
+        .into_iter()
         .filter(|p| args.paper == "all" || p.id == args.paper)
         .collect();
     if selected.is_empty() {
-        let ids: Vec<&str> = PAPERS.iter().map(|p| p.id).collect();
-        return Err(format!(
+        let ids: Vec<&str> = papers().iter().map(|p| p.id).collect();
+        return Err(Failure::Input(format!(
             "unknown paper '{}'; expected 'all' or one of: {}",
             args.paper,
             ids.join(", ")
-        ));
+        )));
     }
     let mut summary = Vec::new();
     for paper in selected {
         let (id, title) = (paper.id, paper.title);
         let dir = args.out.join(id);
-        let reproduction = (paper.run)(&dir).map_err(|e| format!("{id}: {e}"))?;
+        let reproduction = (paper.run)(&dir).map_err(|e| Failure::Run(format!("{id}: {e}")))?;
         if args.json {
             for claim in &reproduction.claims {
                 println!("{}", claim.to_json(id));
@@ -61,5 +72,5 @@ pub fn run(args: &Args) -> Result<(), String> {
             println!("{id:<14} {m:>6} {d:>8} {b:>6} {n:>13}");
         }
     }
-    Ok(())
+    Ok(Outcome::Certified)
 }

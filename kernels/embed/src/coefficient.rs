@@ -20,7 +20,8 @@
 //!   so the critical points are exactly the solutions of `ψ(v) = π/2 + mπ` (cosine) or
 //!   `ψ(v) = mπ` (sine) for the finitely many integers `m` with the level inside
 //!   `(ψ(T1), ψ(T2))`; each is bracketed and refined by safeguarded Newton. Nothing is sampled,
-//!   so no extremum can be missed (pitfall (iv) of the spec).
+//!   so no extremum can be missed (containment needs the true global extrema, which a grid
+//!   alone cannot guarantee).
 
 use sporadic_linalg::InputError;
 use sporadic_linalg::input::{LowerEnd, check_window};
@@ -160,7 +161,7 @@ impl CoefficientFunction {
             (min, max)
         } else {
             // Relative evaluation error of exp/cos/sin and of the argument products: a few ulps
-            // times the size of the arguments; 1e-12 on top as the spec recommends.
+            // times the size of the arguments; a relative margin of 1e-12 on top.
             let (a, b) = match *self {
                 Self::Real { lambda, .. } => (lambda, 0.0),
                 Self::Cosine { re, im, .. } | Self::Sine { re, im, .. } => (re, im),
@@ -314,7 +315,8 @@ mod tests {
 
     #[test]
     fn ferrante_example_2_ranges() {
-        // Spec 000 §5, Example 2 reference data ([ours], scipy): the complex pair
+        // Ferrante et al. (2016), Example 2, values from an independent reference implementation
+        // (scipy): the complex pair
         // -0.6805515403 ± 1.6331702409 i and the real eigenvalues on [0.2, 3].
         let (a, b) = (-0.680_551_540_3, 1.633_170_240_9);
         let g = CoefficientFunction::Cosine {

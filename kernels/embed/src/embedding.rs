@@ -69,8 +69,7 @@ pub enum Method {
         /// `‖Σ_c E_c − I‖_F / √n`.
         projector_sum_error: f64,
     },
-    /// Truncated Taylor polytope around `e^{A T1}` (Rabehi et al. 2021, §5.3 of the spec;
-    /// Hetel et al. 2011).
+    /// Truncated Taylor polytope around `e^{A T1}` (Rabehi et al. 2021, §IV; Hetel et al. 2011).
     Taylor {
         /// Truncation order `N` (`N + 1` vertices per piece).
         order: usize,

@@ -1,5 +1,6 @@
 //! Jacobian (Lipschitz) polytope of the error vector field — Etienne, Hetel, Efimov & Petreczky
-//! (2017), Lemma 1 (construction of Zemouche, Boutayeb & Bara 2008; spec 003 §2).
+//! (2017), Lemma 1 (the paper gives no formula; construction by the differential mean-value
+//! theorem of Zemouche, Boutayeb & Bara 2008).
 //!
 //! For `f(x) = Ax + Gφ(Hx)` the differential mean-value theorem gives, componentwise,
 //! `φ(Hx) − φ(H(x − z)) = Θ H z` with `Θ_ij = ∂φ_i/∂s_j` evaluated at points of the segment.
@@ -38,7 +39,7 @@ pub struct JacobianPolytope {
 }
 
 /// Entrywise box `[−γ, γ]^{m×m}` for the Jacobian of a `γ`-Lipschitz `φ : R^m → R^m`
-/// (`|∂φ_i/∂s_j| ≤ ‖∇φ‖₂ ≤ γ`; valid but conservative, spec 003 §2 step 2).
+/// (`|∂φ_i/∂s_j| ≤ ‖∇φ‖₂ ≤ γ`; valid but conservative when only the Lipschitz constant is known).
 pub fn lipschitz_box(m: usize, gamma: f64) -> Result<(Mat<f64>, Mat<f64>), EmbedError> {
     if !(gamma.is_finite() && gamma >= 0.0) {
         return Err(EmbedError::InvalidArgument(format!(

@@ -8,8 +8,8 @@
 //!   coefficient functions ([`coefficient`]), box corners as vertices.
 //! * **Taylor embedding** ([`taylor`]) — Rabehi, Meslem, El Amraoui & Ramdani, *Interval
 //!   impulsive observer for linear systems with aperiodic discrete measurements*, IEEE TAC 2021
-//!   (spec §5.3): `e^{AT1} Σ_{k≤j} (Ah)^k/k!`, with a rigorous remainder bound and automatic
-//!   order.
+//!   (§IV, Taylor method of Hetel et al.): `e^{AT1} Σ_{k≤j} (Ah)^k/k!`, with a rigorous
+//!   remainder bound and automatic order.
 //! * **Interval splitting** ([`split`]): any method on sub-intervals, union of vertex sets.
 //! * **Jacobian polytope** ([`jacobian`]) — Etienne, Hetel, Efimov & Petreczky, *Observer
 //!   synthesis under time-varying sampling for Lipschitz nonlinear systems*, Automatica 2017,

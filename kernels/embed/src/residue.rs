@@ -11,12 +11,12 @@
 //! ```
 //!
 //! which converges geometrically and needs only complex LU solves (no eigenvectors, so
-//! defective eigenvalues are fine — pitfall (ii) of the spec). The node count is doubled until
+//! defective eigenvalues, computed only to ~`ε^{1/m}`, are fine). The node count is doubled until
 //! two successive rules agree.
 //!
 //! **Clusters.** Eigenvalues closer than a few ulps of `‖A‖` start in one cluster; a cluster
 //! whose projector norm `‖E_c‖_F` exceeds [`ResidueOptions::max_projector_norm`] (nearly
-//! repeated eigenvalues: huge, cancelling residues — pitfall (i)) or that cannot be separated
+//! repeated eigenvalues: huge, cancelling residues `∝ 1/gap`) or that cannot be separated
 //! from the rest of the spectrum by a circle is merged with its nearest neighbour (keeping
 //! conjugate symmetry), until every cluster is well conditioned. For a truly repeated
 //! eigenvalue the moments vanish beyond the nilpotency index (`m_i`, detected numerically:

@@ -1,7 +1,7 @@
 //! Interval splitting: embed `e^{Aτ}` on sub-intervals of `[T1, T2]` and take the union of the
 //! vertex sets.
 //!
-//! An optional refinement mentioned in spec 000 §3 pitfall (vi) (not in the papers): a wide
+//! An optional refinement (not in the papers): a wide
 //! window gives a wide coefficient box (residue method) or a large `‖A‖h` (Taylor method), hence
 //! conservatism. On `p` pieces the union `∪_i co(V_i) ⊂ co(∪_i V_i)` still contains the curve,
 //! the vertex count grows **linearly** in `p` (`p · 2^K` or `p · (N + 1)`), and each piece is
@@ -21,7 +21,7 @@ use crate::taylor::{TaylorOptions, taylor_embedding};
 pub enum EmbeddingMethod {
     /// Residue box (Ferrante et al. 2016, §4.1).
     Residue(ResidueOptions),
-    /// Truncated Taylor polytope (Rabehi et al. 2021; spec 004 §5.3).
+    /// Truncated Taylor polytope (Rabehi et al. 2021, §IV).
     Taylor(TaylorOptions),
 }
 

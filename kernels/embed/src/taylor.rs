@@ -1,5 +1,6 @@
-//! Truncated-Taylor polytope of `τ ↦ e^{Aτ}` on `[T1, T2]` (Rabehi et al. 2021, §IV; spec
-//! 004 §5.3, in the spirit of Hetel, Daafouz & Iung 2011).
+//! Truncated-Taylor polytope of `τ ↦ e^{Aτ}` on `[T1, T2]` (Rabehi et al. 2021, §IV, which cites
+//! the Taylor method of Hetel, Daafouz & Iung 2011 but gives no order, vertex count or remainder
+//! treatment; the construction below follows that method).
 //!
 //! With `h = T2 − T1`, `E0 = e^{A T1}` and `θ = τ − T1 ∈ [0, h]`, the vertices are
 //!
@@ -9,8 +10,9 @@
 //!
 //! For `s = θ/h` the weights `w_j = s^j − s^{j+1}` (`j < N`), `w_N = s^N` are nonnegative, sum
 //! to one, and reproduce the truncated series exactly: `Σ_j w_j M_j = E0 Σ_{k≤N} (Aθ)^k/k!`
-//! ([`taylor_weights`]). The factor `E0` is kept (spec 004 §5.3: a polytope containing `I`
-//! would make the example's LMIs infeasible). What is left out is
+//! ([`taylor_weights`]). The factor `E0` is kept: in the example of Rabehi et al. `I + LC` always
+//! has the eigenvalue 1, so a polytope containing `I` (`μ = 0`) would make the LMIs (44)
+//! infeasible. What is left out is
 //! `Δ(τ) = E0 Σ_{k>N} (Aθ)^k/k!` with
 //!
 //! ```text

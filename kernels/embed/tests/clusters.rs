@@ -1,5 +1,6 @@
-//! Repeated, defective and clustered eigenvalues in the residue embedding (spec 000 §3,
-//! pitfalls (i)–(ii)): closed-form references for defective matrices, the reconstruction
+//! Repeated, defective and clustered eigenvalues in the residue embedding (nearly repeated
+//! eigenvalues give huge cancelling residues; defective ones are computed only to ~`ε^{1/m}`):
+//! closed-form references for defective matrices, the reconstruction
 //! self-check, and honest containment statements when the self-check fails.
 
 mod common;
@@ -123,7 +124,7 @@ fn defective_eigenvalue_closed_form() {
     }
 }
 
-/// Nearly repeated eigenvalues −1 and −1 − 3e-7 (spec 000 §3 pitfall (i)). Default options
+/// Nearly repeated eigenvalues −1 and −1 − 3e-7 (residues ∝ 1/gap that cancel). Default options
 /// merge them into one cluster with moderate vertices; keeping them apart (huge projector
 /// limit) gives cancelling residues of size ~1/gap, the reconstruction self-check fails, and
 /// the result must say so instead of claiming `Guaranteed`.

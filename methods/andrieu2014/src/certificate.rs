@@ -1,5 +1,5 @@
 //! The Lyapunov certificate established by the proof of Theorem 2 of Andrieu et al. (2014), evaluated
-//! along a run (spec acceptance C1).
+//! along a run (checked sample by sample on [`crate::pendulum`] in the tests).
 //!
 //! With `e = x̂ − x`, `E_k = 𝓛(L(t_k))^{-1} e(t_k)` and `V(E) = E'PE`, Step 3 of the proof gives, for a
 //! noise-free run with a theorem-conforming tuning ([`crate::Design::tuning`]),

@@ -15,16 +15,16 @@
 //! output to `1e-15` of the integrator step that brackets it, i.e. to the resolution of `t`: the step
 //! can be many times longer than `δ_k` and `g' = L(1 + s a2 M c)` is large for theorem-conforming
 //! tunings, so with `sporadic-sim`'s default `1e-12` the residual `|δ_k L(t_{k+1}^-) − α|` exceeded the
-//! `1e-9 α` of spec check B in the property test; with `1e-15` it is ~4e-12 relative on the spec's
-//! pendulum run. The input `u` is piecewise constant; every flow
-//! interval between its switches is integrated with the value valid on it (left limit at the switch,
-//! `sporadic_sim::Flow::rhs_left`).
+//! tolerance `1e-9 α` asserted for it in the property test; with `1e-15` it is ~4e-12 relative on
+//! the theorem-conforming pendulum run ([`crate::pendulum`], `α = 0.2`). The input `u` is piecewise
+//! constant; every flow interval between its switches is integrated with the value valid on it
+//! (left limit at the switch, `sporadic_sim::Flow::rhs_left`).
 //!
 //! **Sampling instants.** The sampling sequence of (2), (7) starts at `t_0 = 0`. The reading `y_0` there
 //! is not used: (5) at `k = 0` would need `δ_{−1}` and `L(t_0^-)`, and the proof of Theorem 2 starts
-//! from `E_0` with no correction (spec §2 default). The first correction is at `t_1`, so a run over
-//! `[0, T]` has `samples.len()` corrections and `samples.len() + 1` sampling instants
-//! ([`Run::sampling_times`]).
+//! from `E_0` with no correction (the paper does not say whether `y_0` is used). The first
+//! correction is at `t_1`, so a run over `[0, T]` has `samples.len()` corrections and
+//! `samples.len() + 1` sampling instants ([`Run::sampling_times`]).
 
 use sporadic_linalg::InputError;
 use sporadic_linalg::input::check_len;
@@ -66,7 +66,8 @@ pub struct RunOptions {
 }
 
 impl RunOptions {
-    /// `[0, horizon]`, `L(0) = 1`, `rtol = 1e-9`, `atol = 1e-12` (spec §4/§7), steps recorded.
+    /// `[0, horizon]`, `L(0) = 1`, `rtol = 1e-9`, `atol = 1e-12` (reproduction settings, not given
+    /// in the paper), steps recorded.
     pub fn new(horizon: f64) -> Self {
         Self {
             horizon,

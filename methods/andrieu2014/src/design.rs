@@ -2,7 +2,8 @@
 //! proof, made numeric.
 //!
 //! * (D1) `K`, `P ≻ 0` with (8) `p1 I ≼ P ≼ p2 I`, (9) `(A+KC)'P + P(A+KC) ≼ −I` and
-//!   (9b) `p3 P ≼ PD + DP ≼ p4 P`, `D = diag(1, …, n)`. Recipe (spec §3, not in the paper): solve
+//!   (9b) `p3 P ≼ PD + DP ≼ p4 P`, `D = diag(1, …, n)`. Recipe (not from the paper, which gives
+//!   no numeric one): choose `K` and a diagonal `W ≻ 0`, solve
 //!   `(A+KC)'P̃ + P̃(A+KC) = −W` with `sporadic_linalg::lyap_continuous` and set `P = P̃/λmin(W)`;
 //!   `p1, p2` are the extreme eigenvalues of `P`, `p3, p4` those of the pencil `(PD+DP, P)`.
 //! * (D2) `a1 = 1/(2 p2 p4)`.
@@ -11,7 +12,7 @@
 //!   `ψ0(α) = diag((1−a1α)^{-1}, …, (1−a1α)^{-n})` (Lemma 6), or `a1α < 1`, fails. Found by a
 //!   geometric scan from `α = 1e-6` (ratio 1.01) followed by bisection.
 //! * (D4) `a3 = 2n` and `a2 ≥ 2n (N1(α) + N2(α))/(p3 p1)` (Step 3 of the proof; the design paragraph's
-//!   `2(N1+N2)/(p3p1)` drops the factor `n`, misprint §6.4 of the spec), with `N1, N2` of Lemma 5.
+//!   `2(N1+N2)/(p3p1)` drops the factor `n`, a misprint), with `N1, N2` of Lemma 5.
 
 use faer::{Mat, MatRef};
 use sporadic_linalg::InputError;
@@ -30,8 +31,8 @@ const ALPHA_SCAN_START: f64 = 1e-6;
 /// Ratio between consecutive scan points (1 % relative resolution).
 const ALPHA_SCAN_RATIO: f64 = 1.01;
 
-/// `K_i = −binom(n, i)`, `i = 1..n`: all poles of `A + KC` at −1 (spec §3 recipe step 1). For `n = 2`
-/// this is `K = [−2, −1]'`.
+/// `K_i = −binom(n, i)`, `i = 1..n`: all poles of `A + KC` at −1 (the gain of
+/// [`Design::binomial`]). For `n = 2` this is `K = [−2, −1]'`.
 pub fn binomial_gain(n: usize) -> Vec<f64> {
     let mut k = Vec::with_capacity(n);
     let mut b = 1.0;
@@ -42,8 +43,9 @@ pub fn binomial_gain(n: usize) -> Vec<f64> {
     k
 }
 
-/// The weight `W = diag(1, r, …, r^{n−1})` of the Lyapunov equation (spec §3 recipe step 2). `r = 1`
-/// gives `p3 > 0` for `n ≤ 3` only; `r = 0.1` or `0.01` repairs `n = 4..6`.
+/// The weight `W = diag(1, r, …, r^{n−1})` of the Lyapunov equation (used by
+/// [`Design::binomial`]). `r = 1` gives `p3 > 0` for `n ≤ 3` only; `r = 0.1` or `0.01` repairs
+/// `n = 4..6`.
 pub fn geometric_weights(n: usize, r: f64) -> Vec<f64> {
     (0..n).map(|i| r.powi(i as i32)).collect()
 }
@@ -140,7 +142,8 @@ impl Design {
         Ok(design)
     }
 
-    /// The recipe of spec §3: binomial `K` and `W = diag(1, r, …, r^{n−1})`.
+    /// The recipe of the module docs with the binomial `K` ([`binomial_gain`], all poles of
+    /// `A + KC` at −1) and `W = diag(1, r, …, r^{n−1})` ([`geometric_weights`]).
     pub fn binomial(n: usize, r: f64) -> Result<Self, Error> {
         if !(r.is_finite() && r > 0.0) {
             return Err(InputError::parameter("r", r, "weight ratio must be positive").into());

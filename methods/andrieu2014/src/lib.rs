@@ -11,9 +11,11 @@
 //! * [`lemma1`]: the a-posteriori bound of Lemma 1 on `L`;
 //! * [`certificate`]: the Lyapunov decrease of the proof of Theorem 2 along a run;
 //! * [`bioreactor`]: the Contois example of Section 4 with its misprints corrected;
-//! * [`pendulum`]: the globally Lipschitz check system of the spec (C1/C2);
-//! * [`reproduce`](mod@reproduce): every checked claim of the reproduction as a
-//!   [`sporadic_report::Reproduction`], with SVG figures ([`reproduce()`]).
+//! * [`method`]: the [`sporadic_model::ObserverMethod`] contract ([`Andrieu2014`]);
+//! * [`pendulum`]: a globally Lipschitz pendulum in normal form, used to check Theorem 2's
+//!   constants on a system where every bound is known in closed form.
+//!
+//! The reproduction of the paper's examples lives in the `sporadic-reproductions` crate.
 //!
 //! Deviations from the printed paper (all documented where they apply): the index of the correction (5)
 //! (the multiplier is the period that ends at the sample, as the proof's (12) requires); `a2 ≥ 2n(N1 +
@@ -47,6 +49,7 @@ pub mod closed_loop;
 pub mod design;
 mod error;
 pub mod lemma1;
+pub mod method;
 pub mod observer;
 mod pencil;
 pub mod pendulum;
@@ -57,5 +60,6 @@ pub use closed_loop::{Run, RunOptions, SampleRecord, run};
 pub use design::{Design, binomial_gain, geometric_weights, q_matrix};
 pub use error::Error;
 pub use lemma1::{Lemma1Bound, lemma1_bound};
+pub use method::Andrieu2014;
 pub use observer::{Jump, Tuning, gain_jump, high_gain, jump, sampling_function};
 pub use system::{NormalFormPlant, Plant, TriangularSystem};

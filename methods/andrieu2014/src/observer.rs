@@ -2,7 +2,7 @@
 //! Nadri, Serres & Vivalda (2014), with the index of (5) fixed as the proof's eq. (12) requires.
 //!
 //! * Flow on `[t_k, t_{k+1})`: `x̂' = A x̂ + f(x̂, u)`, `L' = a2 L M c(x̂, u)`, `M' = a3 M c(x̂, u)`.
-//!   With `I(t) = ∫_{t_k}^t c(x̂, u)` the gain has the closed form (spec §2)
+//!   With `I(t) = ∫_{t_k}^t c(x̂, u)` the gain has the closed form (integrate `M'`, then `L'`)
 //!   `M = e^{a3 I}`, `L = L(t_k) exp((a2/a3)(M − 1))` ([`high_gain`]).
 //! * Sampling rule (7): `δ_k = min{s ≥ 0 : s L((t_k + s)^-) = α}` ([`sampling_function`]); since `L ≥ 1`
 //!   is nondecreasing on the interval the root is unique in `(0, α/L(t_k)]`.
@@ -87,7 +87,7 @@ impl Tuning {
     }
 }
 
-/// Closed form of (6a)–(6b) on `[t_k, t_{k+1})` (spec §2): returns `(L, M)` with `M = e^{a3 I}` and
+/// Closed form of (6a)–(6b) on `[t_k, t_{k+1})`: returns `(L, M)` with `M = e^{a3 I}` and
 /// `L = L(t_k) exp((a2/a3)(M − 1))`, where `I = ∫_{t_k}^t c(x̂, u) ≥ 0`. `expm1` keeps the small-`I`
 /// regime accurate.
 pub fn high_gain(tuning: &Tuning, l_k: f64, integral: f64) -> (f64, f64) {

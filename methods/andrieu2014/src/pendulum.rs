@@ -1,6 +1,7 @@
-//! The check system of the spec (acceptance C1/C2): a system that satisfies every condition of
-//! Theorem 2 of Andrieu et al. (2014) globally, `n = 2`, `f1 = 0`, `f2 = −sin(x1)` (a frictionless
-//! pendulum in normal form), with the constant Lipschitz function `c ≡ 1` (`|sin a − sin b| ≤ |a − b|`).
+//! A test system that satisfies every condition of Theorem 2 of Andrieu et al. (2014) globally,
+//! used for the closed-loop checks of the theorem: `n = 2`, `f1 = 0`, `f2 = −sin(x1)` (a
+//! frictionless pendulum in normal form), with the constant Lipschitz function `c ≡ 1`
+//! (`|sin a − sin b| ≤ |a − b|`).
 
 use crate::system::TriangularSystem;
 

@@ -1,5 +1,5 @@
-//! Spec acceptance group D (Contois bioreactor, Section 4 of Andrieu et al. 2014, corrected normal form)
-//! with the spec's placeholder settings (input profile, domain, initial conditions are not in the paper).
+//! Contois bioreactor (Section 4 of Andrieu et al. 2014, corrected normal form) with placeholder
+//! reproduction settings (input profile, domain, initial conditions are not in the paper).
 
 mod common;
 
@@ -27,7 +27,7 @@ fn simulate(k: [f64; 2], alpha: f64, noise: &mut dyn NoiseSource) -> (Run, Tunin
     )
 }
 
-/// D1: the corrected normal form integrated from Φ(z0) stays on Φ(z(t)); the printed f2 does not.
+/// The corrected normal form integrated from Φ(z0) stays on Φ(z(t)); the printed f2 does not.
 #[test]
 fn d1_normal_form_matches_the_model() {
     let sc = Scenario::placeholder();
@@ -44,7 +44,8 @@ fn d1_normal_form_matches_the_model() {
     );
 }
 
-/// D2 + B: noise-free, K = [−2, −1]', α = 0.5, a1 = 1, a2 = a3 = 0.1.
+/// Noise-free convergence and the structural invariants: K = [−2, −1]', α = 0.5, a1 = 1,
+/// a2 = a3 = 0.1.
 #[test]
 fn d2_noise_free_convergence_and_invariants() {
     let (r, tuning) = simulate([-2.0, -1.0], 0.5, &mut ZeroNoise::new(1));
@@ -66,7 +67,8 @@ fn d2_noise_free_convergence_and_invariants() {
         "D2: {} corrections, δ in [{dmin:.3}, {dmax:.3}], max |S−Ŝ| on [20, 40] {late:.2e}, at 40 {fin:.2e}",
         r.samples.len()
     );
-    // Spec table: 147 sampling instants (t_0 = 0 included; 146 corrections), δ in [0.22, 0.42].
+    // Independent reference implementation: 147 sampling instants (t_0 = 0 included; 146
+    // corrections), δ in [0.22, 0.42].
     let instants = r.sampling_times().len();
     assert_eq!(instants, r.samples.len() + 1);
     assert!(
@@ -90,7 +92,7 @@ fn d2_noise_free_convergence_and_invariants() {
     assert!(errs[0].1 > 1e-3);
 }
 
-/// D3: bounded output noise |v| ≤ 1e-3 keeps the error at the noise level after the transient.
+/// Bounded output noise |v| ≤ 1e-3 keeps the error at the noise level after the transient.
 #[test]
 fn d3_bounded_noise_gives_bounded_error() {
     let bound = 1e-3;
@@ -123,7 +125,8 @@ fn d3_bounded_noise_gives_bounded_error() {
     assert!(s_max <= 1e-2, "|S − Ŝ| = {s_max}");
 }
 
-/// D4 and §6.1–6.2: the printed gain and α do not converge; the corrected ones do.
+/// The printed gain and α do not converge (`K = [−2, 1]'` makes `A + KC` unstable; `α = 0.9` is
+/// beyond the Schur limit `2√2 − 2 ≈ 0.828` of `Q(α)` for `K = [−2, −1]'`); the corrected ones do.
 #[test]
 fn d4_printed_parameters_do_not_converge() {
     let printed = printed_tuning();

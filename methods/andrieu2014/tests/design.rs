@@ -1,5 +1,6 @@
-//! Acceptance group A of the spec (design constants of Theorem 2) and typed errors of the design stage.
-//! Expected values: the spec's reference table (its own Python computation) and closed forms.
+//! Design constants of Theorem 2 (steps (D1)–(D4) of `sporadic_andrieu2014::design`) and typed
+//! errors of the design stage. Expected values: an independent reference implementation (Python)
+//! and closed forms.
 
 use approx::assert_relative_eq;
 use proptest::prelude::*;
@@ -40,7 +41,8 @@ fn alpha_m_matches_the_spec() {
     let d = n2_design();
     let am = d.alpha_m();
     assert!((0.4179..=0.4180).contains(&am), "alpha_m = {am}");
-    // Holds below, fails above (and keeps failing up to α = 3, as the spec checked).
+    // Holds below, fails above (and keeps failing up to α = 3, as the independent reference
+    // implementation found).
     assert!(d.lemma4_holds(0.99 * am).unwrap());
     let mut a = 1.001 * am;
     while a < 3.0 {
@@ -55,7 +57,7 @@ fn alpha_m_matches_the_spec() {
 #[test]
 fn lemma4_and_lemma5_table_matches_the_spec() {
     let d = n2_design();
-    // (α, λmax, 1 − α/(4p2), N1, N2, a2,min) from spec §3.
+    // (α, λmax, 1 − α/(4p2), N1, N2, a2,min) from the independent reference implementation.
     let table = [
         (0.1, 0.969503, 0.985355, 3.9114, 2.2008, 47.02),
         (0.2, 0.945374, 0.970711, 4.4533, 2.8561, 56.23),
@@ -68,7 +70,7 @@ fn lemma4_and_lemma5_table_matches_the_spec() {
         assert_relative_eq!(d.n2(alpha).unwrap(), n2, max_relative = 2e-5);
         assert_relative_eq!(d.a2_min(alpha).unwrap(), a2, max_relative = 1e-4);
     }
-    // The spec's C1 value a2 = 56.2298 at α = 0.2.
+    // a2 = 56.2298 at α = 0.2, the value used for the pendulum run (tests/pendulum.rs).
     assert_relative_eq!(d.a2_min(0.2).unwrap(), 56.2298, max_relative = 2e-6);
 }
 
@@ -95,7 +97,8 @@ fn spectral_radius_and_determinant_of_q() {
 
 #[test]
 fn higher_order_designs_need_weighted_lyapunov() {
-    // Spec §3: r = 1 works for n = 2, 3 and fails for n = 4 (p3 ≈ −0.16); r = 0.1 / 0.01 repair it.
+    // Independent reference implementation: r = 1 works for n = 2, 3 and fails for n = 4
+    // (p3 ≈ −0.16); r = 0.1 / 0.01 repair it.
     assert_relative_eq!(
         Design::binomial(3, 1.0).unwrap().p3(),
         0.872,

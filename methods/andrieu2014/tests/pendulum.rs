@@ -1,4 +1,4 @@
-//! Spec acceptance C1/C2: the theorem-conforming design on the globally Lipschitz pendulum
+//! Theorem 2 checked on a run: the theorem-conforming design on the globally Lipschitz pendulum
 //! (`f2 = −sin x1`, `c ≡ 1`), K = [−2, −1]', α = 0.2, a1 = 0.069328, a3 = 4, a2 = 56.2298,
 //! x(0) = (1, 0), x̂(0) = (−1, 2), L(0) = 1, horizon 2, noise-free.
 
@@ -27,7 +27,8 @@ fn c1_c2_theorem_run_on_the_pendulum() {
     let sup_l = common::assert_invariants(&r, &tuning, 1e-7);
     assert_eq!(r.c_max, 1.0);
 
-    // C2 reference figures: ~7 600 samples, L^- in [6.43, 807], δ in [2.5e-4, 0.031].
+    // Independent reference implementation: ~7 600 samples, L^- in [6.43, 807],
+    // δ in [2.5e-4, 0.031].
     let n = r.sampling_times().len();
     let lmin = r
         .samples
@@ -53,7 +54,7 @@ fn c1_c2_theorem_run_on_the_pendulum() {
         "delta range [{dmin}, {dmax}]"
     );
 
-    // C1: the Lyapunov decrease of Step 3 at every sample with ‖e_k‖ > 1e-7.
+    // The Lyapunov decrease of Step 3 at every sample with ‖e_k‖ > 1e-7.
     let steps = lyapunov_steps(&design, &tuning, &r).unwrap();
     let checked: Vec<_> = steps.iter().filter(|s| s.error_norm > 1e-7).collect();
     let violations = checked.iter().filter(|s| !s.holds(1e-9)).count();
@@ -68,7 +69,8 @@ fn c1_c2_theorem_run_on_the_pendulum() {
     );
     assert_eq!(violations, 0);
 
-    // Peaking (spec C2: ‖e‖ goes 2.8 → 7.7 over the first samples), then decay to machine zero.
+    // High-gain peaking (independent reference implementation: ‖e‖ goes 2.8 → 7.7 over the first
+    // samples), then decay to machine zero.
     let norm = |v: Vec<f64>| v.iter().map(|x| x * x).sum::<f64>().sqrt();
     let norms: Vec<f64> = r.samples.iter().map(|s| norm(s.error())).collect();
     let first = norm(r.samples[0].error_minus());

@@ -1,8 +1,8 @@
 //! Property test of Theorem 2 of Andrieu et al. (2014): random admissible designs (random Hurwitz K with
 //! real poles, n = 2 or 3, α ∈ (0, α_m), a2 ≥ a2,min(α), a3 = 2n) on random globally Lipschitz
 //! lower-triangular systems `f_j(x) = Σ_{i≤j} w_ji sin(x_i + φ_ji)` (`c = max|w_ji|`, `w = 0` is the
-//! chain of integrators). At every sample: the structural invariants B, the Lyapunov decrease of Step 3
-//! of the proof; at the end: the error has converged.
+//! chain of integrators). At every sample: the structural invariants of `common`, the Lyapunov
+//! decrease of Step 3 of the proof; at the end: the error has converged.
 
 mod common;
 

@@ -4,11 +4,11 @@
 //!
 //! The LMI model ([`crate::lmi`]) builds the same matrices symbolically; these plain-matrix
 //! versions serve the independent verification ([`crate::verify`]) and the tests of the algebra
-//! of the proof (spec §3.3 "why it works").
+//! of the proof of Theorem 3 (`P(τ)` affine in `τ`, the flow block affine in `τ` between `M¹_p`
+//! and `M²_p`, the jump block `B(τ)` affine between (20c) and (20d)).
 //!
 //! The OCR of (16c), (19c) and of the block `B(τ)` of the Theorem 3 proof is garbled; the forms
-//! below are the only ones consistent with the stated Schur complement and with (20c)/(20d)
-//! (spec §6):
+//! below are the only ones consistent with the stated Schur complement and with (20c)/(20d):
 //!
 //! ```text
 //! (16c)/(19c)  J(P⁻, P⁺, L) = [ He(L C) + P⁻ − P⁺    C'L' ]  ≻ 0
@@ -25,7 +25,7 @@ use sporadic_linalg::he;
 use sporadic_linalg::input::{check_finite, check_shape};
 
 use crate::error::Error;
-use crate::system::Window;
+use sporadic_model::SamplingWindow;
 
 /// Checks that `x` is `n×n` and finite.
 fn check_square(x: MatRef<'_, f64>, n: usize, what: &str) -> Result<(), Error> {
@@ -177,9 +177,9 @@ pub fn jump_block_low(
     p2: MatRef<'_, f64>,
     l0: MatRef<'_, f64>,
     c: MatRef<'_, f64>,
-    window: &Window,
+    window: &SamplingWindow,
 ) -> Result<Mat<f64>, Error> {
-    let p_low = lyapunov_matrix(p1, p2, window.tau_bar(), window.tau_low())?;
+    let p_low = lyapunov_matrix(p1, p2, window.t2(), window.t1())?;
     jump_block(p_low.as_ref(), p1, l0, c)
 }
 
@@ -199,7 +199,7 @@ pub fn jump_block_high(
 pub fn interpolate(
     x0: MatRef<'_, f64>,
     x1: MatRef<'_, f64>,
-    window: &Window,
+    window: &SamplingWindow,
     tau: f64,
 ) -> Result<Mat<f64>, Error> {
     check_shape(x1, x0.nrows(), x0.ncols(), "X1 (vs X0)")?;
@@ -215,14 +215,14 @@ pub fn interpolate(
 pub(crate) fn interpolate_checked(
     x0: MatRef<'_, f64>,
     x1: MatRef<'_, f64>,
-    window: &Window,
+    window: &SamplingWindow,
     tau: f64,
 ) -> Mat<f64> {
-    let width = window.tau_bar() - window.tau_low();
+    let width = window.t2() - window.t1();
     if width <= 0.0 {
         return x0.to_owned();
     }
-    affine(x0, x1, (tau - window.tau_low()) / width)
+    affine(x0, x1, (tau - window.t1()) / width)
 }
 
 /// `K = P1⁻¹ L` by a Cholesky factorisation of `P1` (the gain recovery of Theorem 3,

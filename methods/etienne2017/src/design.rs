@@ -12,23 +12,34 @@
 //! Gains are recovered as in the paper: `K0 = P1⁻¹L0`, `K1 = P1⁻¹L1` (Cholesky of `P1`), and
 //! `K(τ)` interpolates them on `[τ_low, τ̄]` ([`GainSchedule`]).
 
+use sporadic_model::{SamplingWindow, SolverStats};
 use sporadic_sdp::lmi::{FeasibilityOptions, Outcome};
 
 use crate::conditions::gain_from;
 use crate::error::Error;
 use crate::gain::GainSchedule;
-use crate::lmi::{Condition, GainTerm, Lmi20, LmiResult, SolverStats, fixed_term};
-use crate::system::{Plant, Window};
+use crate::lmi::{Bounds, Condition, GainTerm, Lmi20, LmiResult, fixed_term};
+use crate::system::Plant;
 use crate::verify::{CheckOptions, IndependentCheck, check_certificate};
 
 /// Options of [`design`], [`analyse`] and [`solve_margin`].
 #[derive(Debug, Clone, Default)]
 pub struct DesignOptions {
-    /// Margin-problem options (solver settings, verification safety factor). The normalisation
-    /// of formulation F (`‖P1‖₂, ‖P2‖₂ ≤ 1`, `L0`, `L1` free) is always applied on top.
+    /// Margin-problem options (default [`FeasibilityOptions::default`]: the LMI layer's solver
+    /// settings and verification safety factor). The normalisation of the margin problem
+    /// (`‖P1‖₂, ‖P2‖₂ ≤ 1`, `L0`, `L1` free) is always applied on top.
     pub feasibility: FeasibilityOptions,
-    /// Grids of the independent checks.
+    /// Grids and safety factor of the independent checks (default [`CheckOptions::default`]:
+    /// 201-point τ grids for (19b)/(19c), 2001 points for the discrete contraction, safety 100).
     pub check: CheckOptions,
+}
+
+impl DesignOptions {
+    /// Checks the options of the independent checks ([`CheckOptions::validate`]; the solver
+    /// settings are checked by the LMI layer when the model is compiled).
+    pub fn validate(&self) -> Result<(), Error> {
+        self.check.validate()
+    }
 }
 
 /// The optimal margin of formulation F at one window (no verdict beyond the LMI layer's).
@@ -37,8 +48,9 @@ pub struct MarginSolution {
     /// The condition solved.
     pub condition: Condition,
     /// The window.
-    pub window: Window,
-    /// `t*` (strictly feasible in exact arithmetic iff `t* > 0`; spec threshold `1e-7`).
+    pub window: SamplingWindow,
+    /// `t*` (strictly feasible in exact arithmetic iff `t* > 0`; the bisection of
+    /// [`crate::bisection`] counts a window as feasible when `t* > 1e-7`).
     pub margin: f64,
     /// The point returned by the solver (a certificate when the layer verified it).
     pub certificate: crate::verify::Certificate,
@@ -52,7 +64,7 @@ impl MarginSolution {
         self.stats.outcome == Outcome::Feasible && self.margin > 0.0
     }
 
-    pub(crate) fn from_parts(condition: Condition, window: Window, r: LmiResult) -> Self {
+    pub(crate) fn from_parts(condition: Condition, window: SamplingWindow, r: LmiResult) -> Self {
         Self {
             condition,
             window,
@@ -79,21 +91,69 @@ pub struct Design {
     pub check: IndependentCheck,
 }
 
-/// Solves formulation F of `condition` at `window` and returns `t*` and the point.
+/// Solves the margin problem of `condition` at `window` and returns `t*` and the point.
 pub fn solve_margin(
     plant: &Plant,
     condition: Condition,
-    window: &Window,
+    window: &SamplingWindow,
     options: &DesignOptions,
 ) -> Result<MarginSolution, Error> {
     let mut lmi = Lmi20::new(
         plant,
         condition,
-        window,
+        &Bounds::of(window),
         GainTerm::Free,
         &options.feasibility,
     )?;
     Ok(MarginSolution::from_parts(condition, *window, lmi.solve()?))
+}
+
+/// The optimal margin of (20) with `τ_low = 0` ([`solve_margin_without_dwell`]).
+#[derive(Debug, Clone)]
+pub struct DwellFreeMargin {
+    /// The condition solved (Theorem 3 or Corollary 2).
+    pub condition: Condition,
+    /// The upper bound `τ̄`.
+    pub tau_bar: f64,
+    /// `t*`.
+    pub margin: f64,
+    /// Solver statistics and the LMI layer's verdict.
+    pub stats: SolverStats,
+}
+
+impl DwellFreeMargin {
+    /// Whether the LMI layer verified strict feasibility at the returned point.
+    pub fn verified(&self) -> bool {
+        self.stats.outcome == Outcome::Feasible && self.margin > 0.0
+    }
+}
+
+/// The margin problem of `condition` (Theorem 3 or Corollary 2) on `[0, τ̄]`: no minimal dwell
+/// time, so no [`SamplingWindow`] (whose lower end is positive), but (20) is defined there. With
+/// `rank C < n`, `He(L0C)` vanishes on `ker C`, so (20c) requires `(τ_low/τ̄)(P2 − P1) ≻ 0` on
+/// `ker C` — impossible at `τ_low = 0`: this solve shows it (`t* ≤ 0`), which is why the paper
+/// requires `τ_low > 0`.
+pub fn solve_margin_without_dwell(
+    plant: &Plant,
+    condition: Condition,
+    tau_bar: f64,
+    options: &DesignOptions,
+) -> Result<DwellFreeMargin, Error> {
+    let bounds = Bounds::new(0.0, tau_bar)?;
+    let mut lmi = Lmi20::new(
+        plant,
+        condition,
+        &bounds,
+        GainTerm::Free,
+        &options.feasibility,
+    )?;
+    let r = lmi.solve()?;
+    Ok(DwellFreeMargin {
+        condition,
+        tau_bar,
+        margin: r.margin,
+        stats: r.stats,
+    })
 }
 
 /// Turns a margin solution into a verified design (or the reason why not).
@@ -148,20 +208,22 @@ pub(crate) fn finish(
 /// independent verification.
 ///
 /// ```
-/// use sporadic_etienne2017::{Condition, DesignOptions, Window, design, example};
+/// use sporadic_etienne2017::{Condition, DesignOptions, SamplingWindow, design, example};
 ///
 /// let plant = example::flexible_joint()?;
-/// let d = design(&plant, Condition::Corollary2, &Window::new(0.01, 0.2)?, &DesignOptions::default())?;
-/// assert!(d.lmi.margin > 5e-4);                    // spec §4.5: t* = 5.402e-4
+/// let w = SamplingWindow::new(0.01, 0.2)?;
+/// let d = design(&plant, Condition::Corollary2, &w, &DesignOptions::default())?;
+/// assert!(d.lmi.margin > 5e-4); // t* = 5.402e-4 in an independent CVXPY + Clarabel solve
 /// assert!(d.check.discrete.spectral_radius.value < 1.0);
 /// # Ok::<(), sporadic_etienne2017::Error>(())
 /// ```
 pub fn design(
     plant: &Plant,
     condition: Condition,
-    window: &Window,
+    window: &SamplingWindow,
     options: &DesignOptions,
 ) -> Result<Design, Error> {
+    options.validate()?;
     let sol = solve_margin(plant, condition, window, options)?;
     finish(plant, sol, None, &options.check)
 }
@@ -176,7 +238,13 @@ pub fn analyse_margin(
     let window = *gain.window();
     let condition = analysis_condition(gain);
     let term = fixed_term(plant, gain)?;
-    let mut lmi = Lmi20::new(plant, condition, &window, term, &options.feasibility)?;
+    let mut lmi = Lmi20::new(
+        plant,
+        condition,
+        &Bounds::of(&window),
+        term,
+        &options.feasibility,
+    )?;
     Ok(MarginSolution::from_parts(condition, window, lmi.solve()?))
 }
 
@@ -186,6 +254,7 @@ pub fn analyse(
     gain: &GainSchedule,
     options: &DesignOptions,
 ) -> Result<Design, Error> {
+    options.validate()?;
     let sol = analyse_margin(plant, gain, options)?;
     finish(plant, sol, Some(gain.clone()), &options.check)
 }

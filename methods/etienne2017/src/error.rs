@@ -1,7 +1,11 @@
 //! Typed errors of `sporadic-etienne2017`. Bad input is reported with what was wrong and where;
 //! nothing in this crate panics on user data.
 
+use sporadic_embed::EmbedError;
 use sporadic_linalg::{InputError, LinalgError};
+use sporadic_model::Reason;
+use sporadic_sdp::SdpError;
+use sporadic_sdp::lmi::ModelError;
 
 /// Everything that can go wrong while building the plant, designing or certifying a gain,
 /// searching the largest sampling interval or simulating the observer.
@@ -23,8 +27,8 @@ pub enum Error {
         /// Upper bound given.
         upper: f64,
     },
-    /// The LMIs (20) are not strictly feasible: the optimal common margin `t*` of formulation F
-    /// (spec §3.6) is not above the threshold, or the solver certified infeasibility. Theorem 3
+    /// The LMIs (20) are not strictly feasible: the optimal common margin `t*` of the margin
+    /// problem ([`crate::lmi`]) is not above the threshold, or the solver certified infeasibility. Theorem 3
     /// and Corollary 2 are only sufficient, so this does not prove that no observer exists.
     #[error("LMIs (20) not strictly feasible for {condition}: margin {margin:?}; {reason}")]
     Infeasible {
@@ -87,4 +91,73 @@ pub enum Error {
     /// An error from the hybrid simulator or the figure writer.
     #[error("simulation: {0}")]
     Sim(#[from] sporadic_sim::SimError),
+}
+
+impl Error {
+    /// The verdict on the plant this error stands for, as a typed [`Reason`] (with the error's
+    /// message), or `None` when it is not a verdict (bad input, I/O, a modelling error).
+    ///
+    /// * [`Error::Infeasible`] → [`Reason::InfeasibleLmi`];
+    /// * [`Error::Inconclusive`] → [`Reason::SolverInconclusive`];
+    /// * [`Error::VerificationFailed`] → [`Reason::VerificationFailed`] (with its `τ` when the
+    ///   failing check is pointwise);
+    /// * [`Error::Singular`] (`P1` of a verified point not positive definite), an overflow or a
+    ///   non-convergence of a linear-algebra kernel (e.g. `e^{R_p τ}`), non-finite solver data →
+    ///   [`Reason::NumericalFailure`];
+    /// * a Jacobian polytope with too many vertices → [`Reason::UnsupportedStructure`] (the
+    ///   plant is outside what Lemma 1's enumeration can handle).
+    pub fn reason(&self) -> Option<Reason> {
+        let message = self.to_string();
+        let numerical =
+            |e: &LinalgError| !matches!(e, LinalgError::Input(_) | LinalgError::InvalidArgument(_));
+        Some(match self {
+            Error::Infeasible { .. } => Reason::InfeasibleLmi { message },
+            Error::Inconclusive { .. } => Reason::SolverInconclusive { message },
+            Error::VerificationFailed { tau, .. } => Reason::VerificationFailed {
+                tau: tau.is_finite().then_some(*tau),
+                message,
+            },
+            Error::Singular { .. } => Reason::NumericalFailure { message },
+            Error::Embed(EmbedError::TooManyVertices { .. }) => {
+                Reason::UnsupportedStructure { message }
+            }
+            Error::Embed(EmbedError::Numerical(_)) => Reason::NumericalFailure { message },
+            Error::Linalg(e) | Error::Embed(EmbedError::Linalg(e)) if numerical(e) => {
+                Reason::NumericalFailure { message }
+            }
+            Error::Lmi(
+                ModelError::NonFinite { .. } | ModelError::Solver(SdpError::NonFinite { .. }),
+            ) => Reason::NumericalFailure { message },
+            Error::Lmi(ModelError::Linalg(e)) if numerical(e) => {
+                Reason::NumericalFailure { message }
+            }
+            _ => return None,
+        })
+    }
+
+    /// Whether the error is bad input (dimensions, NaN, a parameter or window out of range).
+    pub fn is_input(&self) -> bool {
+        let linalg =
+            |e: &LinalgError| matches!(e, LinalgError::Input(_) | LinalgError::InvalidArgument(_));
+        match self {
+            Error::Input(_) | Error::InvalidJacobianBounds { .. } => true,
+            Error::Linalg(e) => linalg(e),
+            Error::Embed(e) => match e {
+                EmbedError::Input(_)
+                | EmbedError::InvalidArgument(_)
+                | EmbedError::InvalidBounds { .. } => true,
+                EmbedError::Linalg(e) => linalg(e),
+                _ => false,
+            },
+            Error::Lmi(e) => match e {
+                ModelError::Input(_)
+                | ModelError::InvalidArgument(_)
+                | ModelError::Solver(SdpError::InvalidSettings(_)) => true,
+                ModelError::Linalg(e) => linalg(e),
+                _ => false,
+            },
+            Error::Sim(sporadic_sim::SimError::Input(_)) => true,
+            _ => false,
+        }
+    }
 }

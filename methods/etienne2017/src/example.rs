@@ -10,13 +10,14 @@
 //! ```
 //!
 //! The paper prints `φ` with the opposite sign and 3.3 instead of the 3.33 of Raff & Allgöwer;
-//! the sign is irrelevant (symmetric Jacobian bound) and 3.3 is used as printed (spec §6).
+//! the sign is irrelevant (symmetric Jacobian bound) and 3.3 is used as printed.
 
 use faer::{Mat, mat};
 
 use crate::error::Error;
 use crate::gain::GainSchedule;
-use crate::system::{Plant, Window};
+use crate::system::Plant;
+use sporadic_model::SamplingWindow;
 
 /// Jacobian bound of `φ(s) = 3.3 sin s`: `|φ'(s)| ≤ 3.3`.
 pub const GAMMA: f64 = 3.3;
@@ -60,7 +61,7 @@ pub fn paper_static_gain() -> Mat<f64> {
 }
 
 /// The gains `(K0, K1)` printed for Theorem 3 on `[0.01, 0.3]` (printed transposed; the entry
-/// "0.4" of `K0` is read 0.40 and "1" as 1.00, spec §6).
+/// "0.4" of `K0`, printed with one decimal, is read 0.40 and "1" as 1.00).
 pub fn paper_tv_gains() -> (Mat<f64>, Mat<f64>) {
     (
         mat![[0.92, 0.00], [0.00, 1.0], [0.77, 0.04], [0.40, -0.06]],
@@ -69,12 +70,12 @@ pub fn paper_tv_gains() -> (Mat<f64>, Mat<f64>) {
 }
 
 /// The paper's static `K` as a schedule on `window`.
-pub fn paper_static_schedule(window: Window) -> Result<GainSchedule, Error> {
+pub fn paper_static_schedule(window: SamplingWindow) -> Result<GainSchedule, Error> {
     GainSchedule::constant(paper_static_gain().as_ref(), window)
 }
 
 /// The paper's `K(τ)` on `[0.01, 0.3]`.
 pub fn paper_tv_schedule() -> Result<GainSchedule, Error> {
     let (k0, k1) = paper_tv_gains();
-    GainSchedule::interpolated(k0.as_ref(), k1.as_ref(), Window::new(0.01, 0.3)?)
+    GainSchedule::interpolated(k0.as_ref(), k1.as_ref(), SamplingWindow::new(0.01, 0.3)?)
 }

@@ -13,19 +13,19 @@ use sporadic_linalg::input::{check_finite, check_shape};
 
 use crate::conditions::interpolate_checked;
 use crate::error::Error;
-use crate::system::Window;
+use sporadic_model::SamplingWindow;
 
 /// The gain schedule `τ ↦ K(τ)` on a window `[τ_low, τ̄]`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GainSchedule {
     k0: Mat<f64>,
     k1: Mat<f64>,
-    window: Window,
+    window: SamplingWindow,
 }
 
 impl GainSchedule {
     /// A constant gain `K` (Corollary 2, Remark 6).
-    pub fn constant(k: MatRef<'_, f64>, window: Window) -> Result<Self, Error> {
+    pub fn constant(k: MatRef<'_, f64>, window: SamplingWindow) -> Result<Self, Error> {
         Self::interpolated(k, k, window)
     }
 
@@ -34,7 +34,7 @@ impl GainSchedule {
     pub fn interpolated(
         k0: MatRef<'_, f64>,
         k1: MatRef<'_, f64>,
-        window: Window,
+        window: SamplingWindow,
     ) -> Result<Self, Error> {
         if k0.nrows() == 0 || k0.ncols() == 0 {
             return Err(InputError::empty("gain K0").into());
@@ -43,7 +43,7 @@ impl GainSchedule {
         check_finite(k0, "K0")?;
         check_finite(k1, "K1")?;
         if window.is_periodic() && k0 != k1 {
-            return Err(InputError::window("sampling window [τ_low, τ̄]", window.tau_low(), window.tau_bar(), "a time-varying gain needs τ_low < τ̄ (Remark 6: periodic sampling uses a static gain)").into());
+            return Err(InputError::window("sampling window [τ_low, τ̄]", window.t1(), window.t2(), "a time-varying gain needs τ_low < τ̄ (Remark 6: periodic sampling uses a static gain)").into());
         }
         Ok(Self {
             k0: k0.to_owned(),
@@ -63,7 +63,7 @@ impl GainSchedule {
     }
 
     /// The window on which the schedule is defined.
-    pub fn window(&self) -> &Window {
+    pub fn window(&self) -> &SamplingWindow {
         &self.window
     }
 
@@ -75,7 +75,7 @@ impl GainSchedule {
     /// `K(τ)`; `τ` is clamped into `[τ_low, τ̄]` (the schedule is only defined there, and a
     /// measured interval may differ from the window ends by rounding).
     pub fn at(&self, tau: f64) -> Mat<f64> {
-        let t = tau.clamp(self.window.tau_low(), self.window.tau_bar());
+        let t = tau.clamp(self.window.t1(), self.window.t2());
         interpolate_checked(self.k0.as_ref(), self.k1.as_ref(), &self.window, t)
     }
 }

@@ -1,6 +1,6 @@
 //! The finite LMIs (20) of Theorem 3 (Etienne et al. 2017), Corollary 2 (static gain) and the
-//! periodic case of Remark 6, modelled with the LMI layer of `sporadic-sdp` and solved as the
-//! margin problem "formulation F" of the spec (§3.6):
+//! periodic case of Remark 6, modelled with the LMI layer of `sporadic-sdp` and solved as one
+//! margin problem (the strict LMIs become one SDP; "formulation F"):
 //!
 //! ```text
 //! maximise t   over (P1, P2, L0, L1, t)
@@ -11,32 +11,65 @@
 //! ```
 //!
 //! with `M^i_p = He(P_i R_p) + (P2 − P1)/τ̄`. All LMIs are positively homogeneous in
-//! `(P1, P2, L0, L1)` (spec §3.3 note 5), so the normalisation loses no generality: (20) is
-//! strictly feasible iff `t* > 0`. Since `P ⪰ tI` with `t ≥ 0` makes `−I ⪯ P` redundant, the
+//! `(P1, P2, L0, L1)` (any positive multiple of a solution is one, with the same `K0, K1`), so
+//! the normalisation loses no generality: (20) is strictly feasible iff `t* > 0`. Since `P ⪰ tI` with `t ≥ 0` makes `−I ⪯ P` redundant, the
 //! bound `‖P‖₂ ≤ 1` of the layer is exactly the `P ⪯ I` of formulation F.
 //!
 //! * [`Condition::Corollary2`]: `L0 = L1 = L` (one variable), both (20c) and (20d) kept.
 //! * [`Condition::Remark6`] (`τ_low = τ̄ = h`): (20c) dropped, static `K = P1⁻¹L1`.
 //! * **Fixed gain** (analysis of a given schedule `K0, K1`): `L0 = P1K0`, `L1 = P1K1` are linear
-//!   in `P1`, so (20) is an LMI in `(P1, P2)` only (spec §4.5, "fixed-gain analysis").
+//!   in `P1`, so (20) is an LMI in `(P1, P2)` only ("fixed-gain analysis").
 //!
 //! `1/τ̄` and `τ_low/τ̄` enter as parameters, so a compiled model is re-solved for a new window
 //! without rebuilding it or re-analysing the solver structure (used by the bisection of
 //! [`crate::bisection`]).
 
 use sporadic_linalg::InputError;
-use sporadic_linalg::input::{check_finite, check_shape};
-use std::time::Duration;
+use sporadic_linalg::input::{LowerEnd, check_finite, check_shape, check_window};
 
 use faer::{Mat, MatRef, mat};
-use sporadic_sdp::Status;
-use sporadic_sdp::lmi::{
-    Compiled, Expr, FeasibilityOptions, Model, Normalisation, Outcome, Param, Var,
-};
+use sporadic_model::{SamplingWindow, SolverStats};
+use sporadic_sdp::lmi::{Compiled, Expr, FeasibilityOptions, Model, Normalisation, Param, Var};
 
 use crate::error::Error;
 use crate::gain::GainSchedule;
-use crate::system::{Plant, Window};
+use crate::system::Plant;
+
+/// The bounds `0 ≤ τ_low ≤ τ̄`, `τ̄ > 0` at which (20) is posed. Every sampling window is a
+/// [`SamplingWindow`] (`τ_low > 0`); these bounds also admit `τ_low = 0`, which is no sampling
+/// window (intervals may be arbitrarily short) but at which the LMIs are defined, so that their
+/// infeasibility there can be observed ([`crate::design::solve_margin_without_dwell`],
+/// [`crate::bisection::max_tau_bar`] with `τ_low = 0`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Bounds {
+    pub tau_low: f64,
+    pub tau_bar: f64,
+}
+
+impl Bounds {
+    /// The bounds of a sampling window.
+    pub fn of(window: &SamplingWindow) -> Self {
+        Self {
+            tau_low: window.t1(),
+            tau_bar: window.t2(),
+        }
+    }
+
+    /// Validates `0 ≤ τ_low ≤ τ̄ < ∞`, `τ̄ > 0`.
+    pub fn new(tau_low: f64, tau_bar: f64) -> Result<Self, Error> {
+        const WHAT: &str = "sampling window [τ_low, τ̄]";
+        check_window(WHAT, tau_low, tau_bar, LowerEnd::NonNegative)?;
+        if tau_bar <= 0.0 {
+            return Err(InputError::window(WHAT, tau_low, tau_bar, "τ̄ must be > 0").into());
+        }
+        Ok(Self { tau_low, tau_bar })
+    }
+
+    /// `τ_low = τ̄`.
+    pub fn is_periodic(&self) -> bool {
+        self.tau_low == self.tau_bar
+    }
+}
 
 /// Which finite condition of the paper is solved.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -61,12 +94,16 @@ impl Condition {
 
     /// Checks that the window suits the condition (Theorem 3: `τ_low < τ̄`; Remark 6:
     /// `τ_low = τ̄`).
-    pub fn check_window(self, window: &Window) -> Result<(), Error> {
+    pub fn check_window(self, window: &SamplingWindow) -> Result<(), Error> {
+        self.check_bounds(&Bounds::of(window))
+    }
+
+    pub(crate) fn check_bounds(self, window: &Bounds) -> Result<(), Error> {
         let err = |reason| {
             Err(InputError::window(
                 "sampling window [τ_low, τ̄]",
-                window.tau_low(),
-                window.tau_bar(),
+                window.tau_low,
+                window.tau_bar,
                 reason,
             )
             .into())
@@ -94,29 +131,6 @@ pub(crate) enum GainTerm {
     Free,
     /// Analysis of a given schedule: `L0 = P1 K0`, `L1 = P1 K1`.
     Fixed { k0: Mat<f64>, k1: Mat<f64> },
-}
-
-/// Interior-point statistics of one solve.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SolverStats {
-    /// What the LMI layer established (its own re-verification of every constraint).
-    pub outcome: Outcome,
-    /// Its explanation.
-    pub reason: String,
-    /// Interior-point status.
-    pub status: Status,
-    /// Interior-point iterations.
-    pub iterations: usize,
-    /// Wall time of the interior-point solve.
-    pub solve_time: Duration,
-    /// Relative duality gap at the returned point.
-    pub rel_gap: f64,
-    /// Largest verification tolerance of a strict constraint: a margin at or below it is not
-    /// a verified certificate.
-    pub margin_threshold: Option<f64>,
-    /// Number of scalar decision variables (the margin `t` not counted): `n(n+1) + 2nq`
-    /// (Theorem 3), `n(n+1) + nq` (Corollary 2, Remark 6), `n(n+1)` (fixed gain).
-    pub decision_scalars: usize,
 }
 
 /// A solved instance of (20).
@@ -156,22 +170,19 @@ impl Lmi20 {
     pub fn new(
         plant: &Plant,
         condition: Condition,
-        window: &Window,
+        window: &Bounds,
         gain: GainTerm,
         options: &FeasibilityOptions,
     ) -> Result<Self, Error> {
-        condition.check_window(window)?;
+        condition.check_bounds(window)?;
         let (n, q) = (plant.n(), plant.q());
         let c = plant.c().to_owned();
         let mut m = Model::new();
         let p1 = m.symmetric("P1", n);
         let p2 = m.symmetric("P2", n);
-        let inv_tau_bar = m.param("1/τ̄", scalar(1.0 / window.tau_bar()).as_ref())?;
+        let inv_tau_bar = m.param("1/τ̄", scalar(1.0 / window.tau_bar).as_ref())?;
         let ratio = if condition.has_low_jump() {
-            Some(m.param(
-                "τ_low/τ̄",
-                scalar(window.tau_low() / window.tau_bar()).as_ref(),
-            )?)
+            Some(m.param("τ_low/τ̄", scalar(window.tau_low / window.tau_bar).as_ref())?)
         } else {
             None
         };
@@ -239,13 +250,13 @@ impl Lmi20 {
     }
 
     /// Moves the model to a new window (same condition) without rebuilding it.
-    pub fn set_window(&mut self, window: &Window) -> Result<(), Error> {
-        self.condition.check_window(window)?;
+    pub fn set_window(&mut self, window: &Bounds) -> Result<(), Error> {
+        self.condition.check_bounds(window)?;
         self.compiled
-            .set_param(&self.inv_tau_bar, scalar(1.0 / window.tau_bar()).as_ref())?;
+            .set_param(&self.inv_tau_bar, scalar(1.0 / window.tau_bar).as_ref())?;
         if let Some(ratio) = &self.ratio {
             self.compiled
-                .set_param(ratio, scalar(window.tau_low() / window.tau_bar()).as_ref())?;
+                .set_param(ratio, scalar(window.tau_low / window.tau_bar).as_ref())?;
         }
         Ok(())
     }
@@ -262,19 +273,14 @@ impl Lmi20 {
                 let l = sol.value(l)?;
                 (l.clone(), l)
             }
-            (None, _, None) => unreachable!("a free gain always has L1 (or L)"),
+            (None, _, None) => {
+                return Err(InputError::empty("gain variable L1 of a free-gain model").into());
+            }
         };
         let margin = sol.margin.unwrap_or(f64::NAN);
-        let stats = SolverStats {
-            outcome: sol.outcome,
-            reason: sol.reason.clone(),
-            status: sol.sdp.status,
-            iterations: sol.sdp.iterations,
-            solve_time: sol.sdp.solve_time,
-            rel_gap: sol.sdp.measures.rel_gap,
-            margin_threshold: sol.margin_threshold,
-            decision_scalars: self.compiled.model().num_scalars(),
-        };
+        // Decision scalars (the margin `t` not counted): `n(n+1) + 2nq` (Theorem 3),
+        // `n(n+1) + nq` (Corollary 2, Remark 6), `n(n+1)` (fixed gain).
+        let stats = SolverStats::of(&sol, self.compiled.model().num_scalars());
         Ok(LmiResult {
             margin,
             p1,

@@ -245,8 +245,8 @@ pub fn worst_case_sampling(
         augmented.as_ref(),
         JumpMap::Closure(Box::new(reset)),
         Box::new(v),
-        w.tau_low(),
-        w.tau_bar(),
+        w.t1(),
+        w.t2(),
         grid,
     )?
     .with_error_map(Box::new(error_map)))
@@ -272,8 +272,9 @@ fn norm(z: &[f64]) -> f64 {
 }
 
 /// `(t_k, |z(t_k)|)` just after the first sample `t_k ≥ t` (within `1e-9`), or `None` if the arc
-/// has no such sample. This is the convention of the spec's reference simulations (§4.5), whose
-/// "`|z(t)|`" is the error after the first reset at or after `t`.
+/// has no such sample. This is the convention of the independent reference simulations
+/// (fixed-step RK4) the reproduction compares with, whose "`|z(t)|`" is the error after the
+/// first reset at or after `t`.
 pub fn error_norm_after_sample(error: &HybridArc, t: f64) -> Option<(f64, f64)> {
     error
         .jumps()

@@ -7,8 +7,11 @@
 //! ```
 //!
 //! with the vertices `R_p = A + G Θ^{(p)} H` of Lemma 1 (built by
-//! [`sporadic_embed::jacobian_polytope`]), and the sampling class
-//! `S[τ_low, τ̄] = {(t_k) : t_{k+1} − t_k ∈ [τ_low, τ̄]}` ([`Window`]).
+//! [`sporadic_embed::jacobian_polytope`]). The sampling class
+//! `S[τ_low, τ̄] = {(t_k) : t_{k+1} − t_k ∈ [τ_low, τ̄]}` is a [`SamplingWindow`]
+//! `[T1, T2] = [τ_low, τ̄]`.
+//!
+//! [`SamplingWindow`]: sporadic_model::SamplingWindow
 //!
 //! `B` and the nonlinearity `φ` itself do not enter the error dynamics' polytopic embedding, so
 //! the LMIs only need `(R_p, C)`; simulations take `φ` separately
@@ -17,7 +20,7 @@
 use faer::{Mat, MatRef};
 use sporadic_embed::{JacobianPolytope, jacobian_polytope, lipschitz_box};
 use sporadic_linalg::InputError;
-use sporadic_linalg::input::{LowerEnd, check_finite, check_shape, check_window};
+use sporadic_linalg::input::{check_finite, check_shape};
 
 use crate::error::Error;
 
@@ -105,7 +108,7 @@ impl Plant {
     }
 
     /// As [`Plant::new`] with the box `[−γ, γ]^{m×m}` implied by a Lipschitz constant `γ ≥ 0`
-    /// (valid but conservative, spec §2 step 2).
+    /// (valid but conservative: `|∂φ_i/∂s_j| ≤ γ` for a `γ`-Lipschitz `φ`).
     pub fn lipschitz(
         a: MatRef<'_, f64>,
         b: MatRef<'_, f64>,
@@ -181,65 +184,10 @@ impl Plant {
     }
 }
 
-/// Bounds `[τ_low, τ̄]` of the inter-sample times `t_{k+1} − t_k` (the class `S[τ_low, τ̄]`).
-///
-/// Accepted: `0 ≤ τ_low ≤ τ̄`, `τ̄ > 0`, both finite. `τ_low = 0` is accepted so that its
-/// infeasibility can be observed (spec §3.3 note 4: with `rank C < n`, (20c) forces
-/// `(τ_low/τ̄)(P2 − P1) ≻ 0` on `ker C`); sampling generators need `τ_low > 0`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Window {
-    tau_low: f64,
-    tau_bar: f64,
-}
-
-impl Window {
-    /// Validates `0 ≤ τ_low ≤ τ̄ < ∞`, `τ̄ > 0`.
-    pub fn new(tau_low: f64, tau_bar: f64) -> Result<Self, Error> {
-        const WHAT: &str = "sampling window [τ_low, τ̄]";
-        check_window(WHAT, tau_low, tau_bar, LowerEnd::NonNegative)?;
-        if tau_bar <= 0.0 {
-            return Err(InputError::window(WHAT, tau_low, tau_bar, "τ̄ must be > 0").into());
-        }
-        Ok(Self { tau_low, tau_bar })
-    }
-
-    /// The periodic window `τ_low = τ̄ = h` (Remark 6).
-    pub fn periodic(h: f64) -> Result<Self, Error> {
-        Self::new(h, h)
-    }
-
-    /// Shortest inter-sample time `τ_low`.
-    pub fn tau_low(&self) -> f64 {
-        self.tau_low
-    }
-
-    /// Longest inter-sample time `τ̄`.
-    pub fn tau_bar(&self) -> f64 {
-        self.tau_bar
-    }
-
-    /// Whether `τ_low = τ̄` (periodic sampling).
-    pub fn is_periodic(&self) -> bool {
-        self.tau_low == self.tau_bar
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use faer::mat;
-
-    #[test]
-    fn windows_are_validated() {
-        assert!(Window::new(0.0, 0.2).is_ok());
-        assert!(Window::new(0.2, 0.2).unwrap().is_periodic());
-        for (lo, hi) in [(0.3, 0.2), (-0.1, 0.2), (0.0, 0.0), (0.1, f64::NAN)] {
-            assert!(matches!(
-                Window::new(lo, hi),
-                Err(Error::Input(InputError::InvalidWindow { .. }))
-            ));
-        }
-    }
 
     #[test]
     fn plant_input_is_validated() {

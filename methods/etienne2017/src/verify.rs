@@ -1,5 +1,5 @@
 //! Solver-independent checks of a certificate `(P1, P2, L0, L1)` of Theorem 3 / Corollary 2 /
-//! Remark 6 and of its gain `K(τ)` (spec §3.6–§3.7), recomputed from plain matrices (not from the
+//! Remark 6 and of its gain `K(τ)`, recomputed from plain matrices (not from the
 //! LMI model's expressions):
 //!
 //! 1. **Blocks of (20)**: `λ_max(M¹_p), λ_max(M²_p) < 0`, `λ_min((20c)), λ_min((20d)) > 0`,
@@ -33,7 +33,8 @@ use crate::conditions::{
 use crate::error::Error;
 use crate::gain::GainSchedule;
 use crate::lmi::Condition;
-use crate::system::{Plant, Window};
+use crate::system::Plant;
+use sporadic_model::SamplingWindow;
 
 /// A certificate of (20): the Lyapunov matrices `P(0) = P1`, `P(τ̄) = P2` and `L0, L1`.
 #[derive(Debug, Clone, PartialEq)]
@@ -72,7 +73,9 @@ impl Default for CheckOptions {
 }
 
 impl CheckOptions {
-    fn validate(&self) -> Result<(), Error> {
+    /// Checks every field (`lmi_grid`, `discrete_grid` ≥ 2, `safety` finite and ≥ 1); the error
+    /// names the offending one.
+    pub fn validate(&self) -> Result<(), Error> {
         for (v, name) in [
             (self.lmi_grid, "lmi_grid"),
             (self.discrete_grid, "discrete_grid"),
@@ -291,7 +294,7 @@ pub fn discrete_check(
     }
     let (points, safety) = (options.discrete_grid, options.safety);
     let w = gain.window();
-    let (lo, hi) = (w.tau_low(), w.tau_bar());
+    let (lo, hi) = (w.t1(), w.t2());
     let steps = if w.is_periodic() { 0 } else { points - 1 };
     let h = if steps == 0 {
         0.0
@@ -347,7 +350,7 @@ pub fn discrete_check(
 pub fn check_certificate(
     plant: &Plant,
     condition: Condition,
-    window: &Window,
+    window: &SamplingWindow,
     cert: &Certificate,
     gain: &GainSchedule,
     options: &CheckOptions,
@@ -366,7 +369,7 @@ pub fn check_certificate(
     }
     let (p1, p2) = (cert.p1.as_ref(), cert.p2.as_ref());
     let c = plant.c();
-    let (tau_low, tau_bar) = (window.tau_low(), window.tau_bar());
+    let (tau_low, tau_bar) = (window.t1(), window.t2());
     let safety = options.safety;
     let low_jump = condition != Condition::Remark6;
     let (p1n, p2n, cn) = (fro(p1), fro(p2), fro(c));

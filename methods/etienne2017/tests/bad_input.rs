@@ -2,8 +2,9 @@
 
 use faer::{Mat, mat};
 use sporadic_etienne2017::{
-    BisectionOptions, Condition, DesignOptions, Error, GainSchedule, Plant, SimulationSetup,
-    Window, design, example, max_tau_bar, simulate_observer, solve_margin,
+    BisectionOptions, Condition, DesignOptions, Error, GainSchedule, Plant, SamplingWindow,
+    SimulationSetup, design, example, max_tau_bar, simulate_observer, solve_margin,
+    solve_margin_without_dwell,
 };
 use sporadic_linalg::InputError;
 use sporadic_sim::Periodic;
@@ -21,16 +22,24 @@ fn data() -> [Mat<f64>; 5] {
 
 #[test]
 fn windows() {
+    for (lo, hi) in [
+        (0.3, 0.2),
+        (f64::NAN, 0.2),
+        (0.0, 0.2),
+        (0.01, f64::INFINITY),
+    ] {
+        assert!(matches!(
+            SamplingWindow::new(lo, hi),
+            Err(InputError::InvalidWindow { .. })
+        ));
+    }
     assert!(matches!(
-        Window::new(0.3, 0.2),
-        Err(Error::Input(InputError::InvalidWindow { .. }))
-    ));
-    assert!(matches!(
-        Window::new(f64::NAN, 0.2),
-        Err(Error::Input(InputError::InvalidWindow { .. }))
-    ));
-    assert!(matches!(
-        Window::new(0.0, f64::INFINITY),
+        solve_margin_without_dwell(
+            &example::flexible_joint().unwrap(),
+            Condition::Corollary2,
+            -1.0,
+            &DesignOptions::default()
+        ),
         Err(Error::Input(InputError::InvalidWindow { .. }))
     ));
     let plant = example::flexible_joint().unwrap();
@@ -40,7 +49,7 @@ fn windows() {
         solve_margin(
             &plant,
             Condition::Theorem3,
-            &Window::periodic(0.1).unwrap(),
+            &SamplingWindow::periodic(0.1).unwrap(),
             &o
         ),
         Err(Error::Input(InputError::InvalidWindow { .. }))
@@ -49,7 +58,7 @@ fn windows() {
         design(
             &plant,
             Condition::Remark6,
-            &Window::new(0.01, 0.1).unwrap(),
+            &SamplingWindow::new(0.01, 0.1).unwrap(),
             &o
         ),
         Err(Error::Input(InputError::InvalidWindow { .. }))
@@ -182,7 +191,7 @@ fn plant_data() {
 
 #[test]
 fn gains_and_simulation() {
-    let w = Window::new(0.01, 0.2).unwrap();
+    let w = SamplingWindow::new(0.01, 0.2).unwrap();
     assert!(matches!(
         GainSchedule::interpolated(mat![[1.0]].as_ref(), mat![[1.0, 2.0]].as_ref(), w),
         Err(Error::Input(InputError::DimensionMismatch { .. }))
@@ -195,7 +204,7 @@ fn gains_and_simulation() {
         GainSchedule::interpolated(
             mat![[1.0]].as_ref(),
             mat![[2.0]].as_ref(),
-            Window::periodic(0.1).unwrap()
+            SamplingWindow::periodic(0.1).unwrap()
         ),
         Err(Error::Input(InputError::InvalidWindow { .. }))
     ));
@@ -292,7 +301,7 @@ fn condition_matrices_and_checks() {
         mat![[1.0, 0.0], [0.0, 1.0]].as_ref()
     )));
     assert!(mismatch(gain_from(i2.as_ref(), i3.as_ref())));
-    let w = Window::new(0.01, 0.2).unwrap();
+    let w = SamplingWindow::new(0.01, 0.2).unwrap();
     assert!(mismatch(interpolate(l.as_ref(), c.as_ref(), &w, 0.1)));
     assert!(mismatch(transition(
         i3.as_ref(),

@@ -1,18 +1,18 @@
-//! Spec §5 acceptance checks 3–5, 7, 8 on the flexible-joint robot of §5: margins of formulation
-//! F against the spec's CVXPY/Clarabel reference (§4.5), infeasible windows, the printed gains,
-//! and the discrete contraction check.
+//! The flexible-joint robot of §5: margins of the margin problem against an independent
+//! CVXPY/Clarabel reference solve, infeasible windows, the printed gains, and the discrete
+//! contraction check.
 
 use sporadic_etienne2017::verify::transition;
 use sporadic_etienne2017::{
-    CheckOptions, Condition, DesignOptions, Error, Window, analyse, analyse_margin, design,
-    discrete_check, example, solve_margin,
+    CheckOptions, Condition, DesignOptions, Error, SamplingWindow, analyse, analyse_margin, design,
+    discrete_check, example, solve_margin, solve_margin_without_dwell,
 };
 
 fn opts() -> DesignOptions {
     DesignOptions::default()
 }
 
-/// The spec's grid of the discrete check (§4.5: 2001 points).
+/// The grid of the discrete check of the reference computation (2001 points).
 fn grid_2001() -> CheckOptions {
     CheckOptions {
         discrete_grid: 2001,
@@ -30,7 +30,7 @@ fn corollary2_on_paper_window() {
     let d = design(
         &plant,
         Condition::Corollary2,
-        &Window::new(0.01, 0.2).unwrap(),
+        &SamplingWindow::new(0.01, 0.2).unwrap(),
         &opts(),
     )
     .unwrap();
@@ -67,7 +67,7 @@ fn corollary2_on_paper_window() {
 #[test]
 fn theorem3_feasible_where_corollary2_is_not() {
     let plant = example::flexible_joint().unwrap();
-    let w = Window::new(0.01, 0.3).unwrap();
+    let w = SamplingWindow::new(0.01, 0.3).unwrap();
     let d = design(&plant, Condition::Theorem3, &w, &opts()).unwrap();
     assert!(
         within(d.lmi.margin, 1.458e-4, 0.02),
@@ -97,7 +97,7 @@ fn other_reference_margins() {
         (Condition::Theorem3, 1e-3, 0.3, 1.66e-5),
     ];
     for (c, lo, hi, t) in cases {
-        let s = solve_margin(&plant, c, &Window::new(lo, hi).unwrap(), &opts()).unwrap();
+        let s = solve_margin(&plant, c, &SamplingWindow::new(lo, hi).unwrap(), &opts()).unwrap();
         assert!(
             within(s.margin, t, 0.02),
             "{c:?} [{lo},{hi}]: {:e} vs {t:e}",
@@ -111,7 +111,7 @@ fn other_reference_margins() {
 fn tau_low_zero_is_infeasible() {
     let plant = example::flexible_joint().unwrap();
     for (c, hi) in [(Condition::Corollary2, 0.2), (Condition::Theorem3, 0.3)] {
-        let s = solve_margin(&plant, c, &Window::new(0.0, hi).unwrap(), &opts()).unwrap();
+        let s = solve_margin_without_dwell(&plant, c, hi, &opts()).unwrap();
         assert!(s.margin < 1e-7, "{c:?}: t* = {:e}", s.margin);
         assert!(!s.verified());
     }
@@ -124,7 +124,7 @@ fn feasibility_is_monotone_in_tau_bar() {
         let margins: Vec<f64> = [0.05, 0.1, 0.15, 0.2, 0.25, 0.3, 0.35, 0.4]
             .iter()
             .map(|&hi| {
-                solve_margin(&plant, c, &Window::new(0.01, hi).unwrap(), &opts())
+                solve_margin(&plant, c, &SamplingWindow::new(0.01, hi).unwrap(), &opts())
                     .unwrap()
                     .margin
             })
@@ -148,12 +148,12 @@ fn feasibility_is_monotone_in_tau_bar() {
 #[test]
 fn printed_gains_are_certified() {
     let plant = example::flexible_joint().unwrap();
-    // Static K on [0.01, 0.2]: t* ≈ 5.19e-4 (spec §4.5).
-    let k = example::paper_static_schedule(Window::new(0.01, 0.2).unwrap()).unwrap();
+    // Static K on [0.01, 0.2]: t* ≈ 5.19e-4 (reference solve).
+    let k = example::paper_static_schedule(SamplingWindow::new(0.01, 0.2).unwrap()).unwrap();
     let a = analyse(&plant, &k, &opts()).unwrap();
     assert!(within(a.lmi.margin, 5.19e-4, 0.02), "{:e}", a.lmi.margin);
     // … but not on [0.01, 0.25].
-    let k25 = example::paper_static_schedule(Window::new(0.01, 0.25).unwrap()).unwrap();
+    let k25 = example::paper_static_schedule(SamplingWindow::new(0.01, 0.25).unwrap()).unwrap();
     let a25 = analyse_margin(&plant, &k25, &opts()).unwrap();
     assert!(a25.margin < 1e-7 && !a25.verified(), "{:e}", a25.margin);
     assert!(matches!(
@@ -168,10 +168,10 @@ fn printed_gains_are_certified() {
 
 #[test]
 fn discrete_check_of_printed_gains() {
-    // Spec §4.5: max ρ(M_p(τ)) on 2001 points = 0.9840 (static, at τ_low, p = 2) and 0.9892
+    // Reference: max ρ(M_p(τ)) on 2001 points = 0.9840 (static, at τ_low, p = 2) and 0.9892
     // (TV, at τ_low, p = 1); max λ(M'P1M − P1) = −9.1e-4 / −2.3e-4 with P1 of the fixed-gain solve.
     let plant = example::flexible_joint().unwrap();
-    let k = example::paper_static_schedule(Window::new(0.01, 0.2).unwrap()).unwrap();
+    let k = example::paper_static_schedule(SamplingWindow::new(0.01, 0.2).unwrap()).unwrap();
     let a = analyse_margin(&plant, &k, &opts()).unwrap();
     let d = discrete_check(&plant, &k, Some(a.certificate.p1.as_ref()), &grid_2001()).unwrap();
     assert!((d.spectral_radius.value - 0.9840).abs() < 1e-3);
@@ -189,7 +189,7 @@ fn discrete_check_of_printed_gains() {
     let c = d.contraction.unwrap().value;
     assert!((c + 2.3e-4).abs() < 0.2e-4, "{c:e}");
 
-    // At τ = τ̄ (spec §4.5): static 0.4754 (p=1), 0.5996 (p=2); TV 0.5627 (p=1), 0.4755 (p=2).
+    // At τ = τ̄ (reference): static 0.4754 (p=1), 0.5996 (p=2); TV 0.5627 (p=1), 0.4755 (p=2).
     let rho = |k: &faer::Mat<f64>, p: usize, tau: f64| {
         let m = transition(plant.vertices()[p].as_ref(), k.as_ref(), plant.c(), tau).unwrap();
         sporadic_linalg::spectral_radius(m.as_ref()).unwrap()
@@ -212,7 +212,7 @@ fn periodic_case_of_remark6() {
     let d = design(
         &plant,
         Condition::Remark6,
-        &Window::periodic(0.3).unwrap(),
+        &SamplingWindow::periodic(0.3).unwrap(),
         &opts(),
     )
     .unwrap();
@@ -220,7 +220,7 @@ fn periodic_case_of_remark6() {
     let bad = solve_margin(
         &plant,
         Condition::Remark6,
-        &Window::periodic(0.35).unwrap(),
+        &SamplingWindow::periodic(0.35).unwrap(),
         &opts(),
     )
     .unwrap();

@@ -9,7 +9,7 @@ use faer::Mat;
 use proptest::prelude::*;
 use sporadic_etienne2017::verify::transition;
 use sporadic_etienne2017::{
-    Condition, Design, DesignOptions, Error, Plant, SimulationSetup, Window, design,
+    Condition, Design, DesignOptions, Error, Plant, SamplingWindow, SimulationSetup, design,
     lyapunov_at_samples, simulate_observer, worst_case_sampling,
 };
 use sporadic_linalg::max_eigenvalue;
@@ -22,7 +22,7 @@ struct Case {
     plant: Plant,
     mid: Mat<f64>,
     rad: Mat<f64>,
-    window: Window,
+    window: SamplingWindow,
     condition: Condition,
 }
 
@@ -61,7 +61,7 @@ fn random_case(rng: &mut SimRng) -> Case {
         plant,
         mid,
         rad,
-        window: Window::new(tau_low, tau_bar).unwrap(),
+        window: SamplingWindow::new(tau_low, tau_bar).unwrap(),
         condition,
     }
 }
@@ -88,7 +88,7 @@ fn simulate_and_check(
         }
     };
     let input = |t: f64, out: &mut [f64]| out[0] = t.sin();
-    let setup = SimulationSetup::new(vec![0.0; n], vec![1.0; n], 60.0 * case.window.tau_bar());
+    let setup = SimulationSetup::new(vec![0.0; n], vec![1.0; n], 60.0 * case.window.t2());
     let sim = simulate_observer(plant, &phi, &input, &d.gain, rule, &setup).unwrap();
     let p1 = &d.lmi.certificate.p1;
     let error_arc = sim.error_arc().unwrap();
@@ -163,13 +163,13 @@ proptest! {
                 case.mid[(i, j)] + case.rad[(i, j)] * rng.uniform(-1.0, 1.0)
             });
             let r = case.plant.polytope().matrix_at(theta.as_ref()).unwrap();
-            let tau = rng.uniform(w.tau_low(), w.tau_bar());
+            let tau = rng.uniform(w.t1(), w.t2());
             let m = transition(r.as_ref(), d.gain.at(tau).as_ref(), case.plant.c(), tau).unwrap();
             let gap = max_eigenvalue((m.transpose() * p1 * &m - p1).as_ref()).unwrap();
             prop_assert!(gap < 0.0, "λ_max(M'P1M − P1) = {gap:e} at τ = {tau}");
         }
 
-        let mut rule = UniformRandom::new(w.tau_low(), w.tau_bar(), seed).unwrap();
+        let mut rule = UniformRandom::new(w.t1(), w.t2(), seed).unwrap();
         simulate_and_check(&case, &d, &mut rule)?;
         for vertex in 0..case.plant.vertices().len() {
             let mut adv = worst_case_sampling(&case.plant, &d.gain, p1.as_ref(), vertex, 15).unwrap();

@@ -1,12 +1,12 @@
-//! Spec §5 acceptance check 9: simulations of the nonlinear plant and observer (setup of spec
-//! §4.4: x(0) = 0, x̂(0) = (1,1,1,1)', |z(0)| = 2) with the printed gains, for constant,
-//! alternating, i.i.d. uniform and adversarial sampling. The reference values of spec §4.5
-//! (fixed-step RK4) are the error just after the first sample at or after t; along every run the
+//! Simulations of the nonlinear plant and observer (x(0) = 0, x̂(0) = (1,1,1,1)', |z(0)| = 2)
+//! with the printed gains, for constant, alternating, i.i.d. uniform and adversarial sampling.
+//! The reference values of an independent simulation (fixed-step RK4) are the error just after the first sample at or after t; along every run the
 //! Lyapunov function z'P1z just after the samples decreases (proof of Theorem 3).
 
 use sporadic_etienne2017::{
-    DesignOptions, GainSchedule, Plant, SimulationSetup, Window, analyse_margin, error_norm_after,
-    error_norm_after_sample, example, lyapunov_at_samples, simulate_observer, worst_case_sampling,
+    DesignOptions, GainSchedule, Plant, SamplingWindow, SimulationSetup, analyse_margin,
+    error_norm_after, error_norm_after_sample, example, lyapunov_at_samples, simulate_observer,
+    worst_case_sampling,
 };
 use sporadic_sim::{FromData, Periodic, SamplingRule, Simulation, UniformRandom};
 
@@ -24,7 +24,7 @@ fn alternating(a: f64, b: f64, count: usize) -> FromData {
     FromData::from_slice(&v).unwrap()
 }
 
-/// `|z|` after the first sample at or after each `t` against the spec's 2-significant-figure
+/// `|z|` after the first sample at or after each `t` against the reference's 2-significant-figure
 /// values (one unit of the last digit), and the sample instant found.
 fn assert_reference(sim: &Simulation, refs: &[(f64, f64, f64)], what: &str) {
     let e = sim.error_arc().unwrap();
@@ -37,7 +37,7 @@ fn assert_reference(sim: &Simulation, refs: &[(f64, f64, f64)], what: &str) {
         let unit = 10f64.powf(want.log10().floor() - 1.0);
         assert!(
             (got - want).abs() <= unit,
-            "{what}: |z| after t = {t} is {got:e}, spec {want:e}"
+            "{what}: |z| after t = {t} is {got:e}, reference {want:e}"
         );
     }
 }
@@ -66,16 +66,16 @@ fn assert_lyapunov_decreases(sim: &Simulation, k: &GainSchedule, plant: &Plant, 
 #[test]
 fn static_gain_matches_reference() {
     let plant = example::flexible_joint().unwrap();
-    let k = example::paper_static_schedule(Window::new(0.01, 0.2).unwrap()).unwrap();
+    let k = example::paper_static_schedule(SamplingWindow::new(0.01, 0.2).unwrap()).unwrap();
     let sim = run(&plant, &k, &mut Periodic::new(0.2).unwrap(), HORIZON);
     assert!(!sim.exact); // nonlinear: the adaptive integrator was used
-    // Spec §4.5: |z(1)| = 9.6e-3, |z(2)| = 2.8e-4, |z(4)| = 4.8e-7.
+    // Reference simulation: |z(1)| = 9.6e-3, |z(2)| = 2.8e-4, |z(4)| = 4.8e-7.
     assert_reference(
         &sim,
         &[(1.0, 1.0, 9.6e-3), (2.0, 2.0, 2.8e-4), (4.0, 4.0, 4.8e-7)],
         "static, τ ≡ 0.2",
     );
-    // Acceptance (spec §5 item 9): |z(4)| < 1e-5·|z(0)|.
+    // Acceptance: |z(4)| < 1e-5·|z(0)|.
     assert!(error_norm_after(&sim.error_arc().unwrap(), 4.0).unwrap() < 1e-5 * 2.0);
     assert_lyapunov_decreases(&sim, &k, &plant, "static, τ ≡ 0.2");
     // Alternating 0.2, 0.01: samples at 2.09 and 4.19 are the first after 2 and 4.
@@ -93,14 +93,14 @@ fn time_varying_gain_matches_reference() {
     let plant = example::flexible_joint().unwrap();
     let k = example::paper_tv_schedule().unwrap();
     let sim = run(&plant, &k, &mut Periodic::new(0.3).unwrap(), HORIZON);
-    // Spec §4.5: |z(1)| = 5.7e-2, |z(2)| = 4.9e-3, |z(4)| = 9.9e-5 (after the samples at 1.2,
+    // Reference simulation: |z(1)| = 5.7e-2, |z(2)| = 4.9e-3, |z(4)| = 9.9e-5 (after the samples at 1.2,
     // 2.1 and 4.2).
     assert_reference(
         &sim,
         &[(1.0, 1.2, 5.7e-2), (2.0, 2.1, 4.9e-3), (4.0, 4.2, 9.9e-5)],
         "TV, τ ≡ 0.3",
     );
-    // Acceptance (spec §5 item 9): |z(4)| < 1e-3·|z(0)|.
+    // Acceptance: |z(4)| < 1e-3·|z(0)|.
     assert!(error_norm_after(&sim.error_arc().unwrap(), 4.0).unwrap() < 1e-3 * 2.0);
     assert_lyapunov_decreases(&sim, &k, &plant, "TV, τ ≡ 0.3");
     // Alternating 0.3, 0.01: first samples after 2 and 4 at 2.16 and 4.02.
@@ -116,7 +116,7 @@ fn time_varying_gain_matches_reference() {
 #[test]
 fn random_and_adversarial_sampling_converge() {
     let plant = example::flexible_joint().unwrap();
-    let ks = example::paper_static_schedule(Window::new(0.01, 0.2).unwrap()).unwrap();
+    let ks = example::paper_static_schedule(SamplingWindow::new(0.01, 0.2).unwrap()).unwrap();
     let ktv = example::paper_tv_schedule().unwrap();
     for (k, hi) in [(&ks, 0.2), (&ktv, 0.3)] {
         for seed in 0..3 {

@@ -28,8 +28,8 @@
 //! (scaling `P` by `c` scales `ρ` by neither `c` nor `c²` consistently with `β`), so the ISS claims of
 //! this crate use `ρd`; both values are reported. The two agree when `‖P‖ = 1`.
 //!
-//! The extrema over `τ`/`v` are analysis constants: dense grid plus local refinement (see the spec's
-//! §4), not rigorous global optimisation.
+//! The extrema over `τ`/`v` are analysis constants: dense grid plus a golden-section refinement of
+//! the best grid cell, not rigorous global optimisation.
 
 use faer::{Mat, MatRef};
 use sporadic_linalg::InputError;
@@ -37,7 +37,8 @@ use sporadic_linalg::{max_eigenvalue, min_eigenvalue};
 
 use crate::error::Error;
 use crate::grid::{Sense, extremum};
-use crate::system::{Plant, Window};
+use crate::system::Plant;
+use sporadic_model::SamplingWindow;
 
 /// Options of [`bound_constants`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -45,6 +46,21 @@ pub struct BoundOptions {
     /// Number of grid points on `[0, T2]` (for `α1`, `α2`) and on `[T1, T2]` (for `β`,
     /// `max ‖e^{Av}‖²`) before the local refinement. Default 2001.
     pub grid_points: usize,
+}
+
+impl BoundOptions {
+    /// Checks the options; the error names the offending field (`grid_points ≥ 2`).
+    pub fn validate(&self) -> Result<(), Error> {
+        if self.grid_points < 2 {
+            return Err(InputError::parameter(
+                "grid_points",
+                self.grid_points as f64,
+                "at least 2 grid points are needed",
+            )
+            .into());
+        }
+        Ok(())
+    }
 }
 
 impl Default for BoundOptions {
@@ -158,21 +174,14 @@ pub(crate) fn congruence(e: MatRef<'_, f64>, x: MatRef<'_, f64>) -> Mat<f64> {
 /// definite) or `β ≤ 0` (condition (12) fails somewhere on the grid).
 pub fn bound_constants(
     plant: &Plant,
-    window: &Window,
+    window: &SamplingWindow,
     l: MatRef<'_, f64>,
     p: MatRef<'_, f64>,
     options: &BoundOptions,
 ) -> Result<BoundConstants, Error> {
     plant.check_lyapunov_matrix(p)?;
     let reset = plant.reset_matrix(l)?;
-    if options.grid_points < 2 {
-        return Err(InputError::parameter(
-            "grid_points",
-            options.grid_points as f64,
-            "at least 2 grid points are needed",
-        )
-        .into());
-    }
+    options.validate()?;
     let a = plant.a();
     let (t1, t2) = (window.t1(), window.t2());
     let pts = options.grid_points;

@@ -9,7 +9,7 @@
 //! **Analysis** ([`analyse`]): the same LMI with `J = FL` for a given `L` (linear in `P`, `F`), i.e.
 //! (36) at the vertices; certifies e.g. the gain published for Example 2.
 //! [`min_trace_certificate`] solves the same LMI for the certificate with the smallest `tr P`
-//! (the reference certificate of the bound constants in spec 000 §5).
+//! (the reference certificate of the bound constants of Theorems 1–2 for Example 2).
 
 use sporadic_linalg::InputError;
 use std::time::{Duration, Instant};
@@ -20,17 +20,23 @@ use sporadic_sdp::lmi::{FeasibilityOptions, Outcome};
 
 use crate::detectability::{DetectabilityOptions, DetectabilityReport, check_detectability};
 use crate::error::Error;
-use crate::lmi::{GainTerm, Lmi41, LmiForm, LmiResult, Objective, SolverStats, gain_from};
-use crate::system::{Plant, Window};
+use crate::lmi::{GainTerm, Lmi41, LmiForm, LmiResult, LmiSize, Objective, gain_from};
+use crate::system::Plant;
 use crate::verify::{Verification, VerifyOptions, verify};
+use sporadic_model::SamplingWindow;
+use sporadic_model::SolverStats;
+use sporadic_sdp::lmi::Normalisation;
 
-/// Options of [`design`] and [`analyse`].
+/// Options of [`design`], [`analyse`] and [`min_trace_certificate`]; the defaults are the
+/// paper's construction (see each field). [`DesignOptions::validate`] checks them; every entry
+/// point calls it.
 #[derive(Debug, Clone)]
 pub struct DesignOptions {
-    /// Polytopic embedding of `e^{Av}` (default: the residue box of §4.1 with default options).
+    /// Polytopic embedding of `e^{Av}` (default: the residue box of §4.1,
+    /// `EmbeddingMethod::Residue(ResidueOptions::default())`).
     pub embedding: EmbeddingMethod,
-    /// Number of equal sub-intervals of `[T1, T2]` whose vertex sets are united (1 = the paper's
-    /// construction; more pieces reduce conservatism at a linear cost in vertices).
+    /// Number of equal sub-intervals of `[T1, T2]` whose vertex sets are united (default 1 = the
+    /// paper's construction; more pieces reduce conservatism at a linear cost in vertices).
     pub pieces: usize,
     /// LMI imposed at each vertex: (41) as printed (default) or its equivalent reduced `2n × 2n`
     /// form ([`LmiForm`]).
@@ -38,10 +44,49 @@ pub struct DesignOptions {
     /// Margin problem: solver settings, verification safety factor, normalisation (default
     /// `‖·‖₂ ≤ 1` on every variable, margin cap 1; lossless since (41) is homogeneous).
     pub lmi: FeasibilityOptions,
-    /// Grid verification of (12) (default 2801 points).
+    /// Grid verification of (12) (default 2801 points, relative tolerance `1e-9`).
     pub verify: VerifyOptions,
-    /// Remark 3 precheck (design only).
+    /// Remark 3 precheck (design only; default 1001 grid points plus the aliasing instants).
     pub detectability: DetectabilityOptions,
+}
+
+impl DesignOptions {
+    /// Checks every field; the error names the offending one (`pieces`, `lmi.margin_cap`,
+    /// `lmi.default_normalisation`, and those of [`VerifyOptions::validate`] and
+    /// [`DetectabilityOptions::validate`]).
+    pub fn validate(&self) -> Result<(), Error> {
+        if self.pieces == 0 {
+            return Err(InputError::parameter(
+                "pieces",
+                0.0,
+                "the window must be split into at least one piece",
+            )
+            .into());
+        }
+        let cap = self.lmi.margin_cap;
+        if !(cap.is_finite() && cap > 0.0) {
+            return Err(InputError::parameter(
+                "lmi.margin_cap",
+                cap,
+                "must be a positive finite number",
+            )
+            .into());
+        }
+        match self.lmi.default_normalisation {
+            Normalisation::Norm(r) | Normalisation::Trace(r) if !(r.is_finite() && r > 0.0) => {
+                return Err(InputError::parameter(
+                    "lmi.default_normalisation",
+                    r,
+                    "the bound must be a positive finite number",
+                )
+                .into());
+            }
+            _ => {}
+        }
+        self.verify.validate()?;
+        self.detectability.validate()?;
+        Ok(())
+    }
 }
 
 impl Default for DesignOptions {
@@ -90,6 +135,8 @@ pub struct Design {
     pub detectability: DetectabilityReport,
     /// Solver statistics.
     pub stats: SolverStats,
+    /// Number and order of the vertex LMIs.
+    pub size: LmiSize,
     /// Wall time of the whole design (precheck, embedding, LMI, verification).
     pub total_time: Duration,
 }
@@ -110,18 +157,8 @@ pub struct Analysis {
     pub embedding: Embedding,
     /// Solver statistics (outcome and reason say why a gain was not certified).
     pub stats: SolverStats,
-}
-
-fn check_pieces(pieces: usize) -> Result<(), Error> {
-    if pieces == 0 {
-        return Err(InputError::parameter(
-            "pieces",
-            0.0,
-            "the window must be split into at least one piece",
-        )
-        .into());
-    }
-    Ok(())
+    /// Number and order of the vertex LMIs.
+    pub size: LmiSize,
 }
 
 /// Builds (or re-uses, when the vertex count fits) the margin-problem instance and solves it.
@@ -162,19 +199,24 @@ fn certificate_of(r: &LmiResult) -> Certificate {
 }
 
 /// Designs `L` by Corollary 1 (see the module docs).
-pub fn design(plant: &Plant, window: &Window, options: &DesignOptions) -> Result<Design, Error> {
+pub fn design(
+    plant: &Plant,
+    window: &SamplingWindow,
+    options: &DesignOptions,
+) -> Result<Design, Error> {
     design_cached(plant, window, options, &mut None)
 }
 
-/// [`design`] with a re-usable compiled LMI (used by the window searches).
+/// [`design`] with a re-usable compiled LMI (used by the window searches: the vertex count of the
+/// residue box does not depend on the window, so every probe re-solves the same compiled model).
 pub(crate) fn design_cached(
     plant: &Plant,
-    window: &Window,
+    window: &SamplingWindow,
     options: &DesignOptions,
     cache: &mut Option<Lmi41>,
 ) -> Result<Design, Error> {
     let start = Instant::now();
-    check_pieces(options.pieces)?;
+    options.validate()?;
     let detectability = check_detectability(plant, window, &options.detectability)?;
     let embedding = embed_split(
         plant.a(),
@@ -198,12 +240,7 @@ pub(crate) fn design_cached(
     let l = gain_from(r.f.as_ref(), r.j.as_ref())?;
     let verification = verify(plant, window, l.as_ref(), r.p.as_ref(), &options.verify)?;
     if !verification.passed() {
-        return Err(Error::VerificationFailed {
-            max_eigenvalue: verification.max_eigenvalue,
-            at: verification.max_eigenvalue_at,
-            max_spectral_radius: verification.max_spectral_radius,
-            radius_at: verification.max_spectral_radius_at,
-        });
+        return Err(verification_failed(&verification));
     }
     Ok(Design {
         certificate: certificate_of(&r),
@@ -212,6 +249,7 @@ pub(crate) fn design_cached(
         verification,
         detectability,
         stats: r.stats,
+        size: r.size,
         total_time: start.elapsed(),
     })
 }
@@ -236,12 +274,14 @@ pub struct TraceCertificate {
     pub embedding: Embedding,
     /// Solver statistics.
     pub stats: SolverStats,
+    /// Number and order of the vertex LMIs.
+    pub size: LmiSize,
 }
 
 /// Certifies a given gain `L` with LMI (41) where `J = FL`, choosing the certificate that
 /// minimises `tr P` under the normalisation `P ⪰ I`, `Φ_i ⪯ −I` (by homogeneity this is the same
-/// feasible set as the strict LMIs, scaled; spec 000 §5 reports the bound constants of Example 2
-/// for this certificate). The bound constants of Theorems 1–2 depend on `P`; this choice keeps
+/// feasible set as the strict LMIs, scaled; the reference bound constants of Example 2 are those
+/// of this certificate). The bound constants of Theorems 1–2 depend on `P`; this choice keeps
 /// `P` well scaled and reproducible up to the solver's accuracy.
 ///
 /// Errors: bad input; [`Error::Infeasible`] on a solver infeasibility certificate;
@@ -249,12 +289,12 @@ pub struct TraceCertificate {
 /// verification; [`Error::VerificationFailed`] when the grid check of (12) fails.
 pub fn min_trace_certificate(
     plant: &Plant,
-    window: &Window,
+    window: &SamplingWindow,
     l: MatRef<'_, f64>,
     options: &DesignOptions,
 ) -> Result<TraceCertificate, Error> {
     plant.check_gain(l)?;
-    check_pieces(options.pieces)?;
+    options.validate()?;
     let embedding = embed_split(
         plant.a(),
         window.t1(),
@@ -284,12 +324,7 @@ pub fn min_trace_certificate(
     }
     let verification = verify(plant, window, l, r.p.as_ref(), &options.verify)?;
     if !verification.passed() {
-        return Err(Error::VerificationFailed {
-            max_eigenvalue: verification.max_eigenvalue,
-            at: verification.max_eigenvalue_at,
-            max_spectral_radius: verification.max_spectral_radius,
-            radius_at: verification.max_spectral_radius_at,
-        });
+        return Err(verification_failed(&verification));
     }
     Ok(TraceCertificate {
         trace: (0..r.p.nrows()).map(|i| r.p[(i, i)]).sum(),
@@ -300,18 +335,35 @@ pub fn min_trace_certificate(
         verification,
         embedding,
         stats: r.stats,
+        size: r.size,
     })
+}
+
+/// The error of a failed grid verification; its `tau` is where (12) fails, or where the Schur
+/// test fails when (12) passed.
+fn verification_failed(v: &Verification) -> Error {
+    Error::VerificationFailed {
+        max_eigenvalue: v.max_eigenvalue,
+        at: v.max_eigenvalue_at,
+        max_spectral_radius: v.max_spectral_radius,
+        radius_at: v.max_spectral_radius_at,
+        tau: if v.condition12_holds {
+            v.max_spectral_radius_at
+        } else {
+            v.max_eigenvalue_at
+        },
+    }
 }
 
 /// Certifies a given gain `L` with LMI (41) where `J = FL` (see the module docs).
 pub fn analyse(
     plant: &Plant,
-    window: &Window,
+    window: &SamplingWindow,
     l: MatRef<'_, f64>,
     options: &DesignOptions,
 ) -> Result<Analysis, Error> {
     plant.check_gain(l)?;
-    check_pieces(options.pieces)?;
+    options.validate()?;
     let embedding = embed_split(
         plant.a(),
         window.t1(),
@@ -339,5 +391,6 @@ pub fn analyse(
         verification,
         embedding,
         stats: r.stats,
+        size: r.size,
     })
 }

@@ -22,7 +22,9 @@ use faer::c64;
 use sporadic_linalg::{InputError, LinalgError, PbhOptions, expm_scaled, pbh_detectability};
 
 use crate::error::Error;
-use crate::system::{Plant, Window};
+use crate::grid::window_grid;
+use crate::system::Plant;
+use sporadic_model::SamplingWindow;
 
 /// Options of [`check_detectability`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -32,6 +34,14 @@ pub struct DetectabilityOptions {
     /// Tolerances of the PBH test: smallest admissible margin `rank_tol` (default `1e-8`); eigenvalues
     /// of `e^{Av}` with `|μ| ≥ 1 − unit_circle_tol` are treated as non-decaying (default `1e-9`).
     pub pbh: PbhOptions,
+}
+
+impl DetectabilityOptions {
+    /// Checks the options; the error names the offending field (`rank_tol`, `unit_circle_tol`;
+    /// `grid_points = 0` is taken as 1).
+    pub fn validate(&self) -> Result<(), Error> {
+        Ok(self.pbh.validate()?)
+    }
 }
 
 impl Default for DetectabilityOptions {
@@ -68,16 +78,16 @@ const MAX_ALIASING_INSTANTS: usize = 100_000;
 /// offending `v` and eigenvalue when it fails.
 pub fn check_detectability(
     plant: &Plant,
-    window: &Window,
+    window: &SamplingWindow,
     options: &DetectabilityOptions,
 ) -> Result<DetectabilityReport, Error> {
-    options.pbh.validate()?;
+    options.validate()?;
     let a = plant.a();
     let lambdas = a.eigenvalues().map_err(|_| LinalgError::NoConvergence {
         what: "eigenvalues of A".into(),
     })?;
     let aliasing = aliasing_instants(&lambdas, window, options.pbh.unit_circle_tol)?;
-    let mut points = window.grid(options.grid_points.max(1));
+    let mut points = window_grid(window, options.grid_points.max(1))?;
     points.extend_from_slice(&aliasing);
     points.sort_by(f64::total_cmp);
     points.dedup();
@@ -94,7 +104,7 @@ pub fn check_detectability(
             .iter()
             .map(|l| (l * c64::new(v, 0.0)).exp())
             .collect();
-        let test = pbh_detectability(e.as_ref(), plant.m(), &mus, &options.pbh)?;
+        let test = pbh_detectability(e.as_ref(), plant.c(), &mus, &options.pbh)?;
         let Some(worst) = test.worst else { continue };
         if worst.margin < report.min_margin {
             report.min_margin = worst.margin;
@@ -117,7 +127,7 @@ pub fn check_detectability(
 /// `v |Im λ − Im λ'| = 2πk`, `k ≥ 1`.
 fn aliasing_instants(
     lambdas: &[c64],
-    window: &Window,
+    window: &SamplingWindow,
     unit_circle_tolerance: f64,
 ) -> Result<Vec<f64>, Error> {
     // |e^{λv}| ≥ 1 − tol for some v ≤ T2 ⇔ Re λ ≥ ln(1 − tol)/T1 at worst.

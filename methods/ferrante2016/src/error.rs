@@ -1,7 +1,11 @@
 //! Typed errors of `sporadic-ferrante2016`. Bad input is reported with what was wrong and where;
 //! nothing in this crate panics on user data.
 
+use sporadic_embed::EmbedError;
 use sporadic_linalg::{InputError, LinalgError};
+use sporadic_model::Reason;
+use sporadic_sdp::SdpError;
+use sporadic_sdp::lmi::ModelError;
 
 /// Everything that can go wrong while designing, certifying, bounding or simulating the observer.
 #[derive(Debug, thiserror::Error)]
@@ -64,7 +68,8 @@ pub enum Error {
     /// The LMI returned a certificate, but the independent grid check of (12) or of the Schur
     /// property of `e^{Av}(I − LM)` failed (the design is not returned as valid).
     #[error(
-        "a-posteriori verification failed: max lambda_max of (12) = {max_eigenvalue:e} at v = {at},          max spectral radius of e^(Av)(I-LM) = {max_spectral_radius} at v = {radius_at}"
+        "a-posteriori verification failed: max lambda_max of (12) = {max_eigenvalue:e} at v = {at}, \
+         max spectral radius of e^(Av)(I-LM) = {max_spectral_radius} at v = {radius_at}"
     )]
     VerificationFailed {
         /// Largest eigenvalue of (12)'s left-hand side on the grid.
@@ -75,6 +80,9 @@ pub enum Error {
         max_spectral_radius: f64,
         /// Where.
         radius_at: f64,
+        /// The inter-sample time where the failing test fails: `at` when (12) fails, else
+        /// `radius_at`.
+        tau: f64,
     },
     /// Writing an output file failed.
     #[error("I/O error on {path}: {source}")]
@@ -96,4 +104,80 @@ pub enum Error {
     /// An error from the hybrid simulator or the figure writer.
     #[error("simulation: {0}")]
     Sim(#[from] sporadic_sim::SimError),
+}
+
+impl Error {
+    /// The verdict on the plant (and window) this error is, as a typed [`Reason`] keeping the
+    /// message: `None` for bad input and for failures that are not verdicts (I/O, simulation,
+    /// an internal error of the LMI model).
+    ///
+    /// | error | reason |
+    /// | --- | --- |
+    /// | [`Error::NotDetectable`] at `v` | [`Reason::Undetectable`] with `tau = v` |
+    /// | [`Error::Infeasible`] | [`Reason::InfeasibleLmi`] |
+    /// | [`Error::Inconclusive`] | [`Reason::SolverInconclusive`] |
+    /// | [`Error::VerificationFailed`] | [`Reason::VerificationFailed`] with its `tau` |
+    /// | [`Error::ConditionViolated`] | [`Reason::VerificationFailed`] without `tau` |
+    /// | [`Error::Singular`] (`F` of the certificate) | [`Reason::NumericalFailure`] |
+    /// | too many vertices, unreachable Taylor tolerance | [`Reason::BudgetExhausted`] |
+    /// | a kernel's overflow, non-convergence, singularity, non-finite data | [`Reason::NumericalFailure`] |
+    pub fn reason(&self) -> Option<Reason> {
+        let message = self.to_string();
+        Some(match self {
+            Error::NotDetectable { v, .. } => Reason::Undetectable { tau: *v, message },
+            Error::Infeasible { .. } => Reason::InfeasibleLmi { message },
+            Error::Inconclusive { .. } => Reason::SolverInconclusive { message },
+            Error::VerificationFailed { tau, .. } => Reason::VerificationFailed {
+                tau: Some(*tau),
+                message,
+            },
+            Error::ConditionViolated { .. } => Reason::VerificationFailed { tau: None, message },
+            Error::Singular { .. } => Reason::NumericalFailure { message },
+            Error::Embed(EmbedError::TooManyVertices { .. })
+            | Error::Embed(EmbedError::ToleranceUnreachable { .. }) => {
+                Reason::BudgetExhausted { message }
+            }
+            Error::Embed(EmbedError::Numerical(_)) => Reason::NumericalFailure { message },
+            Error::Linalg(e) | Error::Embed(EmbedError::Linalg(e))
+                if !matches!(e, LinalgError::Input(_) | LinalgError::InvalidArgument(_)) =>
+            {
+                Reason::NumericalFailure { message }
+            }
+            Error::Lmi(
+                ModelError::NonFinite { .. } | ModelError::Solver(SdpError::NonFinite { .. }),
+            ) => Reason::NumericalFailure { message },
+            Error::Lmi(ModelError::Linalg(e))
+                if !matches!(e, LinalgError::Input(_) | LinalgError::InvalidArgument(_)) =>
+            {
+                Reason::NumericalFailure { message }
+            }
+            _ => return None,
+        })
+    }
+
+    /// Whether the error is bad input (dimensions, NaN, a parameter out of range, bad options),
+    /// as opposed to a verdict ([`Error::reason`]) or a failure that is neither.
+    pub fn is_input(&self) -> bool {
+        let linalg =
+            |e: &LinalgError| matches!(e, LinalgError::Input(_) | LinalgError::InvalidArgument(_));
+        match self {
+            Error::Input(_) => true,
+            Error::Linalg(e) => linalg(e),
+            Error::Embed(e) => match e {
+                EmbedError::Input(_)
+                | EmbedError::InvalidArgument(_)
+                | EmbedError::InvalidBounds { .. } => true,
+                EmbedError::Linalg(e) => linalg(e),
+                _ => false,
+            },
+            Error::Lmi(e) => match e {
+                ModelError::Input(_)
+                | ModelError::InvalidArgument(_)
+                | ModelError::Solver(SdpError::InvalidSettings(_)) => true,
+                ModelError::Linalg(e) => linalg(e),
+                _ => false,
+            },
+            _ => false,
+        }
+    }
 }

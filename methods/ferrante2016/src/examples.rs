@@ -5,7 +5,8 @@ use std::f64::consts::E;
 use faer::{Mat, mat};
 
 use crate::error::Error;
-use crate::system::{Plant, Window};
+use crate::system::Plant;
+use sporadic_model::SamplingWindow;
 
 /// Example 1: scalar plant `A = 1`, `M = 1`, periodic sampling `T1 = T2 = 1`, with the hand-picked
 /// Lyapunov matrix `P = 1` and gain `L = 1.1 − e^{−1} ≈ 0.7321` (satisfying `|1 − L| < e^{−1}`).
@@ -14,7 +15,7 @@ pub struct Example1 {
     /// The pair `(A, M) = (1, 1)`.
     pub plant: Plant,
     /// `[T1, T2] = [1, 1]`.
-    pub window: Window,
+    pub window: SamplingWindow,
     /// `L = 1.1 − e^{−1}`.
     pub l: Mat<f64>,
     /// `P = 1`.
@@ -39,7 +40,7 @@ pub mod example1_paper {
 pub fn example1() -> Result<Example1, Error> {
     Ok(Example1 {
         plant: Plant::new(mat![[1.0]].as_ref(), mat![[1.0]].as_ref())?,
-        window: Window::new(1.0, 1.0)?,
+        window: SamplingWindow::new(1.0, 1.0)?,
         l: mat![[1.1 - 1.0 / E]],
         p: mat![[1.0]],
     })
@@ -55,7 +56,7 @@ pub struct Example2 {
     /// `B̄ = (0, 0, 1, 0, 0)` (as printed: the force acts on `z3`, the speed of the first mass).
     pub b: Mat<f64>,
     /// `[T1, T2] = [0.2, 3]`.
-    pub window: Window,
+    pub window: SamplingWindow,
     /// The published gain `L = (0.77524, 0.18123, −0.12123, −0.17406, 0.22469)`.
     pub l_paper: Mat<f64>,
 }
@@ -76,7 +77,7 @@ pub fn example2() -> Result<Example2, Error> {
     Ok(Example2 {
         plant: Plant::new(a.as_ref(), m.as_ref())?,
         b: mat![[0.0], [0.0], [1.0], [0.0], [0.0]],
-        window: Window::new(0.2, 3.0)?,
+        window: SamplingWindow::new(0.2, 3.0)?,
         l_paper: Mat::from_fn(5, 1, |i, _| EXAMPLE2_L_PAPER[i]),
     })
 }

@@ -13,6 +13,13 @@ use sporadic_linalg::InputError;
 use sporadic_linalg::{expm_scaled, expm_stepper, golden_section};
 
 use crate::error::Error;
+use sporadic_model::SamplingWindow;
+
+/// `points` equally spaced inter-sample times covering `[T1, T2]` (both ends included; the single
+/// point `T1` when the window is periodic or `points ≤ 1`).
+pub(crate) fn window_grid(window: &SamplingWindow, points: usize) -> Result<Vec<f64>, Error> {
+    Ok(Interval::new(window.t1(), window.t2())?.grid(points))
+}
 
 /// Whether the smallest or the largest value is sought.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

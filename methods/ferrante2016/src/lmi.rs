@@ -17,8 +17,9 @@
 //! iff the optimal margin is positive.
 //!
 //! The same instance can instead be solved for the certificate with the smallest `tr P` under the
-//! well-scaled non-strict normalisation `P ⪰ I`, `Φ_i ⪯ −I` (spec 000 §2 "SDP formulation advice");
-//! the bound constants of §4 are reported for that certificate.
+//! well-scaled non-strict normalisation `P ⪰ I`, `Φ_i ⪯ −I` (equivalent to the strict LMIs by
+//! homogeneity, and better scaled than a margin-normalised point); the bound constants of
+//! Theorems 1–2 are reported for that certificate.
 //!
 //! **Embeddings with a remainder** (`e^{Av} ∈ co{X_i} ⊕ {‖Δ‖ ≤ δ}`, e.g. the Taylor polytope).
 //! `Φ` depends on `E(v)` only through the `(3,1)` block `P E`, so `Φ(X + Δ) = Φ(X) + He(E₃ P Δ E₁')`
@@ -47,10 +48,9 @@
 //! Embeddings with a remainder always use the robust (41) form above.
 
 use sporadic_linalg::InputError;
-use std::time::Duration;
+use sporadic_model::SolverStats;
 
 use faer::{Mat, MatRef};
-use sporadic_sdp::Status;
 use sporadic_sdp::lmi::{
     Compiled, Expr, FeasibilityOptions, Model, Outcome, Param, SolveOptions, Var,
 };
@@ -78,24 +78,11 @@ pub(crate) enum GainTerm {
     Fixed(Mat<f64>),
 }
 
-/// Solver statistics of one LMI solve.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SolverStats {
-    /// What the LMI layer established.
-    pub outcome: Outcome,
-    /// Its explanation (deciding constraint or certificate).
-    pub reason: String,
-    /// Interior-point status.
-    pub status: Status,
-    /// Interior-point iterations.
-    pub iterations: usize,
-    /// Wall time of the interior-point solve.
-    pub solve_time: Duration,
-    /// Relative duality gap at the returned point.
-    pub rel_gap: f64,
-    /// Number of scalar decision variables of the model (`n(n+1)/2 + n² + nq`, plus `μ` for a
-    /// robust model; the margin `t` is not counted).
-    pub decision_scalars: usize,
+/// The size of one instance of LMI (41): how many vertex LMIs, of which order. (The solver
+/// statistics of a solve are a [`SolverStats`]; its `decision_scalars` counts
+/// `n(n+1)/2 + n² + nq` scalars, plus `μ` for a robust model, the margin `t` not counted.)
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct LmiSize {
     /// Number of vertex LMIs `ν`.
     pub lmi_count: usize,
     /// Order of each vertex LMI (`3n`; `2n` in the reduced form; `4n` with a remainder).
@@ -116,7 +103,7 @@ pub(crate) enum Objective<'a> {
     /// Margin maximisation of the strict LMIs (every variable normalised, see the module docs).
     Margin(&'a FeasibilityOptions),
     /// `min tr P` subject to the well-scaled non-strict form `P ⪰ I`, `Φ_i ⪯ −I` (equivalent to the
-    /// strict LMIs by homogeneity; spec 000 §5 uses this certificate for the bound constants).
+    /// strict LMIs by homogeneity; the reference certificate of the bound constants).
     MinTrace(&'a SolveOptions),
 }
 
@@ -135,6 +122,7 @@ pub(crate) struct LmiResult {
     /// Robustness multiplier `μ` (when the remainder is positive).
     pub mu: Option<f64>,
     pub stats: SolverStats,
+    pub size: LmiSize,
 }
 
 /// A compiled instance of (41) whose vertices can be replaced (same count, same remainder sign)
@@ -171,7 +159,7 @@ impl Lmi41 {
         let (gain, coupling) = match gain {
             GainTerm::Free => {
                 let j = m.full("J", n, plant.q());
-                let coupling = &f - &j * plant.m().to_owned();
+                let coupling = &f - &j * plant.c().to_owned();
                 (GainValue::Variable(j), coupling)
             }
             GainTerm::Fixed(l) => {
@@ -284,14 +272,8 @@ impl Lmi41 {
         } else {
             sol.outcome == Outcome::Feasible && sol.margin.is_some_and(|t| t > 0.0)
         };
-        let stats = SolverStats {
-            outcome: sol.outcome,
-            reason: sol.reason.clone(),
-            status: sol.sdp.status,
-            iterations: sol.sdp.iterations,
-            solve_time: sol.sdp.solve_time,
-            rel_gap: sol.sdp.measures.rel_gap,
-            decision_scalars: self.compiled.model().num_scalars(),
+        let stats = SolverStats::of(&sol, self.compiled.model().num_scalars());
+        let size = LmiSize {
             lmi_count: self.vertices.len(),
             block_size: self.block_size,
         };
@@ -303,6 +285,7 @@ impl Lmi41 {
             j,
             mu,
             stats,
+            size,
         })
     }
 }

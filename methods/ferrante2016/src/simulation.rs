@@ -46,7 +46,7 @@ pub fn simulate_observer<R: SamplingRule + ?Sized>(
         return Err(InputError::mismatch("rows of B vs n", plant.n(), b.nrows()).into());
     }
     let flow = LtiFlow::new(plant.a())?.with_input(b, input)?;
-    let m: Mat<f64> = plant.m().to_owned();
+    let m: Mat<f64> = plant.c().to_owned();
     let mut sampled = SampledPlant {
         flow: flow.clone(),
         output: LinearOutputs::new(vec![m.clone()])?,

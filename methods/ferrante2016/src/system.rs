@@ -1,27 +1,31 @@
-//! The data of Problem 1 (Ferrante et al. 2016, §2): the pair `(A, M)` of plant (1) and the window
-//! `[T1, T2]` of admissible inter-sample times (2).
+//! The data of Problem 1 (Ferrante et al. 2016, §2): the pair `(A, M)` of plant (1). The window
+//! `[T1, T2]` of admissible inter-sample times (2) is a [`sporadic_model::SamplingWindow`].
+//!
+//! The paper calls the output matrix `M` (`y = Mz`); this crate's API calls it `C`, as every
+//! other method of `sporadic` does ([`Plant::new`]'s `c`, [`Plant::c`]).
 //!
 //! The input matrix `B` does not enter the error dynamics (5), so the design and analysis only need
-//! `(A, M)`; simulations of the plant/observer pair take `B` separately.
+//! `(A, C)`; simulations of the plant/observer pair take `B` separately.
 
 use faer::{Mat, MatRef};
-use sporadic_embed::Interval;
 use sporadic_linalg::InputError;
-
-use sporadic_linalg::input::{LowerEnd, check_finite, check_window};
+use sporadic_linalg::input::check_finite;
 
 use crate::error::Error;
 
-/// The pair `(A, M)` of plant (1): `ż = Az + Bu`, `y = Mz`, with `A ∈ R^{n×n}`, `M ∈ R^{q×n}`.
+/// The pair `(A, C)` of plant (1): `ż = Az + Bu`, `y = Cz`, with `A ∈ R^{n×n}`, `C ∈ R^{q×n}`
+/// (`C` is the paper's `M`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Plant {
     a: Mat<f64>,
-    m: Mat<f64>,
+    c: Mat<f64>,
 }
 
 impl Plant {
-    /// Validates `A` (square, non-empty, finite) and `M` (`q × n` with `q ≥ 1`, finite).
-    pub fn new(a: MatRef<'_, f64>, m: MatRef<'_, f64>) -> Result<Self, Error> {
+    /// Validates `A` (square, non-empty, finite) and the output matrix `c` (the paper's `M`:
+    /// `q × n` with `q ≥ 1`, finite). Errors name the matrix as the paper does (`M`).
+    pub fn new(a: MatRef<'_, f64>, c: MatRef<'_, f64>) -> Result<Self, Error> {
+        let m = c;
         if a.nrows() != a.ncols() {
             return Err(Error::Input(InputError::NotSquare {
                 what: "A".into(),
@@ -44,7 +48,7 @@ impl Plant {
         check_finite(m, "M")?;
         Ok(Self {
             a: a.to_owned(),
-            m: m.to_owned(),
+            c: m.to_owned(),
         })
     }
 
@@ -53,9 +57,9 @@ impl Plant {
         self.a.as_ref()
     }
 
-    /// The output matrix `M`.
-    pub fn m(&self) -> MatRef<'_, f64> {
-        self.m.as_ref()
+    /// The output matrix `C` (the paper's `M`).
+    pub fn c(&self) -> MatRef<'_, f64> {
+        self.c.as_ref()
     }
 
     /// State dimension `n`.
@@ -65,7 +69,7 @@ impl Plant {
 
     /// Output dimension `q`.
     pub fn q(&self) -> usize {
-        self.m.nrows()
+        self.c.nrows()
     }
 
     /// Checks that `L` is a finite `n × q` matrix.
@@ -108,54 +112,12 @@ impl Plant {
         Ok(())
     }
 
-    /// The jump matrix `I − LM` of the error dynamics (5).
+    /// The jump matrix `I − LC` of the error dynamics (5) (`I − LM` in the paper).
     pub fn reset_matrix(&self, l: MatRef<'_, f64>) -> Result<Mat<f64>, Error> {
         self.check_gain(l)?;
-        let lm = l * self.m();
+        let lm = l * self.c();
         Ok(Mat::from_fn(self.n(), self.n(), |i, j| {
             f64::from(u8::from(i == j)) - lm[(i, j)]
         }))
-    }
-}
-
-/// The window `[T1, T2]` of inter-sample times of (2), with `0 < T1 ≤ T2 < ∞`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Window {
-    interval: Interval,
-}
-
-impl Window {
-    /// Validates `0 < T1 ≤ T2 < ∞` (`T1 > 0` excludes Zeno behaviour, §2.1).
-    pub fn new(t1: f64, t2: f64) -> Result<Self, Error> {
-        check_window("sampling window", t1, t2, LowerEnd::Positive)?;
-        Ok(Self {
-            interval: Interval::new(t1, t2)?,
-        })
-    }
-
-    /// Minimal inter-sample time `T1`.
-    pub fn t1(&self) -> f64 {
-        self.interval.t1()
-    }
-
-    /// Maximal inter-sample time `T2`.
-    pub fn t2(&self) -> f64 {
-        self.interval.t2()
-    }
-
-    /// Whether `T1 = T2` (periodic sampling).
-    pub fn is_periodic(&self) -> bool {
-        self.interval.is_point()
-    }
-
-    /// `points` equally spaced inter-sample times covering `[T1, T2]` (both ends included; a single
-    /// point `T1` when the window is periodic or `points ≤ 1`).
-    pub fn grid(&self, points: usize) -> Vec<f64> {
-        self.interval.grid(points)
-    }
-
-    /// The window as an [`Interval`] of `sporadic-embed`.
-    pub fn interval(&self) -> Interval {
-        self.interval
     }
 }

@@ -15,7 +15,8 @@ use sporadic_linalg::{max_eigenvalue, spectral_radius};
 use crate::bounds::congruence;
 use crate::error::Error;
 use crate::grid::{Sense, extremum};
-use crate::system::{Plant, Window};
+use crate::system::Plant;
+use sporadic_model::SamplingWindow;
 
 /// Options of [`verify`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -26,6 +27,22 @@ pub struct VerifyOptions {
     /// Relative safety margin: (12) passes when `λmax < −tolerance·‖P‖`, the spectral test when
     /// `ρ < 1 − tolerance`. Default `1e-9`.
     pub tolerance: f64,
+}
+
+impl VerifyOptions {
+    /// Checks the options; the error names the offending field (`tolerance`: finite, `≥ 0`).
+    /// (`grid_points = 0` is taken as 1.)
+    pub fn validate(&self) -> Result<(), Error> {
+        if !(self.tolerance.is_finite() && self.tolerance >= 0.0) {
+            return Err(InputError::parameter(
+                "tolerance",
+                self.tolerance,
+                "must be a nonnegative number",
+            )
+            .into());
+        }
+        Ok(())
+    }
 }
 
 impl Default for VerifyOptions {
@@ -68,21 +85,14 @@ impl Verification {
 /// Checks (12) and the Schur property of `e^{Av}(I − LM)` on a dense grid of `[T1, T2]`.
 pub fn verify(
     plant: &Plant,
-    window: &Window,
+    window: &SamplingWindow,
     l: MatRef<'_, f64>,
     p: MatRef<'_, f64>,
     options: &VerifyOptions,
 ) -> Result<Verification, Error> {
     plant.check_lyapunov_matrix(p)?;
     let reset = plant.reset_matrix(l)?;
-    if !(options.tolerance.is_finite() && options.tolerance >= 0.0) {
-        return Err(InputError::parameter(
-            "tolerance",
-            options.tolerance,
-            "must be a nonnegative number",
-        )
-        .into());
-    }
+    options.validate()?;
     let (a, t1, t2) = (plant.a(), window.t1(), window.t2());
     let pts = options.grid_points.max(1);
     let lhs = extremum(a, t1, t2, pts, Sense::Max, |_, e| {

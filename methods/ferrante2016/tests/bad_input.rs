@@ -3,7 +3,7 @@
 use faer::{Mat, mat};
 use sporadic_ferrante2016::examples::{example1, example2};
 use sporadic_ferrante2016::{
-    BoundOptions, DesignOptions, DetectabilityOptions, Error, Plant, VerifyOptions, Window,
+    BoundOptions, DesignOptions, DetectabilityOptions, Error, Plant, SamplingWindow, VerifyOptions,
     analyse, bound_constants, check_detectability, design, verify,
 };
 use sporadic_linalg::InputError;
@@ -19,13 +19,13 @@ fn windows() {
     ] {
         assert!(
             matches!(
-                Window::new(t1, t2),
-                Err(Error::Input(InputError::InvalidWindow { .. }))
+                SamplingWindow::new(t1, t2),
+                Err(InputError::InvalidWindow { .. })
             ),
             "[{t1}, {t2}] accepted"
         );
     }
-    assert!(Window::new(1.0, 1.0).unwrap().is_periodic());
+    assert!(SamplingWindow::new(1.0, 1.0).unwrap().is_periodic());
 }
 
 #[test]
@@ -155,7 +155,7 @@ fn undetectable_pair_and_bad_options() {
         mat![[0.0, 1.0]].as_ref(),
     )
     .unwrap();
-    let w = Window::new(0.1, 1.0).unwrap();
+    let w = SamplingWindow::new(0.1, 1.0).unwrap();
     assert!(matches!(
         design(&plant, &w, &DesignOptions::default()),
         Err(Error::NotDetectable { .. })

@@ -5,7 +5,9 @@ use std::f64::consts::PI;
 
 use faer::mat;
 use sporadic_ferrante2016::examples::example2;
-use sporadic_ferrante2016::{DetectabilityOptions, Error, Plant, Window, check_detectability};
+use sporadic_ferrante2016::{
+    DetectabilityOptions, Error, Plant, SamplingWindow, check_detectability,
+};
 
 #[test]
 fn example2_is_detectable_although_observability_is_lost() {
@@ -14,12 +16,12 @@ fn example2_is_detectable_although_observability_is_lost() {
     // Only the bias mode λ = 0 is non-decaying: no aliasing instants, comfortable margin.
     assert!(r.aliasing_instants.is_empty());
     assert!(r.min_margin > 1e-3, "margin {}", r.min_margin);
-    // Observability of (e^{Av}, M) is lost at v = π/1.6331702409 (spec §5): the observability
+    // Observability of (e^{Av}, M) is lost at v = π/1.6331702409: the observability
     // matrix there is rank deficient, yet the check above passed.
     let v = PI / 1.6331702409;
     let e = sporadic_linalg::expm_scaled(ex.plant.a(), v).unwrap();
     let mut obs = faer::Mat::<f64>::zeros(5, 5);
-    let mut row = ex.plant.m().to_owned();
+    let mut row = ex.plant.c().to_owned();
     for k in 0..5 {
         for j in 0..5 {
             obs[(k, j)] = row[(0, j)];
@@ -43,7 +45,7 @@ fn unobservable_unstable_mode_is_rejected() {
         mat![[0.0, 1.0]].as_ref(),
     )
     .unwrap();
-    let w = Window::new(0.5, 1.0).unwrap();
+    let w = SamplingWindow::new(0.5, 1.0).unwrap();
     match check_detectability(&plant, &w, &DetectabilityOptions::default()) {
         Err(Error::NotDetectable { modulus, .. }) => assert!(modulus > 1.0),
         other => panic!("expected NotDetectable, got {other:?}"),
@@ -65,7 +67,7 @@ fn defective_unobservable_mode_is_rejected() {
         mat![[0.0, 1.0]].as_ref(),
     )
     .unwrap();
-    let w = Window::new(0.1, 2.0).unwrap();
+    let w = SamplingWindow::new(0.1, 2.0).unwrap();
     assert!(matches!(
         check_detectability(&plant, &w, &DetectabilityOptions::default()),
         Err(Error::NotDetectable { .. })
@@ -93,11 +95,11 @@ fn pathological_sampling_of_an_oscillator_is_found_off_grid() {
         grid_points: 3,
         ..Default::default()
     };
-    match check_detectability(&plant, &Window::new(3.0, 3.5).unwrap(), &opts) {
+    match check_detectability(&plant, &SamplingWindow::new(3.0, 3.5).unwrap(), &opts) {
         Err(Error::NotDetectable { v, .. }) => assert!((v - PI).abs() < 1e-12, "v = {v}"),
         other => panic!("expected NotDetectable at π, got {other:?}"),
     }
-    let ok = check_detectability(&plant, &Window::new(1.0, 3.0).unwrap(), &opts).unwrap();
+    let ok = check_detectability(&plant, &SamplingWindow::new(1.0, 3.0).unwrap(), &opts).unwrap();
     assert!(ok.aliasing_instants.is_empty());
 }
 

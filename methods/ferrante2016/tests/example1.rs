@@ -1,5 +1,5 @@
 //! Example 1 of Ferrante et al. (2016): scalar plant A = M = 1, T1 = T2 = 1, P = 1, L = 1.1 − e^{−1}.
-//! Expected values are closed forms (spec §5, §6 checks 2 and 8) and the paper's printed digits.
+//! Expected values are closed forms and the paper's printed digits.
 
 use std::f64::consts::E;
 
@@ -39,7 +39,7 @@ fn theorem1_constants_match_closed_forms_and_paper() {
     assert_relative_eq!(c.theta, theta, max_relative = 1e-12);
     assert_relative_eq!(c.gamma, theta.abs() / 2.0, max_relative = 1e-12);
     assert_relative_eq!(c.r, theta.abs() / 2.0, max_relative = 1e-12);
-    // Spec §6.2 [ours] values (1e-6 relative).
+    // Independent [ours] values (1e-6 relative).
     assert_relative_eq!(c.beta, 0.4697658047, max_relative = 1e-8);
     assert_relative_eq!(c.theta, -0.0656867943, max_relative = 1e-8);
     assert_relative_eq!(c.gamma, 0.0328433971, max_relative = 1e-8);
@@ -79,7 +79,7 @@ fn theorem2_constants_match_closed_forms() {
         l * (4.0 * rho * E * E / beta).sqrt(),
         max_relative = 1e-12
     );
-    // Spec §6.8 [ours].
+    // Independent [ours] values.
     assert_relative_eq!(c.theta_eta, -0.0323041497, max_relative = 1e-8);
     assert_relative_eq!(c.rho_derived, 38.847523, max_relative = 1e-7);
     assert_relative_eq!(c.noise_gain, 36.194956, max_relative = 1e-7);
@@ -110,7 +110,7 @@ fn condition12_window_of_gains() {
 
 #[test]
 fn lmi41_certifies_exactly_the_admissible_gains() {
-    // Spec §6.3: X_1 = e, feasible iff |1 − L| < e^{−1}.
+    // X_1 = e, feasible iff |1 − L| < e^{−1}.
     let ex = example1().unwrap();
     let opts = DesignOptions::default();
     let certify = |l: f64| analyse(&ex.plant, &ex.window, faer::mat![[l]].as_ref(), &opts).unwrap();
@@ -127,7 +127,7 @@ fn lmi41_certifies_exactly_the_admissible_gains() {
 
 #[test]
 fn bound_holds_along_the_simulated_solution_with_equality_at_first_jump() {
-    // Spec §6.9: ε(0,0) = 1, τ(0,0) = 1; per-period contraction (1 − L)e; bound touched at t = 1⁻.
+    // ε(0,0) = 1, τ(0,0) = 1; per-period contraction (1 − L)e; bound touched at t = 1⁻.
     let ex = example1().unwrap();
     let c = bound_constants(
         &ex.plant,

@@ -1,6 +1,6 @@
 //! Example 2 of Ferrante et al. (2016): mass–spring system with sensor bias, T1 = 0.2, T2 = 3.
-//! Expected values: the paper (published L, feasibility of (41) on [0.2, 3]) and the spec's
-//! independent [ours] numbers (Python/scipy/Clarabel), spec §5 and §6 checks 5–7 and 9.
+//! Expected values: the paper (published L, feasibility of (41) on [0.2, 3]) and independent
+//! [ours] numbers (Python/scipy/Clarabel).
 
 use approx::assert_relative_eq;
 use sporadic_embed::Containment;
@@ -14,14 +14,14 @@ use sporadic_sim::{Periodic, SimOptions, SimRng, UniformRandom};
 fn design_is_feasible_and_verified() {
     let ex = example2().unwrap();
     let d = design(&ex.plant, &ex.window, &DesignOptions::default()).unwrap();
-    // Spec §5: K = 5 coefficients, the λ = 0 one constant ⇒ 16 distinct vertices, 15×15 LMIs.
+    // K = 5 coefficients, the λ = 0 one constant ⇒ 16 distinct vertices, 15×15 LMIs.
     assert_eq!(d.embedding.vertex_count(), 16);
     assert_eq!(d.embedding.containment(), &Containment::Guaranteed);
-    assert_eq!(d.stats.lmi_count, 16);
-    assert_eq!(d.stats.block_size, 15);
+    assert_eq!(d.size.lmi_count, 16);
+    assert_eq!(d.size.block_size, 15);
     assert_eq!(d.stats.decision_scalars, 15 + 25 + 5);
     assert!(d.certificate.margin > 0.0);
-    // Spec §6.7: the returned L passes the 2801-point grid test of (12) (done inside design, redone here).
+    // the returned L passes the 2801-point grid test of (12) (done inside design, redone here).
     let v = verify(
         &ex.plant,
         &ex.window,
@@ -44,7 +44,7 @@ fn design_is_feasible_and_verified() {
 
 #[test]
 fn embedding_contains_the_exponential_curve() {
-    // Spec §6.5 (reduced sample): e^{Av} ∈ co{X_i} for random v ∈ [0.2, 3].
+    // Reduced sample: e^{Av} ∈ co{X_i} for random v ∈ [0.2, 3].
     let ex = example2().unwrap();
     let d = design(&ex.plant, &ex.window, &DesignOptions::default()).unwrap();
     let mut rng = SimRng::new(5);
@@ -59,7 +59,7 @@ fn embedding_contains_the_exponential_curve() {
 
 #[test]
 fn paper_gain_is_certified() {
-    // Spec §6.6.
+    // Reference value (±1e-4).
     let ex = example2().unwrap();
     let a = analyse(
         &ex.plant,
@@ -95,7 +95,7 @@ fn sq_ratio(arc: &sporadic_sim::HybridArc) -> f64 {
 #[test]
 fn simulated_error_converges_with_the_published_gain() {
     let ex = example2().unwrap();
-    // Slowest case of spec §6.9: all intervals 0.2, ε0 = ones: 3.86e-6 after 100 jumps.
+    // Slowest case: all intervals 0.2, ε0 = ones: 3.86e-6 after 100 jumps.
     let arc = simulate_error(
         &ex.plant,
         ex.l_paper.as_ref(),
@@ -106,7 +106,7 @@ fn simulated_error_converges_with_the_published_gain() {
     .unwrap();
     assert_eq!(arc.num_jumps(), 100);
     assert_relative_eq!(sq_ratio(&arc), 3.86e-6, max_relative = 5e-3);
-    // Uniform intervals, 5 random initial errors: ≲ 1e-16 after 100 jumps (spec: 1e-16…1e-20).
+    // Uniform intervals, 5 random initial errors: ≲ 1e-16 after 100 jumps (reference: 1e-16…1e-20).
     let mut rng = SimRng::new(7);
     for seed in 0..5u64 {
         let eps0: Vec<f64> = (0..5).map(|_| rng.uniform(-1.0, 1.0)).collect();
@@ -181,7 +181,7 @@ fn taylor_and_split_embeddings_are_selectable() {
     };
     let d = design(&ex.plant, &ex.window, &taylor).unwrap();
     assert!(d.embedding.remainder_bound() > 0.0);
-    assert_eq!(d.stats.block_size, 20);
+    assert_eq!(d.size.block_size, 20);
     assert!(d.certificate.robust_multiplier.unwrap() > 0.0);
     assert!(d.verification.passed());
     // The reduced 2n × 2n vertex form has the same feasible set: it certifies the published gain too.
@@ -190,7 +190,7 @@ fn taylor_and_split_embeddings_are_selectable() {
         ..Default::default()
     };
     let d = design(&ex.plant, &ex.window, &reduced).unwrap();
-    assert_eq!(d.stats.block_size, 10);
+    assert_eq!(d.size.block_size, 10);
     assert!(d.verification.passed());
     let a = analyse(&ex.plant, &ex.window, ex.l_paper.as_ref(), &reduced).unwrap();
     assert!(a.certified);
@@ -198,7 +198,7 @@ fn taylor_and_split_embeddings_are_selectable() {
 
 #[test]
 fn bound_constants_of_the_spec_certificate() {
-    // Spec §5 [ours]: for L_paper, the certificate P of `min tr P s.t. P ⪰ I, Φ_i ⪯ −I` (J = F·L_paper)
+    // Independent [ours] values: for L_paper, the certificate P of `min tr P s.t. P ⪰ I, Φ_i ⪯ −I` (J = F·L_paper)
     // gives α1 ≈ 0.01567, α2 ≈ 712.35, β ≈ 2.895, θ ≈ −0.004072 (scipy + Clarabel). Re-solve that
     // objective-mode SDP on our 16 vertices and compare the constants (4 printed digits).
     use sporadic_sdp::lmi::{Expr, Model, SolveOptions};

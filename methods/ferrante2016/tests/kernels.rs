@@ -6,8 +6,8 @@
 use faer::Mat;
 use proptest::prelude::*;
 use sporadic_ferrante2016::{
-    BoundOptions, DetectabilityOptions, Error, Plant, VerifyOptions, Window, bound_constants,
-    check_detectability, verify,
+    BoundOptions, DetectabilityOptions, Error, Plant, SamplingWindow, VerifyOptions,
+    bound_constants, check_detectability, verify,
 };
 use sporadic_linalg::{
     expm_scaled, lyap_discrete, max_eigenvalue, min_eigenvalue, spectral_radius,
@@ -22,7 +22,7 @@ fn random(rng: &mut SimRng, r: usize, c: usize, s: f64) -> Mat<f64> {
 /// `e^{AT}(I − LM)` is comfortably Schur, `P` solving `X'PX − P + I = 0` for it.
 struct Case {
     plant: Plant,
-    window: Window,
+    window: SamplingWindow,
     l: Mat<f64>,
     p: Mat<f64>,
 }
@@ -42,7 +42,7 @@ fn case(seed: u64, ratio: f64) -> Option<Case> {
     let p = lyap_discrete(closed.as_ref(), Mat::<f64>::identity(n, n).as_ref()).unwrap();
     Some(Case {
         plant,
-        window: Window::new(t, t * ratio).unwrap(),
+        window: SamplingWindow::new(t, t * ratio).unwrap(),
         l,
         p,
     })
@@ -119,7 +119,7 @@ proptest! {
         let l = random(&mut rng, n, 1, 1.5);
         let t = rng.uniform(0.1, 1.5);
         let plant = Plant::new(a.as_ref(), m.as_ref()).unwrap();
-        let w = Window::new(t, t).unwrap();
+        let w = SamplingWindow::new(t, t).unwrap();
         let closed = expm_scaled(a.as_ref(), t).unwrap() * plant.reset_matrix(l.as_ref()).unwrap();
         let rho = spectral_radius(closed.as_ref()).unwrap();
         prop_assume!((rho - 1.0).abs() > 1e-6);
@@ -157,7 +157,7 @@ proptest! {
         let q = random(&mut rng, n, n, 1.0).qr().compute_Q();
         let (a, m) = (q.transpose() * &a * &q, &m * &q);
         let t1 = rng.uniform(0.05, 1.0);
-        let w = Window::new(t1, t1 * rng.uniform(1.0, 3.0)).unwrap();
+        let w = SamplingWindow::new(t1, t1 * rng.uniform(1.0, 3.0)).unwrap();
         let plant = Plant::new(a.as_ref(), m.as_ref()).unwrap();
         let opts = DetectabilityOptions { grid_points: 51, ..Default::default() };
         let rejected = matches!(

@@ -6,8 +6,8 @@
 use faer::Mat;
 use proptest::prelude::*;
 use sporadic_ferrante2016::{
-    BoundOptions, Design, DesignOptions, Error, Plant, Window, bound_constants, check_bound,
-    design, simulate_error,
+    BoundOptions, Design, DesignOptions, Error, Plant, SamplingWindow, bound_constants,
+    check_bound, design, simulate_error,
 };
 use sporadic_sim::{
     Adversarial, HybridArc, JumpMap, Record, SamplingRule, SimOptions, SimRng, UniformRandom,
@@ -35,7 +35,7 @@ fn pre_jump_values(arc: &HybridArc, p: &Mat<f64>) -> Vec<f64> {
 
 fn check_run<R: SamplingRule>(
     plant: &Plant,
-    w: &Window,
+    w: &SamplingWindow,
     d: &Design,
     rule: &mut R,
     eps0: &[f64],
@@ -93,7 +93,7 @@ proptest! {
         ratio in 1.0f64..4.0,
     ) {
         let plant = random_plant(seed, n, q);
-        let w = Window::new(t1, t1 * ratio).unwrap();
+        let w = SamplingWindow::new(t1, t1 * ratio).unwrap();
         let d = match design(&plant, &w, &DesignOptions::default()) {
             Ok(d) => d,
             // Corollary 1 is only sufficient, and random pairs may be (nearly) undetectable.
@@ -128,7 +128,7 @@ fn most_random_cases_are_designable() {
     for seed in 0..12u64 {
         let plant = random_plant(seed, 2 + (seed as usize % 3), 1 + (seed as usize % 2));
         let t1 = rng.uniform(0.05, 0.5);
-        let w = Window::new(t1, t1 * rng.uniform(1.0, 4.0)).unwrap();
+        let w = SamplingWindow::new(t1, t1 * rng.uniform(1.0, 4.0)).unwrap();
         if design(&plant, &w, &DesignOptions::default()).is_ok() {
             ok += 1;
         }

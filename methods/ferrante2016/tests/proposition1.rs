@@ -1,4 +1,4 @@
-//! Proposition 1 (spec §6 check 4): at a fixed v, condition (12) holds iff some F makes (36)
+//! Proposition 1: at a fixed v, condition (12) holds iff some F makes (36)
 //! negative definite; and the congruence of (39) with S = [(I − LM); I] reproduces (12) exactly.
 //! The oracle for (12) is a direct eigenvalue computation; the one for (36) an SDP in F alone.
 

@@ -30,8 +30,9 @@ use sporadic_sdp::lmi::{Expr, FeasibilityOptions, Model, Outcome};
 use crate::error::Error;
 use crate::ipr::{MetzlerDecomposition, gamma_of_gain};
 use crate::polytope::{PolytopeOptions, norm2, taylor_polytope};
-use crate::system::{Plant, Window};
+use crate::system::Plant;
 use crate::verify::{GridCheck, GridOptions, verify_theorem1};
+use sporadic_model::SamplingWindow;
 
 /// Settings of the Theorem 1 analysis.
 #[derive(Debug, Clone, Default)]
@@ -79,7 +80,7 @@ pub struct Analysis {
 pub fn analyse(
     a_bar: MatRef<'_, f64>,
     gamma: MatRef<'_, f64>,
-    window: &Window,
+    window: &SamplingWindow,
     options: &AnalysisOptions,
 ) -> Result<Analysis, Error> {
     let n = check_square_finite(a_bar, "A-bar")?;
@@ -140,7 +141,7 @@ pub fn analyse(
 /// As [`analyse`], plus `L` not `n × p` or not finite.
 pub fn analyse_gain(
     plant: &Plant,
-    window: &Window,
+    window: &SamplingWindow,
     l: MatRef<'_, f64>,
     options: &AnalysisOptions,
 ) -> Result<Analysis, Error> {

@@ -74,6 +74,15 @@ pub enum Error {
     /// An error from the LMI modelling layer or the SDP solver.
     #[error("LMI model: {0}")]
     Lmi(#[from] sporadic_sdp::lmi::ModelError),
+    /// No LMI step of the Proposition 1 pipeline returned a finite point: the solver established
+    /// neither feasibility nor infeasibility (a verdict on the plant, not bad input).
+    #[error(
+        "solver inconclusive: every one of the {steps} LMI steps of the Proposition 1 pipeline returned a non-finite point"
+    )]
+    SolverInconclusive {
+        /// Number of LMI steps attempted.
+        steps: usize,
+    },
     /// An error from the hybrid simulator or the figure writer.
     #[error("simulation: {0}")]
     Sim(#[from] sporadic_sim::SimError),

@@ -5,7 +5,8 @@ use faer::{Mat, mat};
 
 use crate::error::Error;
 use crate::simulation::{Disturbance, Noise, Scenario};
-use crate::system::{Bounds, Plant, Window};
+use crate::system::{Bounds, Plant};
+use sporadic_model::SamplingWindow;
 
 /// The damping values of Table I.
 pub const TABLE1_DAMPING: [f64; 8] = [1.0, 0.9, 0.8, 0.7, 0.6, 0.5, 0.4, 0.3];
@@ -23,8 +24,8 @@ pub const TABLE1_TAU_MAX: [Option<f64>; 8] = [
     None,
 ];
 
-/// `τmin` of the example (the paper does not restate it for Table I; spec 004 §7 assumes the
-/// same value).
+/// `τmin` of the example (the paper does not restate it for Table I; the design window's value is
+/// assumed).
 pub const TAU_MIN: f64 = 0.04;
 
 /// `τmax` of the design example.
@@ -49,8 +50,8 @@ pub fn example_bounds() -> Bounds {
 }
 
 /// The design window `[0.04, 0.3]`.
-pub fn example_window() -> Window {
-    Window::new(TAU_MIN, TAU_MAX).expect("valid constant window")
+pub fn example_window() -> SamplingWindow {
+    SamplingWindow::new(TAU_MIN, TAU_MAX).expect("valid constant window")
 }
 
 /// The gain printed in §V: `Lᵀ = [−0.5004, −0.0494]`.

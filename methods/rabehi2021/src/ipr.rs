@@ -9,7 +9,7 @@
 //! A^M = d_A + (A − d_A)⁺   (Metzler),   A^N = A^M − A ≥ 0,   Ā = [[A^M, A^N], [A^N, A^M]].
 //! ```
 //!
-//! **Block structure** (not in the paper; spec 004 §4). Every matrix `[[X, Y], [Y, X]]` is
+//! **Block structure** (not in the paper). Every matrix `[[X, Y], [Y, X]]` is
 //! block-diagonalised by the orthogonal involution `T = (1/√2)[[I, I], [I, −I]]`:
 //! `T [[X, Y], [Y, X]] T = diag(X + Y, X − Y)` ([`pair_blocks`]). Hence `TĀT = diag(S, A)` with
 //! `S = A^M + A^N` and `TΓ(L)T = diag(|G|, G)`, `G = I + LC`: the interval *width* `x̄ − x̲` and the

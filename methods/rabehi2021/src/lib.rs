@@ -15,12 +15,41 @@
 //! * [`lyapunov`]: the constants of Theorem 1's proof and Lemma 1;
 //! * [`synthesis`]: Proposition 1 — convex restriction `F = I`, alternating LMI steps, sequential
 //!   convex inner approximation, Remark 6 re-verification with `Γ(L)`;
-//! * [`window`]: necessary limits on `τmax` and the bisection for the largest certified window;
-//!   [`table`]: Table I;
+//! * [`window`]: necessary limits on `τmax` and the largest certified window (thin code around
+//!   the shared search [`sporadic_model::search_upper`]); [`table`]: Table I;
 //! * [`width`]: the deterministic interval width, its periodic orbits and guaranteed bounds;
 //! * [`simulation`]: plant + observer with random admissible `d`, `v` and sampling, inclusion
 //!   check;
-//! * [`example`] and [`reproduce`](mod@reproduce): §V, Table I and Figures 1–2.
+//! * [`example`]: the data of §V (the reproduction of §V, Table I and Figures 1–2 is in
+//!   `sporadic-reproductions`);
+//! * [`Rabehi2021`]: the method behind the common contract [`ObserverMethod`] (design report
+//!   with gain, certificate, margin and checks; largest window; simulation).
+//!
+//! Designing through the contract, for a plant of one's own (a stable plant whose first state is
+//! measured, disturbance `|d_i| ≤ 0.1`, noise `|v| ≤ 0.01`, intervals in `[0.1, 1]`):
+//!
+//! ```
+//! use sporadic_rabehi2021::faer::mat;
+//! use sporadic_rabehi2021::sporadic_model::{Bounds, Plant};
+//! use sporadic_rabehi2021::{MethodOptions, ObserverMethod, Rabehi2021, Sampling, SamplingWindow};
+//!
+//! let plant = Plant::linear(
+//!     mat![[-1.0, 1.0], [0.0, -3.0]].as_ref(),
+//!     None,
+//!     mat![[1.0, 0.0]].as_ref(),
+//! )?
+//! .named("two-tank")
+//! .with_bounds(Bounds::new(vec![0.1, 0.1], vec![0.01])?)?;
+//! let sampling = Sampling::Synchronous(SamplingWindow::new(0.1, 1.0)?);
+//! let report = Rabehi2021::default().design(&plant, &sampling, &MethodOptions::default())?;
+//! assert!(report.status.is_certified());
+//! let l = report.gain("L").unwrap().to_mat();
+//! assert_eq!((l.nrows(), l.ncols()), (2, 1)); // L is n × p
+//! assert!(report.margin.unwrap().value > 0.0);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! Theorem 1 for the gain printed in §V, with the crate's own API:
 //!
 //! ```
 //! use sporadic_rabehi2021::analysis::{AnalysisOptions, analyse_gain};
@@ -38,6 +67,7 @@ mod error;
 pub mod example;
 pub mod ipr;
 pub mod lyapunov;
+mod method;
 pub mod observer;
 pub mod polytope;
 pub mod simulation;
@@ -48,5 +78,28 @@ pub mod verify;
 pub mod width;
 pub mod window;
 
+pub use analysis::{Analysis, AnalysisOptions, analyse, analyse_gain};
 pub use error::Error;
+pub use method::Rabehi2021;
+pub use observer::IntervalObserver;
+pub use polytope::PolytopeOptions;
+pub use simulation::{IntervalRun, simulate_interval};
+pub use synthesis::{Bmi44Check, Design, DesignStatus, NotCertified, SynthesisOptions, synthesise};
+pub use system::{Bounds, Plant};
+pub use window::{
+    TauMaxOptions, TauMaxSearch, largest_tau_max, largest_tau_max_for_gain, necessary_tau_max,
+};
+
+// The shared contract and the kernels this crate's API uses, so that a user needs only this
+// crate. The common plant of the contract is reached as `sporadic_model::Plant`: this crate's
+// `Plant` is the linear plant (2)–(3).
+pub use faer;
 pub use sporadic_embed::TaylorOrder;
+pub use sporadic_linalg::{InputError, LinalgError};
+pub use sporadic_model;
+pub use sporadic_model::{
+    DesignReport, MaxIntervalReport, MethodError, MethodOptions, NotApplicable, ObserverMethod,
+    Probe, Reason, Sampling, SamplingScenario, SamplingWindow, Scenario, SearchEnd, Status,
+    Trajectory, Verdict, WindowSearch, WindowSearchOptions,
+};
+pub use sporadic_sdp::lmi::{FeasibilityOptions, ModelError, SolveOptions};

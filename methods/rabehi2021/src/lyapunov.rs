@@ -18,8 +18,8 @@ use sporadic_linalg::input::check_square_finite;
 use sporadic_linalg::{expm_scaled, expm_stepper, max_eigenvalue, min_eigenvalue, sym_part};
 
 use crate::error::Error;
-use crate::system::Window;
 use crate::verify::{GridOptions, verify_theorem1};
+use sporadic_model::SamplingWindow;
 
 /// The constants of Theorem 1's proof for one certificate.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -65,7 +65,7 @@ pub fn theorem1_constants(
     a_bar: MatRef<'_, f64>,
     gamma: MatRef<'_, f64>,
     p: MatRef<'_, f64>,
-    window: &Window,
+    window: &SamplingWindow,
     points: usize,
     grid: &GridOptions,
 ) -> Result<Theorem1Constants, Error> {
@@ -82,7 +82,7 @@ pub fn theorem1_constants(
             reason: "(19) is not certified for this P, so Theorem 1 gives no constants".into(),
         }));
     }
-    let h = window.tau_max() / (points - 1) as f64;
+    let h = window.t2() / (points - 1) as f64;
     let mut stepper = expm_stepper(a_bar, 0.0, h, points - 1)?;
     let mut e = Mat::<f64>::zeros(n, n);
     let (mut l1, mut l2) = (f64::INFINITY, f64::NEG_INFINITY);
@@ -99,7 +99,7 @@ pub fn theorem1_constants(
         return Err(InputError::parameter("l1", l1, "P is not positive definite").into());
     }
     let theta1 = (1.0 - eta / l2).ln();
-    let tau_max = window.tau_max();
+    let tau_max = window.t2();
     let gamma_c = -theta1 / (1.0 + tau_max);
     let omega = tau_max * gamma_c;
     Ok(Theorem1Constants {

@@ -12,14 +12,14 @@
 //! is the single-piece construction of the paper (one polytope on the whole window), with a fixed
 //! order. The factor
 //! `e^{Āτmin}` is always kept: a hull containing `I` would make (44) infeasible whenever `Γ` has
-//! an eigenvalue `1` (spec 004 §5.3).
+//! an eigenvalue `1` (e.g. `G e_j = e_j` for an unmeasured state `j`).
 
 use faer::MatRef;
 use sporadic_embed::{Embedding, EmbeddingMethod, TaylorOptions, TaylorOrder, embed_split};
 use sporadic_linalg::InputError;
 
 use crate::error::Error;
-use crate::system::Window;
+use sporadic_model::SamplingWindow;
 
 /// How the Taylor polytope is built.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -46,7 +46,8 @@ impl Default for PolytopeOptions {
 
 impl PolytopeOptions {
     /// One Taylor polytope on the whole window with the fixed order `order` (the construction the
-    /// paper describes; spec 004 §6 uses `N = 10` for its Table I reference values).
+    /// paper describes; `N = 10` gives the reference values of Table I with the convex restriction
+    /// `F = I`).
     pub fn paper(order: usize) -> Self {
         Self {
             order: TaylorOrder::Fixed(order),
@@ -82,9 +83,13 @@ impl PolytopeOptions {
 }
 
 /// Number of pieces for a window under the options.
-pub(crate) fn piece_count(a_norm: f64, window: &Window, options: &PolytopeOptions) -> usize {
+pub(crate) fn piece_count(
+    a_norm: f64,
+    window: &SamplingWindow,
+    options: &PolytopeOptions,
+) -> usize {
     options.pieces.unwrap_or_else(|| {
-        let spread = a_norm * (window.tau_max() - window.tau_min());
+        let spread = a_norm * (window.t2() - window.t1());
         ((spread / options.max_piece_spread).ceil() as usize).max(1)
     })
 }
@@ -104,7 +109,7 @@ pub(crate) fn norm2(m: MatRef<'_, f64>) -> Result<f64, Error> {
 /// Invalid options, a bad `Ā`, or an embedding failure (e.g. an unreachable tolerance).
 pub fn taylor_polytope(
     a_bar: MatRef<'_, f64>,
-    window: &Window,
+    window: &SamplingWindow,
     options: &PolytopeOptions,
 ) -> Result<Embedding, Error> {
     options.validate()?;
@@ -115,8 +120,8 @@ pub fn taylor_polytope(
     });
     Ok(embed_split(
         a_bar,
-        window.tau_min(),
-        window.tau_max(),
+        window.t1(),
+        window.t2(),
         pieces,
         &method,
     )?)

@@ -20,7 +20,7 @@ use sporadic_sim::{
 
 use crate::error::Error;
 use crate::observer::IntervalObserver;
-use crate::system::Window;
+use sporadic_model::SamplingWindow;
 
 /// The realised measurement noise.
 #[derive(Debug, Clone, PartialEq)]
@@ -50,8 +50,8 @@ pub struct Disturbance {
     pub seed: u64,
 }
 
-/// Everything the paper leaves open about its simulation (spec 004 §7: initial state and
-/// enclosure, horizon, realised `d(t)`, sampling distribution).
+/// Everything the paper leaves open about its simulation (initial state and enclosure,
+/// horizon, realised `d(t)`, sampling distribution).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scenario {
     /// `x(0)`.
@@ -63,7 +63,7 @@ pub struct Scenario {
     /// Final time.
     pub horizon: f64,
     /// Inter-sample times are i.i.d. uniform in this window.
-    pub sampling: Window,
+    pub sampling: SamplingWindow,
     /// Seed of the sampling times.
     pub sampling_seed: u64,
     /// The realised disturbance (`None`: `d ≡ 0`).
@@ -99,7 +99,7 @@ pub struct IntervalRun {
     pub inclusion: Inclusion,
 }
 
-/// Absolute tolerance of the inclusion check (spec 004 §8 A9).
+/// Absolute tolerance of the inclusion check `x̲ ≤ x ≤ x̄` (round-off of the exact propagation).
 pub const INCLUSION_TOLERANCE: f64 = 1e-9;
 
 impl IntervalRun {
@@ -296,8 +296,8 @@ pub fn simulate_interval(
     };
     let mut sim_observer = observer.hybrid(input)?;
     let mut rule = UniformRandom::new(
-        scenario.sampling.tau_min(),
-        scenario.sampling.tau_max(),
+        scenario.sampling.t1(),
+        scenario.sampling.t2(),
         scenario.sampling_seed,
     )?;
     let mut options = SimOptions::new(scenario.horizon);

@@ -16,7 +16,7 @@
 //! minimise t   s.t.  Ψ_i ⪯ tI (i = 1..v),  p_min·I ⪯ P ⪯ p_max·I,  0 ≤ G1, G2 ≤ g_max,  (35b),
 //! ```
 //!
-//! so that the value `t` of every step is comparable (spec 004 §6):
+//! so that the value `t` of every step is comparable:
 //!
 //! 1. **Convex restriction** `F = I` ([`StepKind::ConvexRestriction`]): (44) is jointly
 //!    homogeneous of degree 1 in `(F, P)`, so `F = fI` with `f > 0` is `F = I` without loss of
@@ -39,7 +39,12 @@
 //! Every step's `t` is **recomputed in `f64`** from the returned matrices (`max_i λmax(Ψ_i)`);
 //! the best iterate is kept, and the log records every step. The run stops when (44) holds at
 //! the vertices and Theorem 1 is certified for `Γ(L)` (below), when the value stalls, or at the
-//! step limits; a run that does not get there is reported as **not certified**, with the reason.
+//! step limits; a run that does not get there is reported as **not certified**, with a typed
+//! reason ([`NotCertified`]): the value stalled at `t ≥ 0` ([`NotCertified::Infeasible`]), the
+//! step limits ran out while it was still decreasing ([`NotCertified::BudgetExhausted`]), or
+//! (44) holds at the vertices but the Theorem 1 re-verification for `Γ(L)` fails
+//! ([`NotCertified::VerificationFailed`]). When no step returns a finite point at all the run is
+//! [`Error::SolverInconclusive`].
 //!
 //! **Certificates.** [`Bmi44Check`] is Proposition 1's own certificate: (44) holds on the whole
 //! window if `max_i λmax(Ψ_i) + ‖P‖₂δ < 0` (with a rounding allowance), `δ` the Taylor remainder
@@ -64,9 +69,10 @@ use crate::analysis::{Analysis, AnalysisOptions, analyse};
 use crate::error::Error;
 use crate::ipr::{MetzlerDecomposition, gamma_of_gain, jump_matrix, negative_part, positive_part};
 use crate::polytope::{PolytopeOptions, norm2, taylor_polytope};
-use crate::system::{Plant, Window};
+use crate::system::Plant;
+use sporadic_model::SamplingWindow;
 
-/// Settings of the Proposition 1 pipeline.
+/// Options of the Proposition 1 pipeline (defaults: [`SynthesisOptions::default`]).
 #[derive(Debug, Clone)]
 pub struct SynthesisOptions {
     /// Construction of the Taylor polytope.
@@ -116,7 +122,12 @@ impl Default for SynthesisOptions {
 }
 
 impl SynthesisOptions {
-    fn validate(&self) -> Result<(), Error> {
+    /// Checks every field; the error names the offending one.
+    ///
+    /// # Errors
+    /// [`Error::Input`] for a non-positive or non-finite `p_min`, `p_max`, `g_max`,
+    /// `stall_tolerance`, `p_min ≥ p_max`, `safety < 1`, or invalid polytope options.
+    pub fn validate(&self) -> Result<(), Error> {
         let positive = |name, value: f64| {
             if value > 0.0 && value.is_finite() {
                 Ok(())
@@ -189,13 +200,106 @@ pub struct Bmi44Check {
     pub certified: bool,
 }
 
+impl Bmi44Check {
+    /// The margin of (44): `−(max_i λmax(Ψ_i) + ‖P‖₂δ + rounding)`, positive when (44) is
+    /// certified on the whole window (the remainder `δ` of the Taylor polytope and the rounding
+    /// allowance accounted for). `Ψ_i` is jointly homogeneous of degree 1 in `(F, P)`, so the
+    /// value is relative to the normalisation `p_min·I ⪯ P ⪯ p_max·I` of
+    /// [`SynthesisOptions`].
+    pub fn margin(&self) -> f64 {
+        -(self.max_eigenvalue + self.remainder_effect + self.rounding)
+    }
+}
+
 /// Final status of a synthesis.
 #[derive(Debug, Clone, PartialEq)]
 pub enum DesignStatus {
     /// (44) holds at the vertices (`f64` re-check) and Theorem 1 is certified for `Γ(L)`.
     Certified,
-    /// No certified design: why (stall, step limit, Remark 6 re-verification failed, …).
-    NotCertified(String),
+    /// No certified design, with the typed reason.
+    NotCertified(NotCertified),
+}
+
+/// Why a Proposition 1 run produced no certified design.
+#[derive(Debug, Clone, PartialEq)]
+pub enum NotCertified {
+    /// The best value `t = max_i λmax(Ψ_i)` of (44) stayed `≥ 0` (up to rounding) and stopped
+    /// decreasing (or the only allowed step, the convex restriction, was taken): the local BMI
+    /// method found no point satisfying (44) at the polytope vertices.
+    Infeasible {
+        /// Best `max_i λmax(Ψ_i)`.
+        best_t: f64,
+        /// `‖P‖₂δ` at the best iterate.
+        remainder_effect: f64,
+        /// Number of LMI steps solved.
+        steps: usize,
+    },
+    /// The alternation or the sequential convex iterations hit their step limit
+    /// ([`SynthesisOptions::max_alternations`], [`SynthesisOptions::max_sequential`]) while `t`
+    /// was still decreasing and still `≥ 0`.
+    BudgetExhausted {
+        /// Best `max_i λmax(Ψ_i)`.
+        best_t: f64,
+        /// Number of LMI steps solved.
+        steps: usize,
+        /// Which limit ran out.
+        limit: &'static str,
+    },
+    /// (44) holds at the vertices, but Theorem 1 for the implemented `Γ(L)` (Remark 6) is not
+    /// certified: the polytope SDP or the μ-grid re-verification fails.
+    VerificationFailed {
+        /// `max_i λmax(Ψ_i)` (negative).
+        best_t: f64,
+        /// The μ where the grid check found its largest `λmax` of (19), when the grid check
+        /// failed.
+        tau: Option<f64>,
+        /// The failing values.
+        detail: String,
+    },
+}
+
+impl std::fmt::Display for NotCertified {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            NotCertified::Infeasible {
+                best_t,
+                remainder_effect,
+                steps,
+            } => write!(
+                f,
+                "(44) not certified: best max_i lambda_max(Psi_i) = {best_t:e} (+ remainder {remainder_effect:e}) after {steps} LMI steps (stalled)"
+            ),
+            NotCertified::BudgetExhausted {
+                best_t,
+                steps,
+                limit,
+            } => write!(
+                f,
+                "(44) not certified: best max_i lambda_max(Psi_i) = {best_t:e} after {steps} LMI steps ({limit} reached while still decreasing)"
+            ),
+            NotCertified::VerificationFailed { best_t, detail, .. } => write!(
+                f,
+                "(44) holds at the vertices (max lambda_max = {best_t:e}) but Theorem 1 fails for Gamma(L) (Remark 6): {detail}"
+            ),
+        }
+    }
+}
+
+impl NotCertified {
+    /// The shared typed reason ([`sporadic_model::Reason`]) with this explanation:
+    /// `Infeasible` → `InfeasibleLmi`, `BudgetExhausted` → `BudgetExhausted`,
+    /// `VerificationFailed` → `VerificationFailed`.
+    pub fn reason(&self) -> sporadic_model::Reason {
+        use sporadic_model::Reason;
+        let message = self.to_string();
+        match self {
+            NotCertified::Infeasible { .. } => Reason::InfeasibleLmi { message },
+            NotCertified::BudgetExhausted { .. } => Reason::BudgetExhausted { message },
+            NotCertified::VerificationFailed { tau, .. } => {
+                Reason::VerificationFailed { tau: *tau, message }
+            }
+        }
+    }
 }
 
 /// Result of [`synthesise`]: the best iterate, its checks and the iteration log.
@@ -569,7 +673,7 @@ fn repair_split(
 /// be certified is not an error: see [`Design::status`].
 pub fn synthesise(
     plant: &Plant,
-    window: &Window,
+    window: &SamplingWindow,
     options: &SynthesisOptions,
 ) -> Result<Design, Error> {
     synthesise_from(plant, window, None, options)
@@ -582,7 +686,7 @@ pub fn synthesise(
 /// As [`synthesise`], plus a wrongly sized or non-finite `initial_f`.
 pub fn synthesise_from(
     plant: &Plant,
-    window: &Window,
+    window: &SamplingWindow,
     initial_f: Option<MatRef<'_, f64>>,
     options: &SynthesisOptions,
 ) -> Result<Design, Error> {
@@ -616,6 +720,7 @@ pub fn synthesise_from(
         best_check: None,
         reverification: None,
         done: false,
+        stop: Stop::Stalled,
     };
 
     // 1. Convex restriction F = I (or the given F).
@@ -639,6 +744,7 @@ pub fn synthesise_from(
     let mut cycles = 0;
     while !run.done && run.best.is_some() && cycles < options.max_alternations {
         cycles += 1;
+        run.stop = Stop::Budget("max_alternations");
         let before = run.best_t();
         let current = run.best.clone().expect("best");
         let model = match &mut fixed_gamma {
@@ -659,6 +765,7 @@ pub fn synthesise_from(
             .set_param(fixed_f.fk.as_ref().expect("F_k"), current.f.as_ref())?;
         run.step(&mut fixed_f, &current, StepKind::FixedF)?;
         if run.stalled(before) {
+            run.stop = Stop::Stalled;
             break;
         }
     }
@@ -668,6 +775,7 @@ pub fn synthesise_from(
     let mut steps = 0;
     while !run.done && options.sequential && run.best.is_some() && steps < options.max_sequential {
         steps += 1;
+        run.stop = Stop::Budget("max_sequential");
         let before = run.best_t();
         let current = run.best.clone().expect("best");
         let gamma = jump_matrix(current.g1.as_ref(), current.g2.as_ref());
@@ -696,17 +804,27 @@ pub fn synthesise_from(
             .set_param(model.gk.as_ref().expect("Gamma_k"), gamma.as_ref())?;
         run.step(model, &current, StepKind::Sequential)?;
         if run.stalled(before) {
+            run.stop = Stop::Stalled;
             break;
         }
     }
     run.finish(poly.vertex_count(), poly.remainder_bound())
 }
 
+/// Why the last loop of a run ended (when the run is not certified).
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Stop {
+    /// The value stalled, or no iterative step was allowed.
+    Stalled,
+    /// The named step limit ran out.
+    Budget(&'static str),
+}
+
 /// State of one pipeline run.
 struct Run<'a> {
     bmi: &'a Bmi44,
     plant: &'a Plant,
-    window: &'a Window,
+    window: &'a SamplingWindow,
     a_bar: MatRef<'a, f64>,
     options: &'a SynthesisOptions,
     log: Vec<StepRecord>,
@@ -714,6 +832,7 @@ struct Run<'a> {
     best_check: Option<Bmi44Check>,
     reverification: Option<Analysis>,
     done: bool,
+    stop: Stop,
 }
 
 impl Run<'_> {
@@ -779,31 +898,38 @@ impl Run<'_> {
 
     fn finish(self, vertices: usize, remainder: f64) -> Result<Design, Error> {
         let (Some(best), Some(check)) = (self.best, self.best_check) else {
-            return Err(InputError::non_finite(
-                "every LMI step of the Proposition 1 pipeline returned a non-finite point",
-            )
-            .into());
+            return Err(Error::SolverInconclusive {
+                steps: self.log.len(),
+            });
         };
+        let steps = self.log.len();
         let status = if self.done {
             DesignStatus::Certified
         } else if !(check.max_eigenvalue + check.rounding < 0.0) {
-            DesignStatus::NotCertified(format!(
-                "(44) not certified: best max_i lambda_max(Psi_i) = {:e} (+ remainder {:e}) after {} LMI steps",
-                check.max_eigenvalue,
-                check.remainder_effect,
-                self.log.len()
-            ))
+            DesignStatus::NotCertified(match self.stop {
+                Stop::Stalled => NotCertified::Infeasible {
+                    best_t: check.max_eigenvalue,
+                    remainder_effect: check.remainder_effect,
+                    steps,
+                },
+                Stop::Budget(limit) => NotCertified::BudgetExhausted {
+                    best_t: check.max_eigenvalue,
+                    steps,
+                    limit,
+                },
+            })
         } else {
-            DesignStatus::NotCertified(format!(
-                "(44) holds at the vertices (max lambda_max = {:e}) but Theorem 1 fails for Gamma(L) (Remark 6): {}",
-                check.max_eigenvalue,
-                self.reverification
-                    .as_ref()
-                    .map_or("not run".into(), |a| format!(
+            let a = self.reverification.as_ref();
+            DesignStatus::NotCertified(NotCertified::VerificationFailed {
+                best_t: check.max_eigenvalue,
+                tau: a.filter(|a| !a.grid.certified).map(|a| a.grid.at),
+                detail: a.map_or("not run".into(), |a| {
+                    format!(
                         "polytope {} (vertex margin {:e}), grid bound {:e}",
                         a.polytope_certified, a.vertex_margin, a.grid.bound
-                    ))
-            ))
+                    )
+                }),
+            })
         };
         Ok(Design {
             status,

@@ -1,13 +1,14 @@
-//! The data of Section III of Rabehi et al. (2021): the plant (2)–(3), the sampling window of
-//! Assumption 1 and the disturbance/noise bounds of Assumptions 2–3.
+//! The data of Section III of Rabehi et al. (2021): the plant (2)–(3) and the disturbance/noise
+//! bounds of Assumptions 2–3. The sampling window of Assumption 1 (`t_{k+1} − t_k ∈ [τmin, τmax]`)
+//! is [`sporadic_model::SamplingWindow`] (`T1 = τmin`, `T2 = τmax`).
 
 use faer::{Mat, MatRef};
 use sporadic_linalg::InputError;
 use sporadic_linalg::input::check_square_finite;
-use sporadic_linalg::input::{LowerEnd, check_window};
 use sporadic_linalg::input::{check_finite, check_finite_slice};
 
 use crate::error::Error;
+use sporadic_model::SamplingWindow;
 
 /// The plant (2)–(3): `ẋ = Ax + Bu + d(t)`, `y(t_k) = Cx(t_k) + v(t_k)`, with `x ∈ Rⁿ`, `u ∈ Rᵐ`,
 /// `y ∈ Rᵖ`. The disturbance enters every state directly.
@@ -85,59 +86,23 @@ impl Plant {
     }
 }
 
-/// The sampling window of Assumption 1: `t_{k+1} − t_k ∈ [τmin, τmax]`, `0 < τmin ≤ τmax < ∞`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Window {
-    tau_min: f64,
-    tau_max: f64,
-}
-
-impl Window {
-    /// # Errors
-    /// [`InputError::InvalidWindow`] for non-finite ends, `τmin ≤ 0` (Assumption 1 excludes Zeno
-    /// solutions) or `τmin > τmax`.
-    pub fn new(tau_min: f64, tau_max: f64) -> Result<Self, Error> {
-        check_window(
-            "sampling window [τmin, τmax]",
-            tau_min,
-            tau_max,
-            LowerEnd::Positive,
-        )?;
-        Ok(Self { tau_min, tau_max })
+/// `points ≥ 2` equally spaced values from `T1` to `T2` of the window of Assumption 1 (one
+/// point for a periodic window).
+pub(crate) fn window_grid(window: &SamplingWindow, points: usize) -> Vec<f64> {
+    let (t1, t2) = (window.t1(), window.t2());
+    if t1 == t2 || points < 2 {
+        return vec![t1];
     }
-
-    /// `τmin`.
-    pub fn tau_min(&self) -> f64 {
-        self.tau_min
-    }
-
-    /// `τmax`.
-    pub fn tau_max(&self) -> f64 {
-        self.tau_max
-    }
-
-    /// Whether `μ ∈ [τmin, τmax]`.
-    pub fn contains(&self, mu: f64) -> bool {
-        mu >= self.tau_min && mu <= self.tau_max
-    }
-
-    /// `points ≥ 2` equally spaced values from `τmin` to `τmax` (one point for a degenerate
-    /// window).
-    pub fn grid(&self, points: usize) -> Vec<f64> {
-        if self.tau_min == self.tau_max || points < 2 {
-            return vec![self.tau_min];
-        }
-        let h = (self.tau_max - self.tau_min) / (points - 1) as f64;
-        (0..points)
-            .map(|k| {
-                if k + 1 == points {
-                    self.tau_max
-                } else {
-                    self.tau_min + k as f64 * h
-                }
-            })
-            .collect()
-    }
+    let h = (t2 - t1) / (points - 1) as f64;
+    (0..points)
+        .map(|k| {
+            if k + 1 == points {
+                t2
+            } else {
+                t1 + k as f64 * h
+            }
+        })
+        .collect()
 }
 
 /// The bounds of Assumptions 2–3: `|v(t)| ≤ v̄` (elementwise, `v̄ ∈ Rᵖ`, `v̄ ≥ 0`) and

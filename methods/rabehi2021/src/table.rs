@@ -6,7 +6,7 @@ use rayon::prelude::*;
 
 use crate::error::Error;
 use crate::example::{TABLE1_DAMPING, TABLE1_TAU_MAX, TAU_MIN, spring_mass_damper};
-use crate::window::{WindowSearch, WindowSearchOptions, largest_tau_max};
+use crate::window::{TauMaxOptions, TauMaxSearch, largest_tau_max};
 
 /// One row of Table I.
 #[derive(Debug, Clone)]
@@ -16,14 +16,14 @@ pub struct TableRow {
     /// The paper's value (`None`: "–", no gain found).
     pub paper: Option<f64>,
     /// Our search.
-    pub search: WindowSearch,
+    pub search: TauMaxSearch,
 }
 
 /// Recomputes Table I with `options` for every damping value of the paper.
 ///
 /// # Errors
 /// The first error of any search.
-pub fn table1(options: &WindowSearchOptions) -> Result<Vec<TableRow>, Error> {
+pub fn table1(options: &TauMaxOptions) -> Result<Vec<TableRow>, Error> {
     TABLE1_DAMPING
         .par_iter()
         .zip(TABLE1_TAU_MAX.par_iter())

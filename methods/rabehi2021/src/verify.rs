@@ -24,7 +24,7 @@ use sporadic_linalg::{expm_stepper, max_eigenvalue, spectral_radius, sym_part};
 
 use crate::error::Error;
 use crate::polytope::norm2;
-use crate::system::Window;
+use sporadic_model::SamplingWindow;
 
 /// Settings of the grid verification.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -93,28 +93,28 @@ fn pass(
     a_bar: MatRef<'_, f64>,
     gamma: MatRef<'_, f64>,
     p: MatRef<'_, f64>,
-    window: &Window,
+    window: &SamplingWindow,
     points: usize,
     radius: bool,
 ) -> Result<GridCheck, Error> {
     let n = a_bar.nrows();
-    let grid = window.grid(points);
+    let grid = crate::system::window_grid(window, points);
     let h = if grid.len() > 1 {
-        (window.tau_max() - window.tau_min()) / (grid.len() - 1) as f64
+        (window.t2() - window.t1()) / (grid.len() - 1) as f64
     } else {
         0.0
     };
-    let mut stepper = expm_stepper(a_bar, window.tau_min(), h, grid.len() - 1)?;
+    let mut stepper = expm_stepper(a_bar, window.t1(), h, grid.len() - 1)?;
     let mut e = Mat::<f64>::zeros(n, n);
     let mut out = GridCheck {
         points: grid.len(),
         max_eigenvalue: f64::NEG_INFINITY,
-        at: window.tau_min(),
+        at: window.t1(),
         slack: 0.0,
         bound: f64::NAN,
         certified: false,
         max_spectral_radius: if radius { 0.0 } else { f64::NAN },
-        radius_at: window.tau_min(),
+        radius_at: window.t1(),
         max_exp_norm: 0.0,
     };
     for &mu in &grid {
@@ -163,7 +163,7 @@ pub fn verify_theorem1(
     a_bar: MatRef<'_, f64>,
     gamma: MatRef<'_, f64>,
     p: MatRef<'_, f64>,
-    window: &Window,
+    window: &SamplingWindow,
     options: &GridOptions,
 ) -> Result<GridCheck, Error> {
     check_operands(a_bar, gamma, p)?;

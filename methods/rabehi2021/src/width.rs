@@ -1,4 +1,4 @@
-//! The width `w = x̄ − x̲` of the interval (spec 004 §4, not in the paper). With
+//! The width `w = x̄ − x̲` of the interval (not in the paper). With
 //! `T = (1/√2)[[I, I], [I, −I]]`, `TĀT = diag(S, A)` and `TΓ(L)T = diag(|G|, G)`
 //! ([`crate::ipr`]); the width is `√2` times the first half of `Tξ`, so it evolves
 //! **deterministically**, independently of `u`, `d(t)`, `v(t)` and `y`:
@@ -24,7 +24,8 @@ use sporadic_linalg::{expm_scaled, zoh};
 
 use crate::error::Error;
 use crate::ipr::{MetzlerDecomposition, abs, reset_matrix};
-use crate::system::{Bounds, Plant, Window};
+use crate::system::{Bounds, Plant};
+use sporadic_model::SamplingWindow;
 
 /// The deterministic width dynamics of one observer.
 #[derive(Debug, Clone)]
@@ -224,7 +225,7 @@ impl WidthDynamics {
     /// the iteration budget (the width dynamics is not contractive on the window).
     pub fn guaranteed_bound(
         &self,
-        window: &Window,
+        window: &SamplingWindow,
         initial: &[f64],
         points: usize,
     ) -> Result<WidthBound, Error> {
@@ -248,7 +249,7 @@ impl WidthDynamics {
         if points < 2 {
             return Err(InputError::parameter("points", points as f64, "need at least 2").into());
         }
-        let (lo, hi) = (window.tau_min(), window.tau_max());
+        let (lo, hi) = (window.t1(), window.t2());
         let sampled = self.flow_grid(lo, hi, points)?;
         let whole = self.flow_grid(0.0, hi, points)?;
         let post_map = |u: &[f64]| self.jump(&self.max_flow(u, &sampled));

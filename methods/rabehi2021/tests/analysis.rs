@@ -2,12 +2,12 @@
 //! independent CVXPY/Clarabel computation ([ours] in the spec) and closed forms.
 
 use faer::Mat;
+use sporadic_rabehi2021::SamplingWindow;
 use sporadic_rabehi2021::analysis::{AnalysisOptions, analyse, analyse_gain};
 use sporadic_rabehi2021::example::{example_window, paper_gain, spring_mass_damper};
 use sporadic_rabehi2021::ipr::{MetzlerDecomposition, abs, gamma_of_gain, reset_matrix};
 use sporadic_rabehi2021::lyapunov::theorem1_constants;
 use sporadic_rabehi2021::polytope::{PolytopeOptions, taylor_polytope};
-use sporadic_rabehi2021::system::Window;
 use sporadic_rabehi2021::verify::{GridOptions, verify_theorem1};
 use sporadic_rabehi2021::{TaylorOrder, window::largest_tau_max_for_gain};
 
@@ -115,16 +115,28 @@ fn printed_gain_window_limit() {
     let plant = spring_mass_damper(1.0).unwrap();
     let l = paper_gain();
     let opts = AnalysisOptions::default();
-    let ok = analyse_gain(&plant, &Window::new(0.04, 1.75).unwrap(), l.as_ref(), &opts).unwrap();
+    let ok = analyse_gain(
+        &plant,
+        &SamplingWindow::new(0.04, 1.75).unwrap(),
+        l.as_ref(),
+        &opts,
+    )
+    .unwrap();
     assert!(ok.certified, "{}", ok.reason);
-    let bad = analyse_gain(&plant, &Window::new(0.04, 1.8).unwrap(), l.as_ref(), &opts).unwrap();
+    let bad = analyse_gain(
+        &plant,
+        &SamplingWindow::new(0.04, 1.8).unwrap(),
+        l.as_ref(),
+        &opts,
+    )
+    .unwrap();
     assert!(!bad.certified);
     // At 1.8 the spectral radius of e^{Āμ}Γ(L) exceeds 1 somewhere: no P exists at all.
     assert!(bad.grid.max_spectral_radius > 1.0, "{:?}", bad.grid);
     let search = largest_tau_max_for_gain(&plant, l.as_ref(), 0.04, 5.0, 0.01, &opts).unwrap();
-    let found = search.certified.unwrap();
+    let found = search.best.unwrap();
     assert!((1.75..1.80).contains(&found), "{search:?}");
-    assert!(search.refuted - found <= 0.01);
+    assert!(search.first_failure.unwrap() - found <= 0.01);
 }
 
 /// A12: (19) on the 4×4 system is feasible iff both 2×2 blocks — width (S, |G|) and centre
@@ -138,7 +150,7 @@ fn decoupled_blocks_agree() {
     let gamma = gamma_of_gain(&plant, l.as_ref()).unwrap();
     let opts = AnalysisOptions::default();
     for (tau_max, expect) in [(0.3, true), (1.5, true), (1.8, false)] {
-        let w = Window::new(0.04, tau_max).unwrap();
+        let w = SamplingWindow::new(0.04, tau_max).unwrap();
         let full = analyse(d.a_bar.as_ref(), gamma.as_ref(), &w, &opts).unwrap();
         let width = analyse(
             d.width_matrix().as_ref(),

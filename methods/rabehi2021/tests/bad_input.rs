@@ -3,6 +3,7 @@
 use faer::{Mat, mat};
 use sporadic_linalg::InputError;
 use sporadic_rabehi2021::Error;
+use sporadic_rabehi2021::SamplingWindow;
 use sporadic_rabehi2021::analysis::{AnalysisOptions, analyse, analyse_gain};
 use sporadic_rabehi2021::example::figure_scenario;
 use sporadic_rabehi2021::example::{
@@ -13,36 +14,36 @@ use sporadic_rabehi2021::observer::IntervalObserver;
 use sporadic_rabehi2021::polytope::{PolytopeOptions, taylor_polytope};
 use sporadic_rabehi2021::simulation::{Noise, simulate_interval};
 use sporadic_rabehi2021::synthesis::{SynthesisOptions, synthesise, synthesise_from};
-use sporadic_rabehi2021::system::{Bounds, Plant, Window};
+use sporadic_rabehi2021::system::{Bounds, Plant};
 use sporadic_rabehi2021::width::WidthDynamics;
-use sporadic_rabehi2021::window::{WindowSearchOptions, largest_tau_max, necessary_tau_max};
+use sporadic_rabehi2021::window::{TauMaxOptions, largest_tau_max, necessary_tau_max};
 
 #[test]
 fn invalid_windows() {
     assert!(matches!(
-        Window::new(0.3, 0.04),
-        Err(Error::Input(InputError::InvalidWindow { reason, .. })) if reason.contains("exceed")
+        SamplingWindow::new(0.3, 0.04),
+        Err(InputError::InvalidWindow { reason, .. }) if reason.contains("exceed")
     ));
     assert!(matches!(
-        Window::new(0.0, 0.3),
-        Err(Error::Input(InputError::InvalidWindow { .. }))
+        SamplingWindow::new(0.0, 0.3),
+        Err(InputError::InvalidWindow { .. })
     ));
     assert!(matches!(
-        Window::new(-1.0, 0.3),
-        Err(Error::Input(InputError::InvalidWindow { .. }))
+        SamplingWindow::new(-1.0, 0.3),
+        Err(InputError::InvalidWindow { .. })
     ));
     assert!(matches!(
-        Window::new(0.04, f64::INFINITY),
-        Err(Error::Input(InputError::InvalidWindow { .. }))
+        SamplingWindow::new(0.04, f64::INFINITY),
+        Err(InputError::InvalidWindow { .. })
     ));
     assert!(matches!(
-        Window::new(f64::NAN, 0.3),
-        Err(Error::Input(InputError::InvalidWindow { .. }))
+        SamplingWindow::new(f64::NAN, 0.3),
+        Err(InputError::InvalidWindow { .. })
     ));
     let plant = spring_mass_damper(1.0).unwrap();
-    let opts = WindowSearchOptions {
+    let opts = TauMaxOptions {
         upper: 0.01,
-        ..WindowSearchOptions::default()
+        ..TauMaxOptions::default()
     };
     assert!(matches!(
         largest_tau_max(&plant, 0.04, &opts),

@@ -2,13 +2,13 @@
 //! disturbance, noise and sampling; the deterministic width; noise-free GES.
 
 use faer::Mat;
+use sporadic_rabehi2021::example::figure_scenario;
 use sporadic_rabehi2021::example::{
     example_bounds, example_window, paper_gain, spring_mass_damper,
 };
 use sporadic_rabehi2021::ipr::{MetzlerDecomposition, gamma_of_gain};
 use sporadic_rabehi2021::lyapunov::{lyapunov_value, theorem1_constants};
 use sporadic_rabehi2021::observer::IntervalObserver;
-use sporadic_rabehi2021::example::figure_scenario;
 use sporadic_rabehi2021::simulation::simulate_interval;
 use sporadic_rabehi2021::system::Bounds;
 use sporadic_rabehi2021::verify::GridOptions;

@@ -15,52 +15,93 @@
 use std::time::{Duration, Instant};
 
 use faer::Mat;
+use sporadic_model::SolverStats;
 use sporadic_sdp::lmi::SolveOptions;
 
-use crate::detectability::{DetectabilityReport, DetectabilitySettings, require_detectable};
-use crate::error::Error;
-use crate::exponential_bound::{BoundSettings, CertifiedBound, exponential_bound};
+use crate::detectability::{DetectabilityOptions, DetectabilityReport, require_detectable};
+use crate::error::{Error, check_at_least, check_positive};
+use crate::exponential_bound::{BoundOptions, CertifiedBound, exponential_bound};
 use crate::gain::GainSchedule;
 use crate::plant::RoundRobinPlant;
 use crate::synthesis::{Synthesis, default_solve_options};
 use crate::validation::{
-    GridPolicy, SensorValidation, UniformGrid, ValidationSettings, XiFamily, grid_spacing,
+    GridPolicy, SensorValidation, UniformGrid, ValidationOptions, XiFamily, grid_spacing,
 };
+use sporadic_linalg::InputError;
 
-/// Settings of the §5.3 loop.
+/// Options of the §5.3 loop. The defaults are those of the reproduction of §6: μ = 0.01, the
+/// paper's grid (49), at most 50 iterations, the default validation, Step 1 search, solver and
+/// detectability options, and Step 1 run (no fixed bound).
 #[derive(Debug, Clone)]
-pub struct DesignSettings {
-    /// Margin μ (synthesis enforces `2μI`, validation checks `μI`). The paper does not report its value;
-    /// spec 001's reference values use 0.01.
+pub struct DesignOptions {
+    /// Margin μ (synthesis enforces `2μI`, validation checks `μI`). The paper does not report its
+    /// value. Default 0.01.
     pub mu: f64,
-    /// Validation grid spacing.
+    /// Validation grid spacing. Default [`GridPolicy::Paper`].
     pub grid: GridPolicy,
-    /// Iteration cap (a safeguard; Theorem 5 bounds the count in terms of `cond(P_σ)`).
+    /// Iteration cap (a safeguard; Theorem 5 bounds the count in terms of `cond(P_σ)`). Default 50.
     pub max_iterations: usize,
-    /// Validation tuning.
-    pub validation: ValidationSettings,
-    /// Step 1 search settings.
-    pub bound: BoundSettings,
+    /// Validation tuning. Default [`ValidationOptions::default`].
+    pub validation: ValidationOptions,
+    /// Step 1 search options. Default [`BoundOptions::default`].
+    pub bound: BoundOptions,
     /// Use these β, γ instead of running Step 1 (taken as given: not certified, the reported
-    /// `lyapunov_margin` is NaN).
+    /// `lyapunov_margin` is NaN). Default `None`.
     pub fixed_bound: Option<crate::validation::ExponentialBound>,
-    /// Options of the synthesis SDP.
+    /// Options of the synthesis SDP. Default [`crate::synthesis::default_solve_options`].
     pub solve: SolveOptions,
-    /// Run the Proposition 1 screen first (`None`: skip).
-    pub detectability: Option<DetectabilitySettings>,
+    /// Run the Proposition 1 screen first (`None`: skip). Default: the screen with
+    /// [`DetectabilityOptions::default`].
+    pub detectability: Option<DetectabilityOptions>,
 }
 
-impl Default for DesignSettings {
+impl DesignOptions {
+    /// Checks every field; the error names the offending one.
+    ///
+    /// # Errors
+    /// [`InputError::InvalidParameter`] naming the field.
+    pub fn validate(&self) -> Result<(), InputError> {
+        check_positive("mu", self.mu)?;
+        if let GridPolicy::Spacing(h) = self.grid {
+            check_positive("grid (spacing)", h)?;
+        }
+        check_at_least("max_iterations", self.max_iterations, 1)?;
+        self.validation.validate()?;
+        self.bound.validate()?;
+        if let Some(b) = self.fixed_bound {
+            if !(b.gamma >= 1.0 && b.gamma.is_finite()) {
+                return Err(InputError::parameter(
+                    "fixed_bound.gamma",
+                    b.gamma,
+                    "must be finite and at least 1",
+                ));
+            }
+            if !b.beta.is_finite() {
+                return Err(InputError::parameter(
+                    "fixed_bound.beta",
+                    b.beta,
+                    "must be finite",
+                ));
+            }
+        }
+        if let Some(d) = &self.detectability {
+            d.validate()?;
+        }
+        Ok(())
+    }
+}
+
+impl Default for DesignOptions {
     fn default() -> Self {
         Self {
             mu: 0.01,
             grid: GridPolicy::Paper,
             max_iterations: 50,
-            validation: ValidationSettings::default(),
-            bound: BoundSettings::default(),
+            validation: ValidationOptions::default(),
+            bound: BoundOptions::default(),
             fixed_bound: None,
             solve: default_solve_options(),
-            detectability: Some(DetectabilitySettings::default()),
+            detectability: Some(DetectabilityOptions::default()),
         }
     }
 }
@@ -76,14 +117,11 @@ pub struct IterationRecord {
     pub p: Vec<Mat<f64>>,
     /// The sets `T_σ` used by this synthesis.
     pub points: Vec<Vec<f64>>,
-    /// Interior-point iterations of the synthesis.
-    pub sdp_iterations: usize,
+    /// Statistics of the synthesis solve (a stalled solve whose point passed verification is
+    /// accepted, see [`crate::synthesis::ACCEPT_GAP`]).
+    pub sdp: SolverStats,
     /// Synthesis wall time (compile/assemble + solve).
     pub sdp_time: Duration,
-    /// Whether the SDP solver reached its tolerances (see [`crate::synthesis::ACCEPT_GAP`]).
-    pub sdp_optimal: bool,
-    /// Relative duality gap of the synthesis solution.
-    pub sdp_rel_gap: f64,
     /// Validation of each sensor.
     pub sensors: Vec<SensorValidation>,
     /// Validation wall time (all sensors).
@@ -139,13 +177,88 @@ impl Design {
     pub fn iterations(&self) -> usize {
         self.log.len()
     }
+
+    /// For each sensor, the exact minimum of `λ_min(Ξ_σ(τ))` of (44) over every point of the last
+    /// validation grid (48), the one that passed. Validation itself only decides `λ_min > μ` at every
+    /// point (its reported minimum is that of a subsample); this re-runs the grid at the level of that
+    /// subsample minimum, so that every point at or below it is evaluated exactly.
+    ///
+    /// # Errors
+    /// Bad `options` or a failing kernel.
+    pub fn grid_minima(&self, options: &ValidationOptions) -> Result<Vec<GridMinimum>, Error> {
+        let plant = self.plant();
+        let last = self
+            .log
+            .last()
+            .ok_or_else(|| Error::invalid("the design has no iteration"))?;
+        let mut out = Vec::with_capacity(plant.num_sensors());
+        for (s, v) in last.sensors.iter().enumerate() {
+            let grid = UniformGrid {
+                t_min: plant.sensor(s)?.window().t1(),
+                spacing: v.spacing,
+                points: v.points,
+            };
+            let (min_eigenvalue, argmin_tau) = if v.min_is_exact {
+                (v.min_eigenvalue, v.argmin_tau)
+            } else {
+                let fam = XiFamily::new(plant, &self.p, s)?;
+                let r = fam.validate_grid(grid, v.min_eigenvalue, options)?;
+                if r.failures > 0 {
+                    (r.min_eigenvalue, r.argmin_tau)
+                } else {
+                    // No point lies below the subsample minimum: it is the grid minimum.
+                    (v.min_eigenvalue, v.argmin_tau)
+                }
+            };
+            out.push(GridMinimum {
+                sigma: s,
+                grid,
+                min_eigenvalue,
+                argmin_tau,
+            });
+        }
+        Ok(out)
+    }
+
+    /// The slack of the validated condition (44): `min_σ min_τ λ_min(Ξ_σ(τ)) / max_σ λ_max(P_σ)` over
+    /// the points of the last validation grid (`minima` from [`Design::grid_minima`]). `Ξ_σ` is
+    /// linear in `(P_1, …, P_N)`, so this is the smallest eigenvalue of the `Ξ_σ(τ)` on the grid
+    /// once the Lyapunov matrices are scaled to `max_σ ‖P_σ‖₂ = 1` (independent of the scaling the
+    /// SDP chose). Positive when (44) holds on the grid.
+    ///
+    /// # Errors
+    /// A failing eigenvalue kernel.
+    pub fn normalised_margin(&self, minima: &[GridMinimum]) -> Result<f64, Error> {
+        let mut p_max = 0.0f64;
+        for p in &self.p {
+            p_max = p_max.max(sporadic_linalg::max_eigenvalue(p.as_ref())?);
+        }
+        let m = minima
+            .iter()
+            .map(|g| g.min_eigenvalue)
+            .fold(f64::INFINITY, f64::min);
+        Ok(m / p_max)
+    }
+}
+
+/// The exact minimum of `λ_min(Ξ_σ(τ))` over one sensor's validation grid ([`Design::grid_minima`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GridMinimum {
+    /// Sensor (0-based).
+    pub sigma: usize,
+    /// The grid.
+    pub grid: UniformGrid,
+    /// `min_k λ_min(Ξ_σ(τ_k))`.
+    pub min_eigenvalue: f64,
+    /// Where it is attained.
+    pub argmin_tau: f64,
 }
 
 /// The loop as a state machine, for callers that want to watch or drive it step by step.
 #[derive(Debug)]
 pub struct DesignLoop {
     plant: RoundRobinPlant,
-    settings: DesignSettings,
+    settings: DesignOptions,
     bound: CertifiedBound,
     bound_time: Duration,
     detectability: Option<DetectabilityReport>,
@@ -159,28 +272,22 @@ impl DesignLoop {
     ///
     /// # Errors
     /// [`Error::NotDetectable`] from the screen, an invalid μ, a failing Step 1 search.
-    pub fn new(plant: &RoundRobinPlant, settings: &DesignSettings) -> Result<Self, Error> {
+    pub fn new(plant: &RoundRobinPlant, settings: &DesignOptions) -> Result<Self, Error> {
         let started = Instant::now();
+        settings.validate()?;
         let detectability = match &settings.detectability {
             Some(s) => Some(require_detectable(plant, s)?),
             None => None,
         };
         let t0 = Instant::now();
         let bound = match settings.fixed_bound {
-            Some(b) => {
-                if !(b.gamma >= 1.0 && b.beta.is_finite()) {
-                    return Err(Error::invalid(format!(
-                        "invalid fixed exponential bound {b:?}"
-                    )));
-                }
-                CertifiedBound {
-                    bound: b,
-                    pi: Mat::identity(plant.n(), plant.n()),
-                    lyapunov_margin: f64::NAN,
-                    horizon: plant.t_max(),
-                    sdp_solves: 0,
-                }
-            }
+            Some(b) => CertifiedBound {
+                bound: b,
+                pi: Mat::identity(plant.n(), plant.n()),
+                lyapunov_margin: f64::NAN,
+                horizon: plant.t_max(),
+                sdp_solves: 0,
+            },
             None => exponential_bound(&plant.a().to_owned(), plant.t_max(), &settings.bound)?,
         };
         let bound_time = t0.elapsed();
@@ -270,10 +377,8 @@ impl DesignLoop {
             p_star: res.p_star,
             p: res.p,
             points,
-            sdp_iterations: res.iterations,
+            sdp: res.stats,
             sdp_time,
-            sdp_optimal: res.optimal,
-            sdp_rel_gap: res.rel_gap,
             sensors,
             validation_time,
             added,
@@ -312,7 +417,7 @@ impl DesignLoop {
 ///
 /// # Errors
 /// See [`DesignLoop::new`] and [`DesignLoop::step`]; [`Error::NotConverged`] after `max_iterations`.
-pub fn design(plant: &RoundRobinPlant, settings: &DesignSettings) -> Result<Design, Error> {
+pub fn design(plant: &RoundRobinPlant, settings: &DesignOptions) -> Result<Design, Error> {
     let mut lp = DesignLoop::new(plant, settings)?;
     for _ in 0..settings.max_iterations {
         if lp.step()? {

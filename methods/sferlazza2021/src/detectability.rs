@@ -13,17 +13,18 @@
 //! * Jitter-free plants have one tuple: the test is exact, and by Proposition 4 it is equivalent to
 //!   feasibility of the design LMI (23).
 //! * Jitter-tolerant plants: the box of windows is screened on a uniform grid. This is a necessary
-//!   screen only, not a proof over the continuum (spec 001 §2).
+//!   screen only, not a proof over the continuum.
 
 use faer::{Mat, c64};
 use sporadic_linalg::{InputError, PbhOptions, PbhTest, expm_scaled, pbh_detectability};
 
-use crate::error::Error;
-use crate::plant::RoundRobinPlant;
+use crate::error::{Error, check_at_least};
+use crate::plant::{RoundRobinPlant, window_grid};
 
-/// Tolerances and grid of the PBH test.
+/// Tolerances and grid of the PBH test. Defaults: 26 points per window, the kernel's
+/// [`PbhOptions::default`], at most 10⁶ tuples.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct DetectabilitySettings {
+pub struct DetectabilityOptions {
     /// Grid points per window in the jitter-tolerant screen (a fixed window always uses 1 point).
     pub points_per_axis: usize,
     /// Tolerances of the PBH test (rank tolerance on the margin, and which eigenvalues of `e^{AT}`
@@ -33,7 +34,19 @@ pub struct DetectabilitySettings {
     pub max_tuples: usize,
 }
 
-impl Default for DetectabilitySettings {
+impl DetectabilityOptions {
+    /// Checks the grid fields (the PBH tolerances are checked by the kernel); the error names the
+    /// offending field.
+    ///
+    /// # Errors
+    /// [`InputError::InvalidParameter`] naming the field.
+    pub fn validate(&self) -> Result<(), InputError> {
+        check_at_least("detectability.points_per_axis", self.points_per_axis, 2)?;
+        check_at_least("detectability.max_tuples", self.max_tuples, 1)
+    }
+}
+
+impl Default for DetectabilityOptions {
     fn default() -> Self {
         Self {
             points_per_axis: 26,
@@ -76,7 +89,7 @@ pub struct DetectabilityReport {
 pub fn pbh(
     plant: &RoundRobinPlant,
     intervals: &[f64],
-    settings: &DetectabilitySettings,
+    settings: &DetectabilityOptions,
 ) -> Result<PbhCheck, Error> {
     let n_s = plant.num_sensors();
     if intervals.len() != n_s {
@@ -107,7 +120,7 @@ pub fn pbh(
     // Eigenvalues of e^{AT} by spectral mapping (exact also when distinct λ_i alias).
     let eigs: Vec<c64> = a
         .eigenvalues()
-        .map_err(|_| Error::invalid("eigenvalues of A did not converge"))?
+        .map_err(|_| Error::numerical("eigenvalues of A did not converge"))?
         .into_iter()
         .map(|lam| (lam * c64::new(total, 0.0)).exp())
         .collect();
@@ -124,15 +137,13 @@ pub fn pbh(
 /// More tuples than `max_tuples`, `points_per_axis < 2`, or a failing kernel.
 pub fn check_detectability(
     plant: &RoundRobinPlant,
-    settings: &DetectabilitySettings,
+    settings: &DetectabilityOptions,
 ) -> Result<DetectabilityReport, Error> {
-    if settings.points_per_axis < 2 {
-        return Err(Error::invalid("points_per_axis must be at least 2"));
-    }
+    settings.validate()?;
     let axes: Vec<Vec<f64>> = plant
         .sensors()
         .iter()
-        .map(|s| s.window().grid(settings.points_per_axis))
+        .map(|s| window_grid(s.window(), settings.points_per_axis))
         .collect::<Result<_, _>>()?;
     let tuples = axes
         .iter()
@@ -187,7 +198,7 @@ pub fn check_detectability(
 /// [`check_detectability`].
 pub fn require_detectable(
     plant: &RoundRobinPlant,
-    settings: &DetectabilitySettings,
+    settings: &DetectabilityOptions,
 ) -> Result<DetectabilityReport, Error> {
     let rep = check_detectability(plant, settings)?;
     if rep.detectable {
@@ -212,20 +223,18 @@ pub fn require_detectable(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::plant::Window;
+    use crate::plant::test_util::{rr, win};
     use faer::mat;
     use std::f64::consts::PI;
 
-    /// Spec §6 check 9: a harmonic oscillator sampled at half its period through `C = [1 0]` is not
+    /// a harmonic oscillator sampled at half its period through `C = [1 0]` is not
     /// detectable (e^{AT} = −I and both modes alias), while a generic period is.
     #[test]
     fn oscillator_at_half_period_is_not_detectable() {
         let w = 3.0;
         let a = mat![[0.0, w], [-w, 0.0]];
-        let s = DetectabilitySettings::default();
-        let plant =
-            RoundRobinPlant::new(a.clone(), vec![(mat![[1.0, 0.0]], Window::fixed(PI / w))])
-                .unwrap();
+        let s = DetectabilityOptions::default();
+        let plant = rr(a.clone(), vec![(mat![[1.0, 0.0]], win(PI / w, PI / w))]).unwrap();
         let rep = check_detectability(&plant, &s).unwrap();
         assert!(rep.exact && !rep.detectable);
         assert!((rep.max_spectral_radius - 1.0).abs() < 1e-12);
@@ -242,19 +251,15 @@ mod tests {
             }
             other => panic!("expected NotDetectable, got {other:?}"),
         }
-        let plant = RoundRobinPlant::new(
+        let plant = rr(
             a.clone(),
-            vec![(mat![[1.0, 0.0]], Window::fixed(0.7 * PI / w))],
+            vec![(mat![[1.0, 0.0]], win(0.7 * PI / w, 0.7 * PI / w))],
         )
         .unwrap();
         assert!(require_detectable(&plant, &s).is_ok());
         // Jitter box containing the bad period: the screen must catch it (grid hits T = π/ω exactly).
-        let plant = RoundRobinPlant::new(
-            a,
-            vec![(mat![[1.0, 0.0]], Window::new(0.5 * PI / w, 1.5 * PI / w))],
-        )
-        .unwrap();
-        let s3 = DetectabilitySettings {
+        let plant = rr(a, vec![(mat![[1.0, 0.0]], win(0.5 * PI / w, 1.5 * PI / w))]).unwrap();
+        let s3 = DetectabilityOptions {
             points_per_axis: 3,
             ..s
         };
@@ -266,15 +271,14 @@ mod tests {
     #[test]
     fn unobservable_unstable_mode() {
         let a = mat![[0.5, 0.0], [0.0, -1.0]];
-        let s = DetectabilitySettings::default();
-        let bad =
-            RoundRobinPlant::new(a.clone(), vec![(mat![[0.0, 1.0]], Window::fixed(0.2))]).unwrap();
+        let s = DetectabilityOptions::default();
+        let bad = rr(a.clone(), vec![(mat![[0.0, 1.0]], win(0.2, 0.2))]).unwrap();
         assert!(!check_detectability(&bad, &s).unwrap().detectable);
-        let good = RoundRobinPlant::new(
+        let good = rr(
             a,
             vec![
-                (mat![[0.0, 1.0]], Window::new(0.1, 0.2)),
-                (mat![[1.0, 0.0]], Window::new(0.1, 0.3)),
+                (mat![[0.0, 1.0]], win(0.1, 0.2)),
+                (mat![[1.0, 0.0]], win(0.1, 0.3)),
             ],
         )
         .unwrap();
@@ -286,8 +290,8 @@ mod tests {
     #[test]
     fn bad_arguments() {
         let a = mat![[0.0, 1.0], [0.0, 0.0]];
-        let plant = RoundRobinPlant::new(a, vec![(mat![[1.0, 0.0]], Window::fixed(0.1))]).unwrap();
-        let s = DetectabilitySettings::default();
+        let plant = rr(a, vec![(mat![[1.0, 0.0]], win(0.1, 0.1))]).unwrap();
+        let s = DetectabilityOptions::default();
         assert!(pbh(&plant, &[0.1, 0.2], &s).is_err());
         assert!(pbh(&plant, &[f64::NAN], &s).is_err());
         let mut bad_tol = s;
@@ -299,7 +303,7 @@ mod tests {
         assert!(
             check_detectability(
                 &plant,
-                &DetectabilitySettings {
+                &DetectabilityOptions {
                     points_per_axis: 1,
                     ..s
                 }

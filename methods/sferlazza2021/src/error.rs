@@ -40,6 +40,10 @@ pub enum Error {
     /// Any other invalid argument.
     #[error("invalid argument: {0}")]
     InvalidArgument(String),
+    /// A numerical kernel failed on valid input (an eigenvalue or singular value iteration that did
+    /// not converge).
+    #[error("numerical failure: {0}")]
+    Numerical(String),
     /// Assumption 1 fails: `C_σ` is not of full row rank.
     #[error(
         "sensor {sigma}: C_σ has rank {rank} but {rows} rows (Assumption 1 needs full row rank)"
@@ -136,8 +140,38 @@ pub enum Error {
     },
 }
 
+/// `x` must be a positive finite number (the error names the field `name`).
+pub(crate) fn check_positive(name: &str, x: f64) -> Result<(), InputError> {
+    if x > 0.0 && x.is_finite() {
+        Ok(())
+    } else {
+        Err(InputError::parameter(
+            name,
+            x,
+            "must be a positive finite number",
+        ))
+    }
+}
+
+/// `k` must be at least `min` (the error names the field `name`).
+pub(crate) fn check_at_least(name: &str, k: usize, min: usize) -> Result<(), InputError> {
+    if k >= min {
+        Ok(())
+    } else {
+        Err(InputError::parameter(
+            name,
+            k as f64,
+            format!("must be at least {min}"),
+        ))
+    }
+}
+
 impl Error {
     pub(crate) fn invalid(msg: impl Into<String>) -> Self {
         Self::InvalidArgument(msg.into())
+    }
+
+    pub(crate) fn numerical(msg: impl Into<String>) -> Self {
+        Self::Numerical(msg.into())
     }
 }

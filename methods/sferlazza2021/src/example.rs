@@ -3,12 +3,13 @@
 //!
 //! State: `x1 = z_s − z_u` (suspension deflection), `x2 = ż_s`, `x3 = z_u − z_r` (tire deflection),
 //! `x4 = ż_u`. Parameters `k_s = 1.6·10⁴`, `b_s = 10³`, `m_s = 250`, `m_u = 45`, `k_t = 400`, `b_t = 0`
-//! (as printed; spec 001 §5 notes that `k_t = 400` gives a slow, almost undamped 1.15 rad/s mode).
+//! (as printed; `k_t = 400` gives a slow, almost undamped 1.15 rad/s mode).
 
 use faer::{Mat, mat};
 
 use crate::error::Error;
-use crate::plant::{RoundRobinPlant, Window};
+use crate::plant::RoundRobinPlant;
+use sporadic_model::SamplingWindow;
 
 /// Physical parameters of the quarter-car model (51).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -78,15 +79,15 @@ pub const WINDOWS: [(f64, f64); 2] = [(0.02, 0.07), (0.04, 0.09)];
 /// None for the printed data (the constructor's checks are run anyway).
 pub fn suspension() -> Result<RoundRobinPlant, Error> {
     let plant = RoundRobinPlant::new(
-        QuarterCar::default().a(),
-        vec![
+        QuarterCar::default().a().as_ref(),
+        &[
             (
-                mat![[1.0, 0.0, 0.0, 0.0]],
-                Window::new(WINDOWS[0].0, WINDOWS[0].1),
+                mat![[1.0, 0.0, 0.0, 0.0]].as_ref(),
+                SamplingWindow::new(WINDOWS[0].0, WINDOWS[0].1)?,
             ),
             (
-                mat![[0.0, 0.0, 1.0, 0.0]],
-                Window::new(WINDOWS[1].0, WINDOWS[1].1),
+                mat![[0.0, 0.0, 1.0, 0.0]].as_ref(),
+                SamplingWindow::new(WINDOWS[1].0, WINDOWS[1].1)?,
             ),
         ],
     )?;
@@ -102,11 +103,13 @@ pub fn suspension() -> Result<RoundRobinPlant, Error> {
         [0.0, 0.0, 0.0],
         [0.0, 0.0, 1.0]
     ];
-    plant.with_complement(0, c1p)?.with_complement(1, c2p)
+    plant
+        .with_complement(0, c1p.as_ref())?
+        .with_complement(1, c2p.as_ref())
 }
 
 /// The matrices printed in (52). They are **not** a valid certificate: `P_2` is indefinite
-/// (eigenvalue ≈ −0.342) and the pair violates (44) on both windows (spec 001 §5); they are kept only
+/// (eigenvalue ≈ −0.342) and the pair violates (44) on both windows; they are kept only
 /// to report that fact.
 pub fn printed_solution() -> [Mat<f64>; 2] {
     [

@@ -6,7 +6,7 @@
 //!
 //! The grid spacing (49) is proportional to `1/(γ e^{βT_M})`, so the choice matters: `Π = I` gives
 //! `γ = 1` but a huge β for a non-normal A (for the §6 example β = 193.9, `γ e^{βT_M} ≈ 3.8·10⁷`, about
-//! 10¹³ grid points; spec 001 §4). Following the spec's recipe, for each β the small SDP
+//! 10¹³ grid points). Instead, for each β the small SDP
 //!
 //! ```text
 //! minimise κ   s.t.   I ⪯ Π ⪯ κI,   (A + βI)ᵀΠ + Π(A + βI) ⪰ εI
@@ -22,12 +22,14 @@ use faer::{Mat, Side};
 use sporadic_linalg::{golden_section, min_eigenvalue};
 use sporadic_sdp::lmi::{Compiled, Model, Param, SolveOptions, Var};
 
-use crate::error::Error;
+use crate::error::{Error, check_at_least, check_positive};
 use crate::validation::{ExponentialBound, spectral_norm};
+use sporadic_linalg::InputError;
 
-/// Settings of the β search.
+/// Options of the β search. Defaults: ε = 10⁻⁶, 41 grid points over offsets `[10⁻⁵, 30]·s`,
+/// 30 golden-section refinements, the crate's [`crate::synthesis::default_solve_options`].
 #[derive(Debug, Clone)]
-pub struct BoundSettings {
+pub struct BoundOptions {
     /// `ε` in `(A+βI)ᵀΠ + Π(A+βI) ⪰ εI` (absolute; Π ⪰ I fixes the scale).
     pub epsilon: f64,
     /// Number of points of the geometric grid of offsets `β − α`.
@@ -40,7 +42,29 @@ pub struct BoundSettings {
     pub solve: SolveOptions,
 }
 
-impl Default for BoundSettings {
+impl BoundOptions {
+    /// Checks every field; the error names the offending one.
+    ///
+    /// # Errors
+    /// [`InputError::InvalidParameter`] naming the field.
+    pub fn validate(&self) -> Result<(), InputError> {
+        check_positive("bound.epsilon", self.epsilon)?;
+        check_at_least("bound.grid_points", self.grid_points, 3)?;
+        let (lo, hi) = self.offset_range;
+        check_positive("bound.offset_range (lower)", lo)?;
+        check_positive("bound.offset_range (upper)", hi)?;
+        if hi <= lo {
+            return Err(InputError::parameter(
+                "bound.offset_range (upper)",
+                hi,
+                format!("must exceed the lower end {lo}"),
+            ));
+        }
+        Ok(())
+    }
+}
+
+impl Default for BoundOptions {
     fn default() -> Self {
         Self {
             epsilon: 1e-6,
@@ -77,7 +101,7 @@ struct Problem {
 }
 
 impl Problem {
-    fn new(a: &Mat<f64>, settings: &BoundSettings) -> Result<Self, Error> {
+    fn new(a: &Mat<f64>, settings: &BoundOptions) -> Result<Self, Error> {
         let n = a.nrows();
         let mut m = Model::new();
         let pi = m.symmetric("Π", n);
@@ -115,7 +139,7 @@ impl Problem {
         let pi = sol.value(&self.pi)?;
         let ev = pi
             .self_adjoint_eigenvalues(Side::Lower)
-            .map_err(|_| Error::invalid("eigenvalues of Π"))?;
+            .map_err(|_| Error::numerical("eigenvalues of Π did not converge"))?;
         if ev[0] <= 0.0 {
             return Ok(None);
         }
@@ -135,7 +159,7 @@ impl Problem {
 pub fn exponential_bound(
     a: &Mat<f64>,
     horizon: f64,
-    settings: &BoundSettings,
+    settings: &BoundOptions,
 ) -> Result<CertifiedBound, Error> {
     let n = a.nrows();
     if n == 0 || a.ncols() != n {
@@ -146,16 +170,10 @@ pub fn exponential_bound(
             "horizon must be positive (got {horizon})"
         )));
     }
-    if settings.grid_points < 3
-        || !(settings.offset_range.0 > 0.0 && settings.offset_range.1 > settings.offset_range.0)
-    {
-        return Err(Error::invalid(
-            "β search needs ≥ 3 grid points and 0 < min offset < max offset",
-        ));
-    }
+    settings.validate()?;
     let eig = a
         .eigenvalues()
-        .map_err(|_| Error::invalid("eigenvalues of A did not converge"))?;
+        .map_err(|_| Error::numerical("eigenvalues of A did not converge"))?;
     let alpha = -eig.iter().map(|z| z.re).fold(f64::INFINITY, f64::min);
     let norm = spectral_norm(a.as_ref())?;
     let scale = alpha.abs().max(1.0 / horizon).max(norm / 100.0);
@@ -251,7 +269,7 @@ mod tests {
     #[test]
     fn normal_matrix_reaches_the_exact_growth() {
         let a = mat![[-1.0, 0.0], [0.0, -2.0]];
-        let b = exponential_bound(&a, 0.5, &BoundSettings::default()).unwrap();
+        let b = exponential_bound(&a, 0.5, &BoundOptions::default()).unwrap();
         let growth = b.bound.at(0.5);
         assert!(
             (growth / 1f64.exp() - 1.0).abs() < 1e-3,
@@ -267,7 +285,7 @@ mod tests {
     fn non_normal_bound_is_valid_and_better_than_identity() {
         let a = mat![[-1.0, 10.0], [0.0, -2.0]];
         let t = 0.3;
-        let b = exponential_bound(&a, t, &BoundSettings::default()).unwrap();
+        let b = exponential_bound(&a, t, &BoundOptions::default()).unwrap();
         assert!(b.lyapunov_margin > 0.0);
         let sampled = sampled_growth(&a, t, 3001).unwrap();
         assert!(b.bound.at(t) >= sampled, "{} < {sampled}", b.bound.at(t));
@@ -279,12 +297,12 @@ mod tests {
     #[test]
     fn bad_arguments() {
         let a = mat![[-1.0, 0.0], [0.0, -2.0]];
-        assert!(exponential_bound(&a, 0.0, &BoundSettings::default()).is_err());
-        let s = BoundSettings {
+        assert!(exponential_bound(&a, 0.0, &BoundOptions::default()).is_err());
+        let s = BoundOptions {
             grid_points: 2,
-            ..BoundSettings::default()
+            ..BoundOptions::default()
         };
         assert!(exponential_bound(&a, 1.0, &s).is_err());
-        assert!(exponential_bound(&Mat::zeros(2, 3), 1.0, &BoundSettings::default()).is_err());
+        assert!(exponential_bound(&Mat::zeros(2, 3), 1.0, &BoundOptions::default()).is_err());
     }
 }

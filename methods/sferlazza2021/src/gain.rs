@@ -7,12 +7,12 @@
 //! K_σ(τ) = ( C_σᵀ − C_σ^⊥ W_σ(τ)⁻¹ (C_σ Φ_σ(τ) C_σ^⊥)ᵀ ) (C_σ C_σᵀ)⁻¹,   W_σ = C_σ^⊥ᵀ Φ_σ C_σ^⊥     (45)
 //! ```
 //!
-//! (24) is (45) at `τ = T_σ`. Spec 001 §1.4 gives the equivalent form `K_σ = Φ_σ⁻¹C_σᵀ(C_σΦ_σ⁻¹C_σᵀ)⁻¹`
+//! (24) is (45) at `τ = T_σ`. An equivalent closed form is `K_σ = Φ_σ⁻¹C_σᵀ(C_σΦ_σ⁻¹C_σᵀ)⁻¹`
 //! with `Φ_σ⁻¹ = e^{Aτ} P_σ⁻¹ e^{Aᵀτ}`, which shows that `C_σK_σ = I`, that `I − K_σC_σ` is the
 //! `Φ_σ`-orthogonal projector onto `ker C_σ`, and that the gain does not depend on the choice of
 //! `C_σ^⊥`. Both forms are implemented; they are cross-checked in the tests.
 //!
-//! The gain depends on `P_σ` only (the `P_Γ(σ)` in the proof of Theorem 4 is a typo, spec §1.4).
+//! The gain depends on `P_σ` only (the `P_Γ(σ)` in the proof of Theorem 4 is a typo).
 
 use faer::linalg::solvers::Solve;
 use faer::{Mat, MatRef, Side};
@@ -120,7 +120,7 @@ pub fn gain(
     right_solve_spd(x.as_ref(), cct.as_ref(), "C_σ C_σᵀ")
 }
 
-/// `K_σ(τ) = Φ_σ⁻¹C_σᵀ(C_σΦ_σ⁻¹C_σᵀ)⁻¹` with `Φ_σ⁻¹ = e^{Aτ}P_σ⁻¹e^{Aᵀτ}` (spec 001 §1.4): the closed
+/// `K_σ(τ) = Φ_σ⁻¹C_σᵀ(C_σΦ_σ⁻¹C_σᵀ)⁻¹` with `Φ_σ⁻¹ = e^{Aτ}P_σ⁻¹e^{Aᵀτ}` : the closed
 /// form of (45), independent of `C_σ^⊥`.
 ///
 /// # Errors
@@ -223,7 +223,7 @@ impl GainSchedule {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::plant::Window;
+    use crate::plant::test_util::{rr, win};
     use faer::mat;
     use proptest::prelude::*;
 
@@ -242,7 +242,7 @@ mod tests {
 
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(48))]
-        /// Spec §6 checks 4–7: (45) equals the closed form, C K = I, I − KC is idempotent, and K does not
+        /// (45) equals the closed form, C K = I, I − KC is idempotent, and K does not
         /// change when C^⊥ → C^⊥ R.
         #[test]
         fn gain_identities(
@@ -257,7 +257,7 @@ mod tests {
             let m = m_raw.min(n - 1);
             let a = random_mat(n, n, &av);
             let c = Mat::from_fn(m, n, |i, j| cv[(i * n + j) % cv.len()] + if i == j { 2.0 } else { 0.0 });
-            let plant = RoundRobinPlant::new(a, vec![(c.clone(), Window::new(0.1, 0.5))]).unwrap();
+            let plant = rr(a, vec![(c.clone(), win(0.1, 0.5))]).unwrap();
             let p = spd(n, &pv);
             let k = gain(&plant, 0, p.as_ref(), tau).unwrap();
             let k2 = gain_closed_form(&plant, 0, p.as_ref(), tau).unwrap();
@@ -275,13 +275,13 @@ mod tests {
             let r = n - m;
             let rm = Mat::from_fn(r, r, |i, j| if i == j { 3.0 } else { 0.0 } + rv[(i * r + j) % rv.len()]);
             let cp2 = plant.sensor(0).unwrap().c_perp() * &rm;
-            let plant2 = plant.clone().with_complement(0, cp2).unwrap();
+            let plant2 = plant.clone().with_complement(0, cp2.as_ref()).unwrap();
             let k3 = gain(&plant2, 0, p.as_ref(), tau).unwrap();
             prop_assert!((&k - &k3).norm_max() <= 1e-9 * scale);
         }
     }
 
-    /// Spec §6 check 3: with d = 0 the quadratic form x̃ᵀΦ_σ(τ)x̃ is constant along x̃(τ) = e^{Aτ}x̃(0).
+    /// with d = 0 the quadratic form x̃ᵀΦ_σ(τ)x̃ is constant along x̃(τ) = e^{Aτ}x̃(0).
     #[test]
     fn phi_is_invariant_along_the_flow() {
         let a = mat![[0.0, 1.0], [-4.0, -0.3]];
@@ -305,7 +305,7 @@ mod tests {
     #[test]
     fn bad_p_is_rejected() {
         let a = mat![[0.0, 1.0], [-4.0, -0.3]];
-        let plant = RoundRobinPlant::new(a, vec![(mat![[1.0, 0.0]], Window::fixed(0.1))]).unwrap();
+        let plant = rr(a, vec![(mat![[1.0, 0.0]], win(0.1, 0.1))]).unwrap();
         assert!(gain(&plant, 0, mat![[1.0, 0.0], [0.0, -1.0]].as_ref(), 0.1).is_err());
         assert!(gain(&plant, 0, mat![[1.0, 2.0], [0.0, 1.0]].as_ref(), 0.1).is_err());
         assert!(gain(&plant, 1, mat![[1.0, 0.0], [0.0, 1.0]].as_ref(), 0.1).is_err());

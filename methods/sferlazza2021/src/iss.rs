@@ -23,18 +23,30 @@
 use faer::Mat;
 use sporadic_linalg::{expm_stepper, max_eigenvalue, min_eigenvalue};
 
-use crate::error::Error;
+use crate::error::{Error, check_at_least};
 use crate::gain::{GainSchedule, congruence, gain, jump_matrix};
+use crate::plant::window_grid;
 use crate::validation::spectral_norm;
+use sporadic_linalg::InputError;
 
-/// Grid resolution of the extrema.
+/// Grid resolution of the extrema. Default: 2001 points per window.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct IssSettings {
+pub struct IssOptions {
     /// Points per interval `[0, T_Mσ]` and `[T_mσ, T_Mσ]`.
     pub points_per_window: usize,
 }
 
-impl Default for IssSettings {
+impl IssOptions {
+    /// Checks every field; the error names the offending one.
+    ///
+    /// # Errors
+    /// [`InputError::InvalidParameter`] naming the field.
+    pub fn validate(&self) -> Result<(), InputError> {
+        check_at_least("points_per_window", self.points_per_window, 2)
+    }
+}
+
+impl Default for IssOptions {
     fn default() -> Self {
         Self {
             points_per_window: 2001,
@@ -85,11 +97,9 @@ impl IssConstants {
 /// # Errors
 /// Fewer than 2 points, a failing kernel, or `min λ_m(M) ≤ 0` (Theorem 3's hypothesis (29) fails on
 /// the grid: [`Error::Infeasible`]).
-pub fn iss_constants(gains: &GainSchedule, settings: &IssSettings) -> Result<IssConstants, Error> {
+pub fn iss_constants(gains: &GainSchedule, settings: &IssOptions) -> Result<IssConstants, Error> {
+    settings.validate()?;
     let k = settings.points_per_window;
-    if k < 2 {
-        return Err(Error::invalid("points_per_window must be at least 2"));
-    }
     let plant = gains.plant();
     let n = plant.n();
     let neg_a = Mat::from_fn(n, n, |i, j| -plant.a()[(i, j)]);
@@ -97,7 +107,7 @@ pub fn iss_constants(gains: &GainSchedule, settings: &IssSettings) -> Result<Iss
     // (τ, λ_m(Φ_σ(τ))) on the flow set, for c_1 once ρ is known.
     let mut lam_min: Vec<(f64, f64)> = Vec::new();
     for (sensor, p) in plant.sensors().iter().zip(gains.p()) {
-        let tm = sensor.window().t_max;
+        let tm = sensor.window().t2();
         for (i, e) in expm_stepper(neg_a.as_ref(), 0.0, tm / (k - 1) as f64, k - 1)?.enumerate() {
             let phi = congruence(e.as_ref(), p.as_ref())?;
             c2 = c2.max(max_eigenvalue(phi.as_ref())?);
@@ -116,7 +126,7 @@ pub fn iss_constants(gains: &GainSchedule, settings: &IssSettings) -> Result<Iss
         let p_next = &gains.p()[plant.next(s)];
         let c = sensor.c();
         let mut worst = f64::INFINITY;
-        for tau in w.grid(k)? {
+        for tau in window_grid(w, k)? {
             let kg = gain(plant, s, p.as_ref(), tau)?;
             let jm = jump_matrix(kg.as_ref(), c);
             let phi = crate::gain::phi(plant.a(), p.as_ref(), tau)?;

@@ -28,7 +28,7 @@ pub fn intervals(plant: &RoundRobinPlant) -> Result<Vec<f64>, Error> {
             "the plant has jitter: pick T_σ with RoundRobinPlant::with_windows first",
         ));
     }
-    Ok(plant.sensors().iter().map(|s| s.window().t_min).collect())
+    Ok(plant.sensors().iter().map(|s| s.window().t1()).collect())
 }
 
 /// The monodromy matrix `J_1` of (19) for gains `K̄_σ` and intervals `T_σ` (sensor order).

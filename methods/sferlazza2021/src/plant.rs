@@ -6,81 +6,43 @@
 //! messages and reports print the 1-based form). The round-robin successor (2) is
 //! `Γ(σ) = σ + 1 mod N` ([`RoundRobinPlant::next`]).
 //!
-//! Following the hybrid model (9) and every theorem of the paper (and spec 001 §1.1, which fixes the
-//! contradicting wording of (4) and Definition 1): in mode σ the timer `τ` measures the time since
+//! Following the hybrid model (9) and every theorem of the paper (the wording of (4) and
+//! Definition 1 says the opposite, a typo): in mode σ the timer `τ` measures the time since
 //! the previous sample, which came from sensor `σ − 1` (cyclically), and **sensor σ is read when
 //! `τ ∈ [T_mσ, T_Mσ]`**. The window of sensor σ therefore bounds the interval *before* its sample.
 
 use faer::{Mat, MatRef};
 use sporadic_embed::Interval;
 use sporadic_linalg::InputError;
-use sporadic_linalg::input::{LowerEnd, check_finite, check_window};
+use sporadic_linalg::input::check_finite;
 use sporadic_linalg::null_space;
+use sporadic_model::SamplingWindow;
 
 use crate::error::Error;
 
-/// Sampling window `[T_mσ, T_Mσ]` of one sensor (Assumption 2): the admissible values of the time
-/// elapsed since the previous sample when this sensor's sample arrives.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Window {
-    /// Lower bound `T_mσ > 0`.
-    pub t_min: f64,
-    /// Upper bound `T_Mσ ≥ T_mσ`.
-    pub t_max: f64,
+/// The values `T_mσ, …, T_Mσ` of `points` equally spaced sampling intervals of `window` (both ends
+/// included; the single point `T_mσ` for a periodic window or `points < 2`), by
+/// [`sporadic_embed::Interval::grid`].
+///
+/// # Errors
+/// None for a valid [`SamplingWindow`] (the interval helper's checks are run anyway).
+pub fn window_grid(window: SamplingWindow, points: usize) -> Result<Vec<f64>, Error> {
+    Ok(Interval::new(window.t1(), window.t2())?.grid(points))
 }
 
-impl Window {
-    /// The window `[t_min, t_max]` (validated when the plant is built).
-    pub fn new(t_min: f64, t_max: f64) -> Self {
-        Self { t_min, t_max }
-    }
-
-    /// A jitter-free window `[t, t]` (12).
-    pub fn fixed(t: f64) -> Self {
-        Self { t_min: t, t_max: t }
-    }
-
-    /// Checks Assumption 2, `0 < T_mσ ≤ T_Mσ < ∞`, for sensor `sigma` (1-based).
-    pub fn check(&self, sigma: usize) -> Result<(), InputError> {
-        check_window(
-            &format!("sampling window of sensor {sigma} (Assumption 2)"),
-            self.t_min,
-            self.t_max,
-            LowerEnd::Positive,
-        )
-    }
-
-    /// Whether the window is a single point (jitter-free sensor, Definition 1).
-    pub fn is_jitter_free(&self) -> bool {
-        self.t_min == self.t_max
-    }
-
-    /// Width `T_Mσ − T_mσ`.
-    pub fn width(&self) -> f64 {
-        self.t_max - self.t_min
-    }
-
-    /// Whether `tau` lies in the window.
-    pub fn contains(&self, tau: f64) -> bool {
-        self.t_min <= tau && tau <= self.t_max
-    }
-
-    /// `points` equally spaced values from `T_mσ` to `T_Mσ` (both included; the single point `T_mσ`
-    /// for a jitter-free window or `points < 2`), by [`sporadic_embed::Interval::grid`].
-    ///
-    /// # Errors
-    /// A window that is not `0 ≤ T_mσ ≤ T_Mσ < ∞`.
-    pub fn grid(&self, points: usize) -> Result<Vec<f64>, Error> {
-        Ok(Interval::new(self.t_min, self.t_max)?.grid(points))
-    }
+/// Whether the interval `tau` lies in `window` (`T_mσ ≤ τ ≤ T_Mσ`).
+pub fn window_contains(window: SamplingWindow, tau: f64) -> bool {
+    window.t1() <= tau && tau <= window.t2()
 }
 
-/// One sensor: output matrix `C_σ` (full row rank, Assumption 1), its window and a basis `C_σ^⊥` of
-/// `ker C_σ` (orthonormal unless supplied by the user, see spec §1.4).
+/// One sensor: output matrix `C_σ` (full row rank, Assumption 1), its sampling window
+/// `[T_mσ, T_Mσ]` (Assumption 2: the admissible values of the time elapsed since the previous sample
+/// when this sensor's sample arrives) and a basis `C_σ^⊥` of `ker C_σ` (orthonormal unless supplied
+/// by the user with [`RoundRobinPlant::with_complement`]; the gains (45) do not depend on the choice).
 #[derive(Debug, Clone)]
 pub struct Sensor {
     c: Mat<f64>,
-    window: Window,
+    window: SamplingWindow,
     c_perp: Mat<f64>,
 }
 
@@ -89,8 +51,8 @@ impl Sensor {
     pub fn c(&self) -> MatRef<'_, f64> {
         self.c.as_ref()
     }
-    /// Sampling window.
-    pub fn window(&self) -> Window {
+    /// Sampling window `[T_mσ, T_Mσ]`.
+    pub fn window(&self) -> SamplingWindow {
         self.window
     }
     /// Basis `C_σ^⊥` of `ker C_σ` (`n × (n − m_σ)`), `C_σ C_σ^⊥ = 0`.
@@ -120,21 +82,24 @@ impl RoundRobinPlant {
     ///
     /// # Errors
     /// Empty sensor list, non-square or non-finite `A`, `C_σ` with the wrong number of columns or
-    /// rank-deficient ([`Error::RankDeficientOutput`]), invalid windows ([`InputError::InvalidWindow`]).
-    pub fn new(a: Mat<f64>, sensors: Vec<(Mat<f64>, Window)>) -> Result<Self, Error> {
+    /// rank-deficient ([`Error::RankDeficientOutput`]).
+    pub fn new(
+        a: MatRef<'_, f64>,
+        sensors: &[(MatRef<'_, f64>, SamplingWindow)],
+    ) -> Result<Self, Error> {
         let n = a.nrows();
         if a.ncols() != n {
             return Err(InputError::mismatch("columns of A", n, a.ncols()).into());
         }
         if n == 0 {
-            return Err(Error::invalid("A is empty"));
+            return Err(InputError::empty("A").into());
         }
-        check_finite(a.as_ref(), "A")?;
+        check_finite(a, "A")?;
         if sensors.is_empty() {
-            return Err(Error::invalid("at least one sensor is required"));
+            return Err(InputError::empty("round-robin sensors").into());
         }
         let mut out = Vec::with_capacity(sensors.len());
-        for (k, (c, window)) in sensors.into_iter().enumerate() {
+        for (k, &(c, window)) in sensors.iter().enumerate() {
             let sigma = k + 1;
             if c.ncols() != n {
                 return Err(
@@ -142,11 +107,10 @@ impl RoundRobinPlant {
                 );
             }
             if c.nrows() == 0 {
-                return Err(Error::invalid(format!("C_{sigma} has no rows")));
+                return Err(InputError::empty(format!("C_{sigma}")).into());
             }
-            check_finite(c.as_ref(), &format!("C_{sigma}"))?;
-            window.check(sigma)?;
-            let c_perp = null_space(c.as_ref())?;
+            check_finite(c, &format!("C_{sigma}"))?;
+            let c_perp = null_space(c)?;
             let rank = n - c_perp.ncols();
             if rank < c.nrows() {
                 return Err(Error::RankDeficientOutput {
@@ -155,9 +119,16 @@ impl RoundRobinPlant {
                     rows: c.nrows(),
                 });
             }
-            out.push(Sensor { c, window, c_perp });
+            out.push(Sensor {
+                c: c.to_owned(),
+                window,
+                c_perp,
+            });
         }
-        Ok(Self { a, sensors: out })
+        Ok(Self {
+            a: a.to_owned(),
+            sensors: out,
+        })
     }
 
     /// Replaces `C_σ^⊥` (0-based `sigma`) by a user basis of `ker C_σ`, e.g. the example's choice in §6.
@@ -167,7 +138,7 @@ impl RoundRobinPlant {
     /// # Errors
     /// Wrong shape, non-finite entries, `C_σ C_σ^⊥ ≠ 0` or `[C_σ^⊥ C_σᵀ]` singular
     /// ([`Error::InvalidComplement`]).
-    pub fn with_complement(mut self, sigma: usize, c_perp: Mat<f64>) -> Result<Self, Error> {
+    pub fn with_complement(mut self, sigma: usize, c_perp: MatRef<'_, f64>) -> Result<Self, Error> {
         let n = self.n();
         let s = self.sensor(sigma)?;
         let m = s.outputs();
@@ -183,8 +154,8 @@ impl RoundRobinPlant {
                 ),
             });
         }
-        check_finite(c_perp.as_ref(), "C^⊥")?;
-        let prod = &s.c * &c_perp;
+        check_finite(c_perp, "C^⊥")?;
+        let prod = &s.c * c_perp;
         let scale = s.c.norm_l2() * c_perp.norm_l2();
         if prod.norm_l2() > 1e-10 * scale.max(f64::MIN_POSITIVE) {
             return Err(Error::InvalidComplement {
@@ -201,7 +172,7 @@ impl RoundRobinPlant {
         });
         let sv = full
             .singular_values()
-            .map_err(|_| Error::invalid("SVD of [C^⊥ Cᵀ] did not converge"))?;
+            .map_err(|_| Error::numerical("SVD of [C^⊥ Cᵀ] did not converge"))?;
         let (smax, smin) = (sv[0], sv[n - 1]);
         if smin <= 1e-12 * smax {
             return Err(Error::InvalidComplement {
@@ -209,7 +180,7 @@ impl RoundRobinPlant {
                 reason: format!("[C^⊥ Cᵀ] is singular (σ_min/σ_max = {:.3e})", smin / smax),
             });
         }
-        self.sensors[sigma].c_perp = c_perp;
+        self.sensors[sigma].c_perp = c_perp.to_owned();
         Ok(self)
     }
 
@@ -247,25 +218,25 @@ impl RoundRobinPlant {
     pub fn t_max(&self) -> f64 {
         self.sensors
             .iter()
-            .map(|s| s.window.t_max)
+            .map(|s| s.window.t2())
             .fold(f64::NEG_INFINITY, f64::max)
     }
     /// `T_m = min_σ T_mσ`.
     pub fn t_min(&self) -> f64 {
         self.sensors
             .iter()
-            .map(|s| s.window.t_min)
+            .map(|s| s.window.t1())
             .fold(f64::INFINITY, f64::min)
     }
     /// Jitter-free scenario of Definition 1 (every window is a single point).
     pub fn is_jitter_free(&self) -> bool {
-        self.sensors.iter().all(|s| s.window.is_jitter_free())
+        self.sensors.iter().all(|s| s.window.is_periodic())
     }
     /// The same sensors with other windows (e.g. a jitter-free instance `T_σ` inside each window).
     ///
     /// # Errors
-    /// Wrong number of windows or an invalid window.
-    pub fn with_windows(&self, windows: &[Window]) -> Result<Self, Error> {
+    /// Wrong number of windows.
+    pub fn with_windows(&self, windows: &[SamplingWindow]) -> Result<Self, Error> {
         if windows.len() != self.num_sensors() {
             return Err(InputError::mismatch(
                 "number of windows",
@@ -275,11 +246,30 @@ impl RoundRobinPlant {
             .into());
         }
         let mut out = self.clone();
-        for (k, (s, w)) in out.sensors.iter_mut().zip(windows).enumerate() {
-            w.check(k + 1)?;
+        for (s, w) in out.sensors.iter_mut().zip(windows) {
             s.window = *w;
         }
         Ok(out)
+    }
+}
+
+/// Shorthands of the unit tests.
+#[cfg(test)]
+pub(crate) mod test_util {
+    use super::*;
+
+    /// A valid window.
+    pub(crate) fn win(t1: f64, t2: f64) -> SamplingWindow {
+        SamplingWindow::new(t1, t2).unwrap()
+    }
+
+    /// [`RoundRobinPlant::new`] from owned matrices.
+    pub(crate) fn rr(
+        a: Mat<f64>,
+        sensors: Vec<(Mat<f64>, SamplingWindow)>,
+    ) -> Result<RoundRobinPlant, Error> {
+        let s: Vec<_> = sensors.iter().map(|(c, w)| (c.as_ref(), *w)).collect();
+        RoundRobinPlant::new(a.as_ref(), &s)
     }
 }
 
@@ -288,13 +278,15 @@ mod tests {
     use super::*;
     use faer::mat;
 
+    use crate::plant::test_util::{rr, win};
+
     fn plant() -> RoundRobinPlant {
         let a = mat![[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [-1.0, -2.0, -3.0]];
-        RoundRobinPlant::new(
+        rr(
             a,
             vec![
-                (mat![[1.0, 0.0, 0.0]], Window::new(0.1, 0.2)),
-                (mat![[0.0, 1.0, 1.0], [1.0, 0.0, 0.0]], Window::fixed(0.3)),
+                (mat![[1.0, 0.0, 0.0]], win(0.1, 0.2)),
+                (mat![[0.0, 1.0, 1.0], [1.0, 0.0, 0.0]], win(0.3, 0.3)),
             ],
         )
         .unwrap()
@@ -306,7 +298,7 @@ mod tests {
     fn sensor_lookup() {
         let p = plant();
         assert_eq!(p.sensor(1).unwrap().outputs(), 2);
-        assert_eq!(p.sensor(0).unwrap().window(), Window::new(0.1, 0.2));
+        assert_eq!(p.sensor(0).unwrap().window(), win(0.1, 0.2));
         let err = p.sensor(2).unwrap_err();
         assert!(
             matches!(
@@ -323,7 +315,7 @@ mod tests {
             "no sensor with index 2 (0-based): the plant has 2 sensors"
         );
         assert!(matches!(
-            p.with_complement(5, Mat::zeros(3, 2)),
+            p.with_complement(5, Mat::zeros(3, 2).as_ref()),
             Err(Error::NoSuchSensor {
                 index: 5,
                 sensors: 2
@@ -357,9 +349,9 @@ mod tests {
     #[test]
     fn bad_inputs_are_typed_errors() {
         let a = mat![[0.0, 1.0], [0.0, 0.0]];
-        let e = RoundRobinPlant::new(
+        let e = rr(
             a.clone(),
-            vec![(mat![[1.0, 0.0], [2.0, 0.0]], Window::fixed(0.1))],
+            vec![(mat![[1.0, 0.0], [2.0, 0.0]], win(0.1, 0.1))],
         );
         assert!(matches!(
             e,
@@ -369,28 +361,21 @@ mod tests {
                 rows: 2
             })
         ));
-        let e = RoundRobinPlant::new(a.clone(), vec![(mat![[1.0, 0.0]], Window::new(0.2, 0.1))]);
-        assert!(
-            matches!(e, Err(Error::Input(InputError::InvalidWindow { what, .. })) if what.contains("sensor 1"))
-        );
-        let e = RoundRobinPlant::new(a.clone(), vec![(mat![[1.0, 0.0]], Window::new(0.0, 0.1))]);
-        assert!(matches!(
-            e,
-            Err(Error::Input(InputError::InvalidWindow { .. }))
-        ));
-        let e = RoundRobinPlant::new(a.clone(), vec![(mat![[1.0, f64::NAN]], Window::fixed(0.1))]);
+        assert!(SamplingWindow::new(0.2, 0.1).is_err());
+        assert!(SamplingWindow::new(0.0, 0.1).is_err());
+        let e = rr(a.clone(), vec![(mat![[1.0, f64::NAN]], win(0.1, 0.1))]);
         assert!(matches!(e, Err(Error::Input(InputError::NonFinite { .. }))));
-        let e = RoundRobinPlant::new(a.clone(), vec![(mat![[1.0, 0.0, 0.0]], Window::fixed(0.1))]);
+        let e = rr(a.clone(), vec![(mat![[1.0, 0.0, 0.0]], win(0.1, 0.1))]);
         assert!(matches!(
             e,
             Err(Error::Input(InputError::DimensionMismatch { .. }))
         ));
-        let e = RoundRobinPlant::new(a.clone(), vec![]);
-        assert!(matches!(e, Err(Error::InvalidArgument(_))));
-        let p = RoundRobinPlant::new(a, vec![(mat![[1.0, 0.0]], Window::fixed(0.1))]).unwrap();
-        let e = p.clone().with_complement(0, mat![[1.0], [0.0]]);
+        let e = rr(a.clone(), vec![]);
+        assert!(matches!(e, Err(Error::Input(InputError::Empty { .. }))));
+        let p = rr(a, vec![(mat![[1.0, 0.0]], win(0.1, 0.1))]).unwrap();
+        let e = p.clone().with_complement(0, mat![[1.0], [0.0]].as_ref());
         assert!(matches!(e, Err(Error::InvalidComplement { sigma: 1, .. })));
-        let p2 = p.with_complement(0, mat![[0.0], [-2.0]]).unwrap();
+        let p2 = p.with_complement(0, mat![[0.0], [-2.0]].as_ref()).unwrap();
         assert_eq!(p2.sensor(0).unwrap().c_perp()[(1, 0)], -2.0);
     }
 }

@@ -7,7 +7,7 @@
 //! ```
 //!
 //! The intervals are drawn uniformly in the window of the sensor being sampled (the convention of (9),
-//! see [`crate::plant`]; spec 001 §5 flags that (53) must use the window of the new mode), by
+//! see [`crate::plant`]: (53) must use the window of the new mode), by
 //! [`sporadic_sim::RoundRobin`]. The noise sign is `−K w` as derived from (3) and (11b) (the paper
 //! prints `+K w`; irrelevant for symmetric noise). The disturbance is zero-mean uniform in the box
 //! `|d_i| ≤ d̄_i`, held constant over `disturbance_period` (the paper does not report the sample rate
@@ -20,31 +20,62 @@ use sporadic_sim::{
     SampleEvent, SimError, SimOptions, simulate_hybrid,
 };
 
-use crate::error::Error;
+use crate::error::{Error, check_positive};
 use crate::gain::GainSchedule;
+use sporadic_linalg::input::check_finite_slice;
 
-/// Settings of [`simulate_error`].
+/// Options of [`simulate_error`]. The default is [`SimulationOptions::noise_free`] with a horizon
+/// of 10 s from `x̃(0) = (1, …, 1)`.
 #[derive(Debug, Clone, PartialEq)]
-pub struct SimulationSettings {
+pub struct SimulationOptions {
     /// Final time.
     pub horizon: f64,
-    /// Initial error `x̃(0)`.
+    /// Initial error `x̃(0)` (empty: `(1, …, 1)`).
     pub x0: Vec<f64>,
-    /// Bounds `d̄_i` of the uniform disturbance (`None`: d = 0).
+    /// Bounds `d̄_i` of the uniform disturbance (`None`: d = 0). Default `None`.
     pub disturbance: Option<Vec<f64>>,
-    /// Hold time of each disturbance sample.
+    /// Hold time of each disturbance sample. Default 10⁻³ s.
     pub disturbance_period: f64,
-    /// Per-sensor bounds of the uniform measurement noise (`None`: w = 0).
+    /// Per-sensor bounds of the uniform measurement noise (`None`: w = 0). Default `None`.
     pub noise: Option<Vec<Vec<f64>>>,
-    /// Recording step of the flow.
+    /// Recording step of the flow. Default 10⁻³ s.
     pub record_step: f64,
-    /// Seed of all random draws (intervals, d, w).
+    /// Seed of all random draws (intervals, d, w). Default 1.
     pub seed: u64,
     /// ρ of the Lyapunov function (30) (e.g. [`crate::iss::IssConstants::rho`]; 0 gives `x̃ᵀΦ_σ(τ)x̃`).
+    /// Default 0.
     pub rho: f64,
 }
 
-impl SimulationSettings {
+impl Default for SimulationOptions {
+    fn default() -> Self {
+        Self::noise_free(10.0, Vec::new())
+    }
+}
+
+impl SimulationOptions {
+    /// Checks every scalar field and the finiteness of the vectors (their lengths are checked
+    /// against the plant by [`simulate_error`]); the error names the offending field.
+    ///
+    /// # Errors
+    /// [`InputError::InvalidParameter`] naming the field, or non-finite entries.
+    pub fn validate(&self) -> Result<(), InputError> {
+        check_positive("horizon", self.horizon)?;
+        check_positive("record_step", self.record_step)?;
+        check_positive("disturbance_period", self.disturbance_period)?;
+        if !self.rho.is_finite() {
+            return Err(InputError::parameter("rho", self.rho, "must be finite"));
+        }
+        check_finite_slice(&self.x0, "x0")?;
+        if let Some(d) = &self.disturbance {
+            check_finite_slice(d, "disturbance")?;
+        }
+        for w in self.noise.iter().flatten() {
+            check_finite_slice(w, "noise")?;
+        }
+        Ok(())
+    }
+
     /// Noise-free run of `horizon` seconds from `x0`.
     pub fn noise_free(horizon: f64, x0: Vec<f64>) -> Self {
         Self {
@@ -108,26 +139,20 @@ fn vnorm(v: &[f64]) -> f64 {
 /// Bad settings (dimensions, non-positive horizon/steps) or a failing kernel.
 pub fn simulate_error(
     gains: &GainSchedule,
-    settings: &SimulationSettings,
+    settings: &SimulationOptions,
 ) -> Result<ErrorTrajectory, Error> {
     let plant = gains.plant();
     let n = plant.n();
-    if settings.x0.len() != n {
-        return Err(InputError::mismatch("initial error x̃(0)", n, settings.x0.len()).into());
-    }
-    if !(settings.horizon > 0.0 && settings.horizon.is_finite()) {
-        return Err(Error::invalid(format!(
-            "horizon must be positive (got {})",
-            settings.horizon
-        )));
-    }
-    if !(settings.record_step > 0.0
-        && settings.disturbance_period > 0.0
-        && settings.rho.is_finite())
-    {
-        return Err(Error::invalid(
-            "record_step and disturbance_period must be positive, ρ finite",
-        ));
+    settings.validate()?;
+    let ones;
+    let x0: &[f64] = if settings.x0.is_empty() {
+        ones = vec![1.0; n];
+        &ones
+    } else {
+        &settings.x0
+    };
+    if x0.len() != n {
+        return Err(InputError::mismatch("initial error x̃(0)", n, x0.len()).into());
     }
     let mut flow = LtiFlow::new(plant.a())?;
     let mut d_sup = 0.0f64;
@@ -180,7 +205,7 @@ pub fn simulate_error(
     let windows: Vec<(f64, f64)> = plant
         .sensors()
         .iter()
-        .map(|s| (s.window().t_min, s.window().t_max))
+        .map(|s| (s.window().t1(), s.window().t2()))
         .collect();
     let mut rule = RoundRobin::new(&windows, settings.seed)?;
     let mut w_sup = 0.0f64;
@@ -211,7 +236,7 @@ pub fn simulate_error(
         Ok(())
     };
     let opts = SimOptions::new(settings.horizon).record(Record::Every(settings.record_step));
-    let sim = simulate_hybrid(flow, jump, &mut rule, &settings.x0, &opts);
+    let sim = simulate_hybrid(flow, jump, &mut rule, x0, &opts);
     if let Some(e) = inner {
         return Err(e);
     }

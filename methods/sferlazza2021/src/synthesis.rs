@@ -14,7 +14,7 @@
 //! and by homogeneity any strict solution of (44) can be scaled into (47).
 
 use sporadic_linalg::InputError;
-use std::time::Duration;
+use sporadic_model::SolverStats;
 
 use faer::Mat;
 use sporadic_linalg::expm_scaled;
@@ -24,7 +24,7 @@ use sporadic_sdp::lmi::{
 use sporadic_sdp::{Settings, Status};
 
 use crate::error::Error;
-use crate::plant::RoundRobinPlant;
+use crate::plant::{RoundRobinPlant, window_contains};
 
 /// Solver options used for the small SDPs of this crate: relative gap `1e-7` (p* to about seven
 /// digits), relative infeasibility `1e-8` (the margin μ ≥ 1e-3 dwarfs the resulting constraint error)
@@ -76,15 +76,16 @@ pub struct SynthesisResult {
     pub p: Vec<Mat<f64>>,
     /// Optimal value p* (unique).
     pub p_star: f64,
-    /// Interior-point iterations.
-    pub iterations: usize,
-    /// Solver wall time.
-    pub solve_time: Duration,
-    /// Relative duality gap of the returned point.
-    pub rel_gap: f64,
-    /// Whether the solver reached its tolerances ([`Status::Optimal`]); `false` when a verified feasible
-    /// point was accepted after a stall (see [`ACCEPT_GAP`]).
-    pub optimal: bool,
+    /// Statistics of the solve (decision scalars: the `N` symmetric `P_σ` and `p_M`).
+    pub stats: SolverStats,
+}
+
+impl SynthesisResult {
+    /// Whether the solver reached its tolerances ([`Status::Optimal`]); `false` when a verified
+    /// feasible point was accepted after a stall (see [`ACCEPT_GAP`]).
+    pub fn optimal(&self) -> bool {
+        matches!(self.stats.status, Status::Optimal)
+    }
 }
 
 /// When the interior-point method stalls (`NumericalTrouble`/`MaxIterations`) at a point that passes the
@@ -100,6 +101,7 @@ pub struct Synthesis {
     p_max: Var,
     mu: f64,
     points: Vec<Vec<f64>>,
+    decision_scalars: usize,
 }
 
 impl std::fmt::Debug for Synthesis {
@@ -118,9 +120,7 @@ impl Synthesis {
     /// `μ ≤ 0` or non-finite, or a modelling error.
     pub fn new(plant: &RoundRobinPlant, mu: f64, options: &SolveOptions) -> Result<Self, Error> {
         if !(mu > 0.0 && mu.is_finite()) {
-            return Err(Error::invalid(format!(
-                "the margin μ must be positive and finite (got {mu})"
-            )));
+            return Err(InputError::parameter("mu", mu, "must be positive and finite").into());
         }
         let n = plant.n();
         let mut m = Model::new();
@@ -131,10 +131,10 @@ impl Synthesis {
         let mut points = Vec::with_capacity(plant.num_sensors());
         for (s, sensor) in plant.sensors().iter().enumerate() {
             let w = sensor.window();
-            let set = if w.is_jitter_free() {
-                vec![w.t_min]
+            let set = if w.is_periodic() {
+                vec![w.t1()]
             } else {
-                vec![w.t_min, w.t_max]
+                vec![w.t1(), w.t2()]
             };
             for &tau in &set {
                 m.constrain(
@@ -153,6 +153,7 @@ impl Synthesis {
         let compiled = m.compile(options)?;
         Ok(Self {
             compiled,
+            decision_scalars: plant.num_sensors() * n * (n + 1) / 2 + 1,
             p,
             p_max,
             mu,
@@ -180,7 +181,7 @@ impl Synthesis {
         sigma: usize,
         tau: f64,
     ) -> Result<(), Error> {
-        if !plant.sensor(sigma)?.window().contains(tau) {
+        if !window_contains(plant.sensor(sigma)?.window(), tau) {
             return Err(Error::invalid(format!(
                 "τ = {tau} is not in the window of sensor {}",
                 sigma + 1
@@ -220,10 +221,7 @@ impl Synthesis {
         Ok(SynthesisResult {
             p,
             p_star: sol.scalar(&self.p_max)?,
-            iterations: sol.sdp.iterations,
-            solve_time: sol.sdp.solve_time,
-            rel_gap: sol.sdp.measures.rel_gap,
-            optimal: matches!(sol.sdp.status, Status::Optimal),
+            stats: SolverStats::of(&sol, self.decision_scalars),
         })
     }
 }

@@ -13,7 +13,7 @@
 //! is checked against `μI` on every point of a uniform grid of `[T_mσ, T_Mσ]` (or on an explicit list
 //! of τ), and when some point fails, the exact minimiser over the grid of `λ_min(Ξ_σ(τ))` is returned.
 //!
-//! # How (exact optimisations of spec 001 §4, same result as one eigen-solve per point)
+//! # How (exact optimisations, same result as one eigen-solve per point)
 //!
 //! * `E(τ_k)` comes from [`sporadic_linalg::ExpmStepper`] (one `n × n` product per point, re-anchored by
 //!   a fresh exponential at every chunk start and every [`sporadic_linalg::DEFAULT_REANCHOR`] steps).
@@ -44,15 +44,17 @@ use faer::{Mat, MatRef, Side};
 use rayon::prelude::*;
 use sporadic_linalg::{expm_scaled, expm_stepper, min_eigenvalue};
 
-use crate::error::Error;
+use crate::error::{Error, check_at_least};
 use crate::gain::check_sym;
-use crate::plant::{RoundRobinPlant, Window};
+use crate::plant::RoundRobinPlant;
+use sporadic_model::SamplingWindow;
 
 /// How the validation grid spacing `τ_{k+1} − τ_k` is chosen.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum GridPolicy {
     /// The paper's (49): spacing `2δ* = 2μ / (p* ‖A‖ γ e^{βT_M})` (spectral norm). Not provably safe
-    /// in general (spec 001 §4 flag) but faithful to the paper; the default.
+    /// in general (it bounds the variation of `e^{−Aτ}`, not of `Ξ_σ(τ)`) but faithful to the paper;
+    /// the default.
     Paper,
     /// A spacing from the rigorous Lipschitz bound `‖dΞ_σ/dτ‖ ≤ 2‖A‖ p* γ² e^{2βT_M} ‖C_σ^⊥‖²`:
     /// `2δ = 2μ / (2 p* ‖A‖ γ² e^{2βT_M} ‖C_σ^⊥‖²)`, so that `λ_min > μ` on the grid implies
@@ -88,7 +90,7 @@ pub(crate) fn spectral_norm(m: MatRef<'_, f64>) -> Result<f64, Error> {
     }
     let sv = m
         .singular_values()
-        .map_err(|_| Error::invalid("SVD did not converge"))?;
+        .map_err(|_| Error::numerical("SVD did not converge"))?;
     Ok(sv[0])
 }
 
@@ -150,16 +152,16 @@ impl UniformGrid {
     ///
     /// # Errors
     /// Non-positive spacing, or more than `cap` points ([`Error::GridTooLarge`], sensor reported as 0).
-    pub fn covering(window: Window, max_spacing: f64, cap: f64) -> Result<Self, Error> {
+    pub fn covering(window: SamplingWindow, max_spacing: f64, cap: f64) -> Result<Self, Error> {
         if max_spacing.is_nan() || max_spacing <= 0.0 {
             return Err(Error::invalid(format!(
                 "grid spacing must be positive (got {max_spacing})"
             )));
         }
-        let width = window.width();
+        let width = window.t2() - window.t1();
         if width == 0.0 {
             return Ok(Self {
-                t_min: window.t_min,
+                t_min: window.t1(),
                 spacing: 0.0,
                 points: 1,
             });
@@ -174,7 +176,7 @@ impl UniformGrid {
         }
         let intervals = intervals.max(1.0) as usize;
         Ok(Self {
-            t_min: window.t_min,
+            t_min: window.t1(),
             spacing: width / intervals as f64,
             points: intervals + 1,
         })
@@ -186,9 +188,11 @@ impl UniformGrid {
     }
 }
 
-/// Tuning of the validation pass (none of it changes the result).
+/// Tuning of the validation pass (none of it changes the result). Defaults: 4096 points per
+/// chunk, an exact eigenvalue at every 64th failing point, at most 4·10⁹ points per sensor,
+/// parallel chunks.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ValidationSettings {
+pub struct ValidationOptions {
     /// Grid points per parallel chunk (each chunk starts with a fresh exponential).
     pub chunk_points: usize,
     /// The exact `λ_min` is computed at every `sample_stride`-th failing point of a chunk (a first
@@ -200,7 +204,26 @@ pub struct ValidationSettings {
     pub parallel: bool,
 }
 
-impl Default for ValidationSettings {
+impl ValidationOptions {
+    /// Checks every field; the error names the offending one.
+    ///
+    /// # Errors
+    /// [`InputError::InvalidParameter`] naming the field.
+    pub fn validate(&self) -> Result<(), InputError> {
+        check_at_least("validation.chunk_points", self.chunk_points, 1)?;
+        check_at_least("validation.sample_stride", self.sample_stride, 1)?;
+        if !(self.max_points >= 1.0) {
+            return Err(InputError::parameter(
+                "validation.max_points",
+                self.max_points,
+                "must be at least 1",
+            ));
+        }
+        Ok(())
+    }
+}
+
+impl Default for ValidationOptions {
     fn default() -> Self {
         Self {
             chunk_points: 4096,
@@ -434,7 +457,7 @@ fn quad_form_dyn(
 
 /// Whether the symmetric `k × k` matrix whose lower triangle is in `a` (column-major) is positive
 /// definite: an unpivoted Cholesky factorisation in place that stops at the first non-positive pivot
-/// (the pass/fail test of spec 001 §4, without the dispatch overhead of a general factorisation at
+/// (the pass/fail test of the validation, without the dispatch overhead of a general factorisation at
 /// these tiny orders).
 #[inline]
 fn cholesky_passes(a: &mut [f64], k: usize) -> bool {
@@ -710,16 +733,12 @@ impl XiFamily {
         &self,
         src: Source<'_>,
         mu: f64,
-        settings: &ValidationSettings,
+        settings: &ValidationOptions,
     ) -> Result<SensorValidation, Error> {
         if !mu.is_finite() {
             return Err(InputError::non_finite("μ").into());
         }
-        if settings.chunk_points == 0 || settings.sample_stride == 0 {
-            return Err(Error::invalid(
-                "chunk_points and sample_stride must be positive",
-            ));
-        }
+        settings.validate()?;
         let len = src.len();
         if len == 0 {
             return Err(Error::invalid("no points to validate"));
@@ -768,7 +787,7 @@ impl XiFamily {
         &self,
         grid: UniformGrid,
         mu: f64,
-        settings: &ValidationSettings,
+        settings: &ValidationOptions,
     ) -> Result<SensorValidation, Error> {
         if grid.points == 0
             || grid.spacing.is_nan()
@@ -789,7 +808,7 @@ impl XiFamily {
         &self,
         taus: &[f64],
         mu: f64,
-        settings: &ValidationSettings,
+        settings: &ValidationOptions,
     ) -> Result<SensorValidation, Error> {
         self.run(Source::Points(taus), mu, settings)
     }
@@ -822,15 +841,16 @@ pub fn validate_naive(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::plant::test_util::{rr, win};
     use faer::mat;
 
     fn plant() -> RoundRobinPlant {
         let a = mat![[0.0, 1.0, 0.0], [-2.0, -0.3, 1.0], [0.5, 0.0, -1.0]];
-        RoundRobinPlant::new(
+        rr(
             a,
             vec![
-                (mat![[1.0, 0.0, 0.0]], Window::new(0.1, 0.9)),
-                (mat![[0.0, 0.0, 1.0]], Window::new(0.2, 0.6)),
+                (mat![[1.0, 0.0, 0.0]], win(0.1, 0.9)),
+                (mat![[0.0, 0.0, 1.0]], win(0.2, 0.6)),
             ],
         )
         .unwrap()
@@ -857,7 +877,7 @@ mod tests {
             for &mu in &[lmin - 0.1, lmin + 1e-4, lmin + 0.05, lmin + 0.5, 10.0] {
                 let (nf, l, t) = validate_naive(&fam, grid, mu).unwrap();
                 for parallel in [true, false] {
-                    let s = ValidationSettings {
+                    let s = ValidationOptions {
                         chunk_points: 37,
                         sample_stride: 5,
                         parallel,
@@ -895,7 +915,7 @@ mod tests {
         let grid = UniformGrid::covering(plant.sensor(0).unwrap().window(), 1e-2, 1e9).unwrap();
         let taus: Vec<f64> = (0..grid.points).map(|k| grid.tau(k)).collect();
         let (_, lmin, _) = validate_naive(&fam, grid, 0.0).unwrap();
-        let s = ValidationSettings::default();
+        let s = ValidationOptions::default();
         let a = fam.validate_grid(grid, lmin + 0.02, &s).unwrap();
         let b = fam.validate_points(&taus, lmin + 0.02, &s).unwrap();
         assert_eq!(a.failures, b.failures);
@@ -924,7 +944,7 @@ mod tests {
             let fam = XiFamily::new(&plant, &p, 0).unwrap();
             let grid = UniformGrid::covering(plant.sensor(0).unwrap().window(), 2e-2, 1e9).unwrap();
             let (nf, l, t) = validate_naive(&fam, grid, 0.1).unwrap();
-            let s = ValidationSettings {
+            let s = ValidationOptions {
                 chunk_points: 7,
                 sample_stride: 3,
                 ..Default::default()
@@ -941,23 +961,23 @@ mod tests {
 
     #[test]
     fn grids_and_spacings() {
-        let g = UniformGrid::covering(Window::new(0.02, 0.07), 0.01, 1e9).unwrap();
+        let g = UniformGrid::covering(win(0.02, 0.07), 0.01, 1e9).unwrap();
         assert_eq!(g.points, 6);
         assert!((g.tau(5) - 0.07).abs() < 1e-15);
-        let g = UniformGrid::covering(Window::new(0.02, 0.07), 0.011, 1e9).unwrap();
+        let g = UniformGrid::covering(win(0.02, 0.07), 0.011, 1e9).unwrap();
         assert_eq!(g.points, 6);
         assert!(g.spacing <= 0.011);
-        let g = UniformGrid::covering(Window::fixed(0.05), 0.01, 1e9).unwrap();
+        let g = UniformGrid::covering(win(0.05, 0.05), 0.01, 1e9).unwrap();
         assert_eq!((g.points, g.spacing), (1, 0.0));
         assert!(matches!(
-            UniformGrid::covering(Window::new(0.0, 1.0), 1e-9, 1e6),
+            UniformGrid::covering(win(1e-3, 1.0), 1e-9, 1e6),
             Err(Error::GridTooLarge { .. })
         ));
-        assert!(UniformGrid::covering(Window::new(0.0, 1.0), 0.0, 1e6).is_err());
+        assert!(UniformGrid::covering(win(1e-3, 1.0), 0.0, 1e6).is_err());
         // (49) by hand: 2μ / (p ‖A‖ γ e^{βT_M}) with ‖diag(2, −3)‖ = 3.
-        let plant = RoundRobinPlant::new(
+        let plant = rr(
             mat![[2.0, 0.0], [0.0, -3.0]],
-            vec![(mat![[1.0, 0.0]], Window::new(0.1, 0.5))],
+            vec![(mat![[1.0, 0.0]], win(0.1, 0.5))],
         )
         .unwrap();
         let b = ExponentialBound {
@@ -996,7 +1016,7 @@ mod tests {
             let a = Mat::from_fn(n, n, |i, j| av[i * n + j]);
             let c = Mat::from_fn(1, n, |_, j| if j == 0 { 1.0 } else { 0.3 * av[j] });
             let plant =
-                RoundRobinPlant::new(a, vec![(c, Window::new(t_min, t_min + width))]).unwrap();
+                rr(a, vec![(c, win(t_min, t_min + width))]).unwrap();
             let spd = |off: usize| {
                 let g = Mat::from_fn(n, n, |i, j| gv[off + i * n + j]);
                 &g * g.transpose() + Mat::<f64>::identity(n, n) * 0.2
@@ -1008,7 +1028,7 @@ mod tests {
             // Levels from "every point fails" to "no point fails".
             let mu = lmin + level * (max_on_grid(&fam, grid) - lmin) * 1.2 - 1e-3;
             let (nf, l, t) = validate_naive(&fam, grid, mu).unwrap();
-            let s = ValidationSettings { chunk_points: chunk, sample_stride: 3, ..Default::default() };
+            let s = ValidationOptions { chunk_points: chunk, sample_stride: 3, ..Default::default() };
             let v = fam.validate_grid(grid, mu, &s).unwrap();
             proptest::prop_assert_eq!(v.failures, nf);
             if nf > 0 {

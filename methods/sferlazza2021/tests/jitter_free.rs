@@ -4,12 +4,13 @@ use faer::{Mat, mat};
 use proptest::prelude::*;
 use sporadic_linalg::spectral_radius;
 use sporadic_sdp::lmi::{FeasibilityOptions, Outcome};
-use sporadic_sferlazza2021::detectability::{DetectabilitySettings, pbh};
+use sporadic_sferlazza2021::SamplingWindow;
+use sporadic_sferlazza2021::detectability::{DetectabilityOptions, pbh};
 use sporadic_sferlazza2021::gain::gain;
 use sporadic_sferlazza2021::jitter_free::{
     analysis_feasibility, design, design_feasibility, intervals, monodromy,
 };
-use sporadic_sferlazza2021::plant::{RoundRobinPlant, Window};
+use sporadic_sferlazza2021::plant::RoundRobinPlant;
 use sporadic_sferlazza2021::synthesis::default_solve_options;
 
 fn options() -> FeasibilityOptions {
@@ -55,12 +56,13 @@ fn random_plant(
     }
     let q = orthogonal(n, qv);
     let a = q.transpose() * &a * &q;
-    let sensors = cs
-        .into_iter()
+    let cs: Vec<Mat<f64>> = cs.into_iter().map(|c| &c * &q).collect();
+    let sensors: Vec<_> = cs
+        .iter()
         .zip(t)
-        .map(|(c, &ti)| (&c * &q, Window::fixed(ti)))
+        .map(|(c, &ti)| (c.as_ref(), SamplingWindow::periodic(ti).unwrap()))
         .collect();
-    RoundRobinPlant::new(a, sensors).unwrap()
+    RoundRobinPlant::new(a.as_ref(), &sensors).unwrap()
 }
 
 proptest! {
@@ -81,7 +83,7 @@ proptest! {
         hide in proptest::option::of(0.1f64..0.8),
     ) {
         let plant = random_plant(n, ns, &av, &cv, &qv, &t[..ns], hide);
-        let chk = pbh(&plant, &t[..ns], &DetectabilitySettings::default()).unwrap();
+        let chk = pbh(&plant, &t[..ns], &DetectabilityOptions::default()).unwrap();
         let margin = chk.test.worst.map_or(f64::INFINITY, |w| w.margin);
         // Skip numerically ambiguous instances (PBH margin in the grey zone).
         prop_assume!(!(1e-10..=1e-2).contains(&margin));
@@ -127,14 +129,17 @@ proptest! {
     }
 }
 
-/// Spec §6 check 9: the harmonic oscillator sampled at half its period is undetectable, and (23) (in the
+/// the harmonic oscillator sampled at half its period is undetectable, and (23) (in the
 /// form (47)) is infeasible.
 #[test]
 fn oscillator_at_half_period_design_is_infeasible() {
     let w = 3.0;
     let plant = RoundRobinPlant::new(
-        mat![[0.0, w], [-w, 0.0]],
-        vec![(mat![[1.0, 0.0]], Window::fixed(std::f64::consts::PI / w))],
+        mat![[0.0, w], [-w, 0.0]].as_ref(),
+        &[(
+            mat![[1.0, 0.0]].as_ref(),
+            SamplingWindow::periodic(std::f64::consts::PI / w).unwrap(),
+        )],
     )
     .unwrap();
     let err = design(&plant, 0.01, &default_solve_options()).unwrap_err();
@@ -146,13 +151,16 @@ fn oscillator_at_half_period_design_is_infeasible() {
     assert_ne!(sol.outcome, Outcome::Feasible);
 }
 
-/// The jitter-free check of spec 001 §5 at T = (0.05, 0.07), μ = 0.01: p* = 59.2701 ([repro]) and
+/// The jitter-free reference check at T = (0.05, 0.07), μ = 0.01: p* = 59.2701 ([repro]) and
 /// ρ(J_1) < 1 with the gains (24).
 #[test]
 fn suspension_jitter_free_reference() {
     let plant = sporadic_sferlazza2021::example::suspension()
         .unwrap()
-        .with_windows(&[Window::fixed(0.05), Window::fixed(0.07)])
+        .with_windows(&[
+            SamplingWindow::periodic(0.05).unwrap(),
+            SamplingWindow::periodic(0.07).unwrap(),
+        ])
         .unwrap();
     let d = design(&plant, 0.01, &default_solve_options()).unwrap();
     assert!((d.p_star / 59.2701 - 1.0).abs() < 1e-4, "p* = {}", d.p_star);

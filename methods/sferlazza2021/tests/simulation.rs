@@ -3,10 +3,10 @@
 
 use std::sync::OnceLock;
 
-use sporadic_sferlazza2021::design::{Design, DesignSettings, design};
+use sporadic_sferlazza2021::design::{Design, DesignOptions, design};
 use sporadic_sferlazza2021::example::{DISTURBANCE_BOUNDS, NOISE_BOUNDS, suspension};
-use sporadic_sferlazza2021::iss::{IssConstants, IssSettings, iss_constants};
-use sporadic_sferlazza2021::simulation::{SimulationSettings, simulate_error};
+use sporadic_sferlazza2021::iss::{IssConstants, IssOptions, iss_constants};
+use sporadic_sferlazza2021::simulation::{SimulationOptions, simulate_error};
 use sporadic_sferlazza2021::validation::GridPolicy;
 
 /// A design of the §6 example on a coarse fixed grid (5·10³ points per window; fast), shared by the
@@ -15,14 +15,14 @@ fn fixture() -> &'static (Design, IssConstants) {
     static F: OnceLock<(Design, IssConstants)> = OnceLock::new();
     F.get_or_init(|| {
         let plant = suspension().unwrap();
-        let s = DesignSettings {
+        let s = DesignOptions {
             grid: GridPolicy::Spacing(1e-5),
-            ..DesignSettings::default()
+            ..DesignOptions::default()
         };
         let d = design(&plant, &s).unwrap();
         let iss = iss_constants(
             d.gains(),
-            &IssSettings {
+            &IssOptions {
                 points_per_window: 1001,
             },
         )
@@ -35,7 +35,7 @@ fn norm(x: &[f64]) -> f64 {
     x.iter().map(|v| v * v).sum::<f64>().sqrt()
 }
 
-/// Spec §6 checks 17 and 19: without noise, V (30) decreases strictly at every jump and does not
+/// without noise, V (30) decreases strictly at every jump and does not
 /// increase along flows, every inter-sample time lies in its sensor's window, and the error tends to 0.
 #[test]
 fn noise_free_lyapunov_decrease_and_convergence() {
@@ -43,7 +43,7 @@ fn noise_free_lyapunov_decrease_and_convergence() {
     assert!(iss.min_m_eigenvalue.iter().all(|&m| m > 0.0));
     let plant = d.plant();
     let x0 = vec![0.1, 1.0, 0.05, 1.0];
-    let mut s = SimulationSettings::noise_free(60.0, x0.clone());
+    let mut s = SimulationOptions::noise_free(60.0, x0.clone());
     s.rho = iss.rho;
     s.record_step = 5e-3;
     let tr = simulate_error(d.gains(), &s).unwrap();
@@ -58,7 +58,7 @@ fn noise_free_lyapunov_decrease_and_convergence() {
         );
         let w = plant.sensor(jm.sensor).unwrap().window();
         assert!(
-            w.t_min - 1e-12 <= jm.tau && jm.tau <= w.t_max + 1e-12,
+            w.t1() - 1e-12 <= jm.tau && jm.tau <= w.t2() + 1e-12,
             "τ = {} outside {w:?}",
             jm.tau
         );
@@ -80,13 +80,13 @@ fn noise_free_lyapunov_decrease_and_convergence() {
     }
 }
 
-/// Spec §6 check 18: with the paper's disturbance and noise bounds the error stays within the ISS bound
+/// with the paper's disturbance and noise bounds the error stays within the ISS bound
 /// (16) computed from the constants of Theorem 3's proof.
 #[test]
 fn noisy_error_within_iss_bound() {
     let (d, iss) = fixture();
     let x0 = vec![0.1, 1.0, 0.05, 1.0];
-    let mut s = SimulationSettings::noise_free(10.0, x0.clone());
+    let mut s = SimulationOptions::noise_free(10.0, x0.clone());
     s.rho = iss.rho;
     s.disturbance = Some(DISTURBANCE_BOUNDS.to_vec());
     s.noise = Some(NOISE_BOUNDS.iter().map(|&b| vec![b]).collect());
@@ -113,11 +113,11 @@ fn noisy_error_within_iss_bound() {
 #[test]
 fn bad_simulation_settings() {
     let (d, _) = fixture();
-    let s = SimulationSettings::noise_free(1.0, vec![1.0, 0.0]);
+    let s = SimulationOptions::noise_free(1.0, vec![1.0, 0.0]);
     assert!(simulate_error(d.gains(), &s).is_err());
-    let s = SimulationSettings::noise_free(-1.0, vec![1.0, 0.0, 0.0, 0.0]);
+    let s = SimulationOptions::noise_free(-1.0, vec![1.0, 0.0, 0.0, 0.0]);
     assert!(simulate_error(d.gains(), &s).is_err());
-    let mut s = SimulationSettings::noise_free(1.0, vec![1.0, 0.0, 0.0, 0.0]);
+    let mut s = SimulationOptions::noise_free(1.0, vec![1.0, 0.0, 0.0, 0.0]);
     s.noise = Some(vec![vec![0.1]]);
     assert!(simulate_error(d.gains(), &s).is_err());
 }

@@ -1,9 +1,11 @@
-//! Invariants of spec acceptance group B, asserted at every sample of a run.
+//! Structural invariants of the observer (5)–(7), asserted at every sample of a run.
 
 use sporadic_andrieu2014::lemma1::{kappa, lemma1_bound};
 use sporadic_andrieu2014::{Run, Tuning};
 
-/// Asserts the structural invariants B of the spec at every sample and returns `sup L` over the run.
+/// Asserts the structural invariants (`L ≥ 1` and monotone on each interval, sampling rule (7),
+/// closed form of `L`, jump (6c), correction (5), Lemma 1 bound) at every sample and returns
+/// `sup L` over the run.
 pub fn assert_invariants(run: &Run, tuning: &Tuning, closed_form_tol: f64) -> f64 {
     let alpha = tuning.alpha();
     let n = run.order;

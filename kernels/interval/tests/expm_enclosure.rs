@@ -1,0 +1,266 @@
+//! Enclosures of e^{Aτ}: containment of 50+-digit references (tests/data/expm_refs.txt,
+//! produced by tests/data/gen_expm_refs.py with mpmath), property tests against closed forms and
+//! the floating-point expm, structure of the pieces.
+
+use faer::{Mat, mat};
+use proptest::prelude::*;
+use sporadic_interval::{
+    EnclosureOptions, IntervalError, IntervalMatrix, expm_enclosure, expm_interval,
+};
+
+struct RefCase {
+    name: String,
+    tau0: f64,
+    tau1: f64,
+    tau: f64,
+    /// Entry v (row-major) bracketed as s + e_lo ≤ v ≤ s + e_hi (exact reals).
+    s: Vec<f64>,
+    e_lo: Vec<f64>,
+    e_hi: Vec<f64>,
+}
+
+fn load() -> Vec<(String, Mat<f64>, Vec<RefCase>)> {
+    let text = include_str!("data/expm_refs.txt");
+    let mut out: Vec<(String, Mat<f64>, Vec<RefCase>)> = Vec::new();
+    for line in text.lines() {
+        let f: Vec<&str> = line.split_whitespace().collect();
+        match f.first() {
+            Some(&"matrix") => {
+                let n: usize = f[2].parse().unwrap();
+                let v: Vec<f64> = f[3..].iter().map(|s| s.parse().unwrap()).collect();
+                assert_eq!(v.len(), n * n);
+                out.push((
+                    f[1].to_owned(),
+                    Mat::from_fn(n, n, |i, j| v[i * n + j]),
+                    vec![],
+                ));
+            }
+            Some(&"ref") => {
+                let v: Vec<f64> = f[2..].iter().map(|s| s.parse().unwrap()).collect();
+                let last = out.last_mut().unwrap();
+                assert_eq!(last.0, f[1]);
+                let ent = &v[3..];
+                last.2.push(RefCase {
+                    name: f[1].to_owned(),
+                    tau0: v[0],
+                    tau1: v[1],
+                    tau: v[2],
+                    s: ent.iter().step_by(3).copied().collect(),
+                    e_lo: ent.iter().skip(1).step_by(3).copied().collect(),
+                    e_hi: ent.iter().skip(2).step_by(3).copied().collect(),
+                });
+            }
+            _ => {}
+        }
+    }
+    out
+}
+
+/// Exact sign of a sum of floats: Shewchuk's Grow-Expansion turns the terms into a
+/// non-overlapping expansion (increasing magnitude) whose sign is that of its largest component.
+fn sign_of_sum(terms: &[f64]) -> f64 {
+    let mut h: Vec<f64> = Vec::new();
+    for &x in terms {
+        let mut q = x;
+        for hi in h.iter_mut() {
+            let s = q + *hi;
+            let bb = s - q;
+            let err = (q - (s - bb)) + (*hi - bb);
+            *hi = err;
+            q = s;
+        }
+        h.push(q);
+    }
+    h.iter()
+        .rev()
+        .find(|v| **v != 0.0)
+        .map_or(0.0, |v| v.signum())
+}
+
+/// Rigorous: both double-double brackets of the reference lie in ⟨m, r⟩ entrywise.
+fn contains_ref(e: &IntervalMatrix, c: &RefCase) -> bool {
+    let n = e.nrows();
+    (0..n).all(|i| {
+        (0..n).all(|j| {
+            let k = i * n + j;
+            let (m, r) = (e.mid()[(i, j)], e.rad()[(i, j)]);
+            if r == f64::INFINITY {
+                return true;
+            }
+            // m + r − (s + e_hi) ≥ 0 and (s + e_lo) − (m − r) ≥ 0, exactly.
+            sign_of_sum(&[m, r, -c.s[k], -c.e_hi[k]]) >= 0.0
+                && sign_of_sum(&[c.s[k], c.e_lo[k], -m, r]) >= 0.0
+        })
+    })
+}
+
+#[test]
+fn enclosures_contain_high_precision_references() {
+    let data = load();
+    assert!(data.len() >= 15);
+    let mut checked = 0;
+    for (name, a, cases) in &data {
+        for c in cases {
+            let r = expm_enclosure(a.as_ref(), c.tau0, c.tau1, &EnclosureOptions::default())
+                .unwrap_or_else(|e| panic!("{name} [{}, {}]: {e}", c.tau0, c.tau1));
+            assert!(
+                contains_ref(&r.enclosure, c),
+                "{} τ={} not in the hull enclosure over [{}, {}]",
+                c.name,
+                c.tau,
+                c.tau0,
+                c.tau1
+            );
+            // The piece(s) whose τ-range contains τ must contain the reference too.
+            let mut found = false;
+            for p in &r.pieces {
+                if p.tau0 <= c.tau && c.tau <= p.tau1 {
+                    found = true;
+                    assert!(
+                        contains_ref(&p.enclosure, c),
+                        "{} τ={} not in piece [{}, {}]",
+                        c.name,
+                        c.tau,
+                        p.tau0,
+                        p.tau1
+                    );
+                }
+            }
+            assert!(found);
+            // Thin windows give thin enclosures.
+            if c.tau0 == c.tau1 && name != "stiff_triangular" {
+                assert!(
+                    r.rel_width < 1e-11,
+                    "{name} point window rel width {}",
+                    r.rel_width
+                );
+            }
+            checked += 1;
+        }
+    }
+    assert!(checked >= 150, "{checked}");
+}
+
+#[test]
+fn widths_over_short_window_are_useful() {
+    // Regression guard on the tightness: relative hull width over [0.2, 0.21] stays within a
+    // small multiple of the true variation ‖A e^{Aτ}‖·0.01 / ‖e^{Aτ}‖.
+    for (name, a, _) in load() {
+        let r = expm_enclosure(a.as_ref(), 0.2, 0.21, &EnclosureOptions::default()).unwrap();
+        assert!(r.rel_width < 2.0, "{name}: rel width {}", r.rel_width);
+        assert!(
+            r.max_piece_rel_width < 0.05,
+            "{name}: piece rel width {}",
+            r.max_piece_rel_width
+        );
+    }
+}
+
+#[test]
+fn pieces_cover_the_window() {
+    let a = mat![[0.0, 10.0], [-10.0, 0.0]];
+    let r = expm_enclosure(a.as_ref(), 0.3, 0.7, &EnclosureOptions::default()).unwrap();
+    assert_eq!(r.pieces.first().unwrap().tau0, 0.3);
+    assert_eq!(r.pieces.last().unwrap().tau1, 0.7);
+    for w in r.pieces.windows(2) {
+        assert_eq!(w[0].tau1, w[1].tau0);
+        assert!(w[0].tau0 <= w[0].tau1);
+    }
+    assert!(r.pieces.len() <= EnclosureOptions::default().max_pieces);
+    for p in &r.pieces {
+        assert!(r.enclosure.contains(&p.enclosure));
+    }
+}
+
+#[test]
+fn hard_badly_scaled_matrix_is_enclosed_or_refused() {
+    // Burkardt 14 (Moler): entries up to 2e10. A wide enclosure or a typed refusal are both
+    // acceptable; a wrong enclosure is not (checked against the floating-point expm loosely).
+    let a = mat![
+        [0.0, 1e-8, 0.0],
+        [-(2e10 + 4e8 / 6.0), -3.0, 2e10],
+        [200.0 / 3.0, 0.0, -200.0 / 3.0]
+    ];
+    match expm_enclosure(a.as_ref(), 1.0, 1.0, &EnclosureOptions::default()) {
+        Ok(r) => {
+            let e = sporadic_linalg::expm(a.as_ref()).unwrap();
+            assert!(
+                r.enclosure.intersects(
+                    &IntervalMatrix::from_point(e.as_ref())
+                        .unwrap()
+                        .inflate(1e-6 * 6e6)
+                )
+            );
+        }
+        Err(IntervalError::EnclosureFailed(_)) => {}
+        Err(e) => panic!("unexpected error {e}"),
+    }
+}
+
+fn rotation(w: f64, t: f64) -> Mat<f64> {
+    let (s, c) = (w * t).sin_cos();
+    mat![[c, s], [-s, c]]
+}
+
+/// `x` lies in `e` up to a tolerance `tol` (absolute), for non-rigorous f64 references.
+fn near(e: &IntervalMatrix, x: &Mat<f64>, tol: f64) -> bool {
+    e.inflate(tol).contains_point(x.as_ref())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    #[test]
+    fn rotation_closed_form(w in 0.1f64..50.0, t0 in 0.0f64..2.0, len in 0.0f64..0.05, f in 0.0f64..=1.0) {
+        let a = mat![[0.0, w], [-w, 0.0]];
+        let t1 = t0 + len;
+        let t = (t0 + f * len).clamp(t0, t1);
+        let r = expm_enclosure(a.as_ref(), t0, t1, &EnclosureOptions::default()).unwrap();
+        // f64 sin/cos of a rounded product: error ≲ 1e-14 for |wt| ≤ 100.
+        prop_assert!(near(&r.enclosure, &rotation(w, t), 1e-13));
+    }
+
+    #[test]
+    fn jordan_closed_form(lam in -30.0f64..3.0, t0 in 0.0f64..1.0, len in 0.0f64..0.02, f in 0.0f64..=1.0) {
+        // e^{Jt} for J = [[λ, 1], [0, λ]] is e^{λt}·[[1, t], [0, 1]].
+        let a = mat![[lam, 1.0], [0.0, lam]];
+        let t1 = t0 + len;
+        let t = (t0 + f * len).clamp(t0, t1);
+        let r = expm_enclosure(a.as_ref(), t0, t1, &EnclosureOptions::default()).unwrap();
+        let e = (lam * t).exp();
+        let x = mat![[e, t * e], [0.0, e]];
+        prop_assert!(near(&r.enclosure, &x, 1e-13 * e.max(1e-300)));
+    }
+
+    #[test]
+    fn random_matrices_vs_float_expm(
+        n in 1usize..6,
+        v in prop::collection::vec(-3.0f64..3.0, 36),
+        t0 in 0.0f64..1.0,
+        len in 0.0f64..0.05,
+        f in 0.0f64..=1.0,
+    ) {
+        let a = Mat::from_fn(n, n, |i, j| v[i * 6 + j]);
+        let t1 = t0 + len;
+        let t = (t0 + f * len).clamp(t0, t1);
+        let r = expm_enclosure(a.as_ref(), t0, t1, &EnclosureOptions::default()).unwrap();
+        let e = sporadic_linalg::expm_scaled(a.as_ref(), t).unwrap();
+        let scale = (0..n).flat_map(|i| (0..n).map(move |j| (i, j))).map(|(i, j)| e[(i, j)].abs()).fold(0.0, f64::max);
+        prop_assert!(near(&r.enclosure, &e, 1e-12 * scale.max(1.0)));
+        // Point windows: thin enclosure.
+        let p = expm_enclosure(a.as_ref(), t, t, &EnclosureOptions::default()).unwrap();
+        prop_assert!(p.rel_width < 1e-11, "point rel width {}", p.rel_width);
+        prop_assert!(near(&p.enclosure, &e, 1e-12 * scale.max(1.0)));
+    }
+
+    #[test]
+    fn expm_interval_contains_members(d in prop::collection::vec(-2.0f64..2.0, 4), r in 0.0f64..1e-3, f in prop::collection::vec(-1.0f64..=1.0, 4)) {
+        // e^X for X in ⟨D, r⟩ with diagonal D: any member X = D + diag(f)·r has e^X = diag(e^{x_ii}).
+        let mid = Mat::from_fn(2, 2, |i, j| if i == j { d[i] } else { 0.0 });
+        let rad = Mat::from_fn(2, 2, |_, _| r);
+        let x = IntervalMatrix::from_mid_rad(mid, rad).unwrap();
+        let e = expm_interval(&x).unwrap();
+        let member = Mat::from_fn(2, 2, |i, j| if i == j { (d[i] + f[i] * r).exp() } else { 0.0 });
+        prop_assert!(near(&e, &member, 1e-14));
+    }
+}

@@ -1,0 +1,722 @@
+//! The [`ObserverMethod`] contract for Etienne et al. (2017): design by Corollary 2 (static
+//! gain) and, when it fails, Theorem 3 (gain `K(τ)` scheduled on the length of the interval that
+//! just ended), Remark 6 for a periodic window; largest window by the shared search with one
+//! compiled LMI (20) re-used across the probes. No simulation: the observer copies the
+//! nonlinearity `φ`, which a plant description only bounds.
+
+use std::time::Instant;
+
+use sporadic_model::{
+    Bracketing, Check, DesignReport, Gain, MAX_INTERVAL_SCHEMA, Margin, MaxIntervalReport,
+    MethodError, MethodOptions, NamedMatrix, NotApplicable, ObserverMethod, Outputs,
+    Plant as ModelPlant, Probe, Reason, Sampling, SamplingWindow, Scenario, SearchEnd, SearchError,
+    Status, TimeLimit, Tolerance, Trajectory, Verdict, WindowSearchOptions, search_upper,
+};
+
+use crate::bisection::CompiledProbe;
+use crate::design::{Design, DesignOptions, design};
+use crate::error::Error;
+use crate::lmi::{Bounds, Condition};
+use crate::system::Plant;
+use crate::verify::Extremum;
+
+const ID: &str = "etienne2017";
+
+/// Number of points of the `τ`-grid on which a gain schedule `K(τ)` is reported.
+const SCHEDULE_POINTS: usize = 11;
+
+/// Which of the paper's conditions [`ObserverMethod::design`] tries on a window `[T1, T2]` with
+/// `T1 < T2` (a periodic window `T1 = T2` always uses Remark 6, with a static gain).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Conditions {
+    /// Corollary 2 (static gain `K`) first; Theorem 3 (gain `K(τ)`) when Corollary 2 is not
+    /// certified. The default: a static gain when one suffices (the observer then needs no
+    /// clock), the larger class of Theorem 3 otherwise.
+    #[default]
+    Corollary2ThenTheorem3,
+    /// Corollary 2 only (static gain).
+    Corollary2,
+    /// Theorem 3 only (gain `K(τ)`).
+    Theorem3,
+}
+
+/// Etienne, Hetel, Efimov & Petreczky (2017): impulsive observer for a plant
+/// `ẋ = Ax + Bu + Gφ(Hx)` with elementwise bounds on the Jacobian of `φ`, whose output
+/// `y = Cx` is sampled with every inter-sample time in a window `[T1, T2] = [τ_low, τ̄]`;
+/// designed by the finite LMIs (20) over the vertices of Lemma 1 and re-verified independently.
+///
+/// ```
+/// use sporadic_etienne2017::{Conditions, Etienne2017, ObserverMethod};
+///
+/// let method = Etienne2017::default();
+/// assert_eq!(method.id(), "etienne2017");
+/// assert_eq!(method.conditions, Conditions::Corollary2ThenTheorem3);
+/// assert!(method.search.is_none()); // the crate's bisection, see `search`
+/// ```
+#[derive(Debug, Clone, Default)]
+pub struct Etienne2017 {
+    /// Options of the design at every window (default [`DesignOptions::default`]: the margin
+    /// problem of the LMI layer with `‖P1‖₂, ‖P2‖₂ ≤ 1`, independent checks on 201-point τ grids
+    /// for (19b)/(19c) and 2001 points for the discrete contraction, rounding safety factor 100).
+    pub design: DesignOptions,
+    /// The conditions tried (default [`Conditions::Corollary2ThenTheorem3`]).
+    pub conditions: Conditions,
+    /// The window search of [`ObserverMethod::largest_window`]. Default `None`: this crate's
+    /// bisection — doubling from `2·T1`, then bisection to an absolute tolerance of `10⁻³·T2`
+    /// (`T2` of the sampling given), at most [`MethodOptions::search`]`.max_probes` probes;
+    /// `Some(o)`: the options `o` instead.
+    pub search: Option<WindowSearchOptions>,
+}
+
+/// Bad input, with the crate's error as the source.
+fn invalid(e: Error) -> MethodError {
+    MethodError::InvalidInput {
+        method: ID,
+        source: Box::new(e),
+    }
+}
+
+/// The verdict an error stands for, or the `Err` when it is not one (bad input, or a failure
+/// that is neither).
+fn verdict_of(e: Error) -> Result<Reason, MethodError> {
+    if let Some(r) = e.reason() {
+        return Ok(r);
+    }
+    if e.is_input() {
+        Err(invalid(e))
+    } else {
+        Err(MethodError::Numerical {
+            method: ID,
+            source: Box::new(e),
+        })
+    }
+}
+
+/// `reason` with the message `message` (same kind and `τ`).
+fn with_message(reason: Reason, message: String) -> Reason {
+    match reason {
+        Reason::InfeasibleLmi { .. } => Reason::InfeasibleLmi { message },
+        Reason::Undetectable { tau, .. } => Reason::Undetectable { tau, message },
+        Reason::VerificationFailed { tau, .. } => Reason::VerificationFailed { tau, message },
+        Reason::SolverInconclusive { .. } => Reason::SolverInconclusive { message },
+        Reason::BudgetExhausted { .. } => Reason::BudgetExhausted { message },
+        Reason::MissingData { .. } => Reason::MissingData { message },
+        Reason::UnsupportedStructure { .. } => Reason::UnsupportedStructure { message },
+        _ => Reason::NumericalFailure { message },
+    }
+}
+
+/// The crate's plant (1)–(2) of a model plant the method applies to.
+fn plant_of(plant: &ModelPlant) -> Result<Plant, Error> {
+    let (Some(lip), Some(c)) = (plant.lipschitz(), plant.c()) else {
+        return Err(sporadic_linalg::InputError::empty(
+            "etienne2017 needs a Lipschitz nonlinearity and one output matrix C",
+        )
+        .into());
+    };
+    Plant::new(
+        plant.a(),
+        plant.b(),
+        c,
+        lip.g(),
+        lip.h(),
+        lip.jacobian_lower(),
+        lip.jacobian_upper(),
+    )
+}
+
+/// The window of a single-rate sampling (rejected by `applies` otherwise).
+fn window_of(sampling: &Sampling) -> Result<SamplingWindow, MethodError> {
+    match sampling {
+        Sampling::Synchronous(w) => Ok(*w),
+        Sampling::RoundRobin(_) => Err(MethodError::InvalidInput {
+            method: ID,
+            source: "etienne2017 needs one sampling window [T1, T2]".into(),
+        }),
+    }
+}
+
+/// A design, or the verdict why not.
+enum Outcome {
+    Certified {
+        design: Box<Design>,
+        /// Why Corollary 2 was not used, when Theorem 3 was.
+        static_failure: Option<String>,
+    },
+    Failed(Reason),
+}
+
+impl Etienne2017 {
+    /// Corollary 2 first, Theorem 3 when it fails (per [`Etienne2017::conditions`]); Remark 6
+    /// for a periodic window.
+    fn design_at(&self, plant: &Plant, window: &SamplingWindow) -> Result<Outcome, MethodError> {
+        let run = |condition| match design(plant, condition, window, &self.design) {
+            Ok(d) => Ok(Ok(d)),
+            Err(e) => verdict_of(e).map(|r| Err((e_message(&r), r))),
+        };
+        let certified = |d: Design, static_failure| Outcome::Certified {
+            design: Box::new(d),
+            static_failure,
+        };
+        if window.is_periodic() {
+            return Ok(match run(Condition::Remark6)? {
+                Ok(d) => certified(d, None),
+                Err((_, r)) => Outcome::Failed(r),
+            });
+        }
+        let first = match self.conditions {
+            Conditions::Theorem3 => Condition::Theorem3,
+            _ => Condition::Corollary2,
+        };
+        let static_err = match run(first)? {
+            Ok(d) => return Ok(certified(d, None)),
+            Err(e) => e,
+        };
+        if self.conditions != Conditions::Corollary2ThenTheorem3 {
+            return Ok(Outcome::Failed(static_err.1));
+        }
+        Ok(match run(Condition::Theorem3)? {
+            Ok(d) => certified(d, Some(static_err.0)),
+            Err((tv_msg, tv_reason)) => Outcome::Failed(with_message(
+                tv_reason,
+                format!(
+                    "Corollary 2 (static gain): {}; Theorem 3 (time-varying gain): {tv_msg}",
+                    static_err.0
+                ),
+            )),
+        })
+    }
+
+    /// The report of a verified design.
+    fn report(
+        &self,
+        plant: &ModelPlant,
+        sampling: &Sampling,
+        vertices: usize,
+        d: &Design,
+        notes: Vec<String>,
+        seconds: f64,
+    ) -> DesignReport {
+        let mut r = DesignReport::certified(self, plant.name(), sampling);
+        let w = *d.gain.window();
+        let condition = d.lmi.condition;
+        let jump = "jump of observer (3) at each sample t_k: x̂(t_k) = x̂(t_k⁻) + K(τ)(y_k − \
+                    Cx̂(t_k⁻)), τ = t_k − t_{k−1} the length of the interval that just ended; \
+                    the error z = x − x̂ jumps by z⁺ = (I − K(τ)C)z (4)";
+        if d.gain.is_constant() {
+            r.gains.push(Gain::constant(
+                "K",
+                d.gain.k1(),
+                format!(
+                    "{jump}; here K does not depend on τ: K = P1⁻¹L ({})",
+                    condition.name()
+                ),
+            ));
+        } else {
+            let (t1, t2) = (w.t1(), w.t2());
+            let tau: Vec<f64> = (0..SCHEDULE_POINTS)
+                .map(|i| {
+                    if i + 1 == SCHEDULE_POINTS {
+                        t2
+                    } else {
+                        t1 + (t2 - t1) * i as f64 / (SCHEDULE_POINTS - 1) as f64
+                    }
+                })
+                .collect();
+            r.gains.push(Gain::scheduled(
+                "K",
+                format!("{jump}; the reported value is K1 = K(T2)"),
+                "K(τ) = K0 + (τ − T1)/(T2 − T1)·(K1 − K0) for τ in [T1, T2], with K0 = P1⁻¹L0 = \
+                 K(T1) and K1 = P1⁻¹L1 = K(T2) (Theorem 3, gain recovery of Remark 6)",
+                tau,
+                |t| d.gain.at(t),
+            ));
+        }
+        let cert = &d.lmi.certificate;
+        r.certificate.push(NamedMatrix::new(
+            "P1",
+            cert.p1.as_ref(),
+            "P(0) = P1 of the Lyapunov matrix P(τ) = (1 − τ/T2)P1 + (τ/T2)P2 of Theorem 3 \
+             (V = z'P(τ)z, τ the time since the last sample): z'P1z decreases from sample to \
+             sample",
+        ));
+        r.certificate.push(NamedMatrix::new(
+            "P2",
+            cert.p2.as_ref(),
+            "P(T2) = P2 of the Lyapunov matrix of Theorem 3",
+        ));
+        if d.gain.is_constant() {
+            r.certificate.push(NamedMatrix::new(
+                "L",
+                cert.l1.as_ref(),
+                "L = P1·K, the decision variable of (20c)/(20d) (L0 = L1 = L)",
+            ));
+        } else {
+            r.certificate.push(NamedMatrix::new(
+                "L0",
+                cert.l0.as_ref(),
+                "L0 = P1·K0, the decision variable of (20c)",
+            ));
+            r.certificate.push(NamedMatrix::new(
+                "L1",
+                cert.l1.as_ref(),
+                "L1 = P1·K1, the decision variable of (20d)",
+            ));
+        }
+        r.margin = Some(Margin {
+            value: d.lmi.margin,
+            definition: margin_definition(condition),
+        });
+        r.checks = checks(&self.design, d, vertices);
+        r.notes.push(format!(
+            "{} (LMIs (20) at the {vertices} vertices R_p of the Jacobian box, Lemma 1): {}; {} \
+             interior-point iterations, {} decision scalars",
+            condition.name(),
+            if d.gain.is_constant() {
+                "static gain K"
+            } else {
+                "gain K(τ) interpolating K0 and K1 over the length τ of the interval that just \
+                 ended"
+            },
+            d.lmi.stats.iterations,
+            d.lmi.stats.decision_scalars,
+        ));
+        r.notes.extend(notes);
+        r.notes.push(
+            "B and u do not enter the error dynamics (4): the design holds for every input".into(),
+        );
+        if plant.bounds().is_some() {
+            r.notes.push(
+                "the disturbance/noise bounds of the plant are not used: the design is for the \
+                 noise-free error (4)"
+                    .into(),
+            );
+        }
+        r.notes.push(
+            "K is not unique: (20) has a continuum of solutions; this one maximises the margin t*"
+                .into(),
+        );
+        r.seconds = seconds;
+        r
+    }
+}
+
+/// The message of a reason (the crate's error message).
+fn e_message(r: &Reason) -> String {
+    r.message().to_string()
+}
+
+/// What the margin of a design is.
+fn margin_definition(condition: Condition) -> String {
+    let jumps = if condition == Condition::Remark6 {
+        "the jump block (20d) ⪰ t·I (Remark 6 drops (20c))"
+    } else {
+        "the jump blocks (20c) and (20d) ⪰ t·I"
+    };
+    format!(
+        "optimal margin t* of LMIs (20) ({}): the largest t with M¹_p ⪯ −t·I and M²_p ⪯ −t·I at \
+         every vertex R_p of Lemma 1 ((20a), (20b)), {jumps}, and P1, P2 ⪰ t·I, under the \
+         normalisation ‖P1‖₂ ≤ 1, ‖P2‖₂ ≤ 1 (spectral norms; L0, L1 free); (20) is homogeneous, \
+         so t* > 0 iff it is strictly feasible, and t* is the slack of the certificate relative \
+         to that scale",
+        condition.name()
+    )
+}
+
+/// A check from the worst point of an independent check.
+fn check(what: &str, how: String, e: &Extremum) -> Check {
+    let at = match (e.tau.is_finite(), e.vertex) {
+        (true, Some(v)) => format!("; worst at τ = {:.6}, vertex {}", e.tau, v + 1),
+        (true, None) => format!("; worst at τ = {:.6}", e.tau),
+        (false, Some(v)) => format!("; worst at vertex {}", v + 1),
+        (false, None) => String::new(),
+    };
+    Check {
+        what: what.into(),
+        how: format!(
+            "{how}; must clear the rounding bound {:.2e} (safety factor × dimension × ε × scale \
+             of the summands){at}",
+            e.tolerance
+        ),
+        value: e.value.is_finite().then_some(e.value),
+        passed: e.passed(),
+    }
+}
+
+/// Every re-verification of a design.
+fn checks(options: &DesignOptions, d: &Design, vertices: usize) -> Vec<Check> {
+    let c = &d.check;
+    let stats = &d.lmi.stats;
+    let (lmi_grid, discrete_grid, safety) = (
+        options.check.lmi_grid,
+        options.check.discrete_grid,
+        options.check.safety,
+    );
+    let eig = format!(
+        "symmetric eigensolver in f64 on matrices recomputed from (P1, P2, L0, L1), safety factor {safety}"
+    );
+    let mut out = vec![Check {
+        what: "LMIs (20) re-verified at the solver's point by the LMI layer".into(),
+        how: format!(
+            "{} vertices R_p; interior point {:?} after {} iterations (relative gap {:.1e}); \
+             every constraint's eigenvalues recomputed at the returned point, margin required \
+             above the verification threshold {}",
+            vertices,
+            stats.status,
+            stats.iterations,
+            stats.rel_gap,
+            stats
+                .margin_threshold
+                .map_or_else(|| "(none)".into(), |t| format!("{t:.2e}")),
+        ),
+        value: Some(d.lmi.margin),
+        passed: true,
+    }];
+    out.push(check(
+        "(20a)/(20b): max λ_max(M¹_p), λ_max(M²_p) over the vertices (must be < 0)",
+        eig.clone(),
+        &c.flow_vertices,
+    ));
+    out.push(check(
+        "(20c)/(20d): min λ_min of the jump blocks (must be > 0)",
+        eig.clone(),
+        &c.jump_vertices,
+    ));
+    out.push(check(
+        "P1 ≻ 0, P2 ≻ 0: min λ_min (must be > 0)",
+        eig.clone(),
+        &c.positivity,
+    ));
+    out.push(check(
+        "(19b) of Corollary 1 on a τ grid: max λ_max(He(P(τ)R_p) + (P2 − P1)/T2) (must be < 0)",
+        format!("{lmi_grid} equally spaced τ in [0, T2], every vertex; {eig}"),
+        &c.flow_grid,
+    ));
+    out.push(check(
+        "(19c) of Corollary 1 on a τ grid: min λ_min of the jump block with P(τ) and L(τ) \
+         (must be > 0)",
+        format!("{lmi_grid} equally spaced τ in [T1, T2] (T2 only for Remark 6); {eig}"),
+        &c.jump_grid,
+    ));
+    if let Some(e) = &c.discrete.contraction {
+        out.push(check(
+            "discrete contraction: max λ_max(M_p(τ)'P1M_p(τ) − P1), M_p(τ) = (I − K(τ)C)e^(R_p τ) \
+             (a necessary consequence of the certificate; must be < 0)",
+            format!(
+                "{discrete_grid} equally spaced τ in [T1, T2], every vertex, e^(R_p τ) by an \
+                 exponential stepper in f64, safety factor {safety} × (1 + ‖R_p τ‖)"
+            ),
+            e,
+        ));
+    }
+    out.push(check(
+        "discrete contraction: max spectral radius of (I − K(τ)C)e^(R_p τ) (must be < 1)",
+        format!("same {discrete_grid}-point grid and vertices"),
+        &c.discrete.spectral_radius,
+    ));
+    out
+}
+
+impl ObserverMethod for Etienne2017 {
+    fn id(&self) -> &'static str {
+        ID
+    }
+
+    fn citation(&self) -> &'static str {
+        "L. Etienne, L. Hetel, D. Efimov, M. Petreczky (2017), Observer synthesis under \
+         time-varying sampling for Lipschitz nonlinear systems, Automatica 85, 433–440"
+    }
+
+    fn summary(&self) -> &'static str {
+        "impulsive observer for a Lipschitz nonlinear plant with every inter-sample time in \
+         [T1, T2], static gain (Corollary 2) or gain K(τ) scheduled on the last interval \
+         (Theorem 3), by finite LMIs (20) without matrix exponential"
+    }
+
+    fn observer(&self) -> &'static str {
+        "between samples x̂' = Ax̂ + Bu + Gφ(Hx̂) (observer (3), a copy of the plant); at a sample \
+         t_k x̂⁺ = x̂ + K(τ)(y − Cx̂), τ = t_k − t_{k−1} the length of the interval that just \
+         ended (K constant for Corollary 2 and Remark 6); error z = x − x̂: z' = Az + G[φ(Hx) − \
+         φ(H(x − z))] ∈ co{R_p z} (Lemma 1), z⁺ = (I − K(τ)C)z (4)"
+    }
+
+    fn applies(&self, plant: &ModelPlant, sampling: &Sampling) -> Result<(), NotApplicable> {
+        let Some(lip) = plant.lipschitz() else {
+            return Err(NotApplicable::missing(
+                ID,
+                "needs a [lipschitz] section (G, H and the Jacobian bounds of phi); for a linear \
+                 plant use ferrante2016",
+            ));
+        };
+        if let Outputs::RoundRobin(_) = plant.output_structure() {
+            return Err(NotApplicable::unsupported(
+                ID,
+                "the plant has round-robin sensors; Etienne et al. (2017) sample one output \
+                 y = Cx at once",
+            ));
+        }
+        if let Sampling::RoundRobin(_) = sampling {
+            return Err(NotApplicable::unsupported(
+                ID,
+                "the sampling is round-robin (one window per sensor); Etienne et al. (2017) \
+                 need one window [T1, T2] for all outputs",
+            ));
+        }
+        let (q, r) = (lip.g().ncols(), lip.h().nrows());
+        if q != r {
+            return Err(NotApplicable::unsupported(
+                ID,
+                format!(
+                    "phi must map R^m to R^m (G n×m, H m×n), but G has {q} columns and H has \
+                     {r} rows"
+                ),
+            ));
+        }
+        if q == 0 {
+            return Err(NotApplicable::unsupported(
+                ID,
+                "the nonlinearity has dimension 0 (G has no column): the plant is linear, use \
+                 ferrante2016",
+            ));
+        }
+        Ok(())
+    }
+
+    fn design(
+        &self,
+        plant: &ModelPlant,
+        sampling: &Sampling,
+        _options: &MethodOptions,
+    ) -> Result<DesignReport, MethodError> {
+        let start = Instant::now();
+        let failed = |reason: Reason| {
+            let mut r = DesignReport::without_design(self, plant.name(), Some(sampling), reason);
+            r.seconds = start.elapsed().as_secs_f64();
+            r
+        };
+        if let Err(na) = self.applies(plant, sampling) {
+            return Ok(failed(na.reason));
+        }
+        let window = window_of(sampling)?;
+        self.design.validate().map_err(invalid)?;
+        let p = match plant_of(plant) {
+            Ok(p) => p,
+            Err(e) => return verdict_of(e).map(failed),
+        };
+        match self.design_at(&p, &window)? {
+            Outcome::Certified {
+                design,
+                static_failure,
+            } => {
+                let notes = static_failure
+                    .map(|e| {
+                        format!(
+                            "Corollary 2 (static gain) is not certified on this window ({e}); \
+                             Theorem 3 (time-varying gain) is"
+                        )
+                    })
+                    .into_iter()
+                    .collect();
+                Ok(self.report(
+                    plant,
+                    sampling,
+                    p.vertices().len(),
+                    &design,
+                    notes,
+                    start.elapsed().as_secs_f64(),
+                ))
+            }
+            Outcome::Failed(reason) => Ok(failed(reason)),
+        }
+    }
+
+    /// The shared [`search_upper`] with a probe that re-solves one compiled LMI (20) of
+    /// Theorem 3 (which contains Corollary 2; Corollary 2 alone for
+    /// [`Conditions::Corollary2`]), the window entering through parameters, and re-verifies
+    /// every certified probe independently as [`ObserverMethod::design`] does; a periodic probe
+    /// `T2 = T1` is designed by Remark 6. Reported exactly as
+    /// [`sporadic_model::default_largest_window`] reports it. The search options are
+    /// [`Etienne2017::search`].
+    fn largest_window(
+        &self,
+        plant: &ModelPlant,
+        sampling: &Sampling,
+        limit: f64,
+        options: &MethodOptions,
+        progress: &mut dyn FnMut(&Probe),
+    ) -> Result<MaxIntervalReport, MethodError> {
+        let start = Instant::now();
+        let t1 = sampling.t1();
+        let mut report = MaxIntervalReport {
+            schema: MAX_INTERVAL_SCHEMA.into(),
+            plant: plant.name().into(),
+            method: ID.into(),
+            status: Status::NotCertified,
+            reason: None,
+            t1: Some(t1),
+            limit: Some(limit),
+            largest_certified_t2: None,
+            first_failing_t2: None,
+            search_end: None,
+            monotone: true,
+            probes: Vec::new(),
+            design: None,
+            seconds: 0.0,
+        };
+        if let Err(na) = self.applies(plant, sampling) {
+            report.status = Status::NotApplicable;
+            report.reason = Some(na.reason);
+            return Ok(report);
+        }
+        let window = window_of(sampling)?;
+        self.design.validate().map_err(invalid)?;
+        let p = match plant_of(plant) {
+            Ok(p) => p,
+            Err(e) => {
+                let reason = verdict_of(e)?;
+                report.status = reason.status();
+                report.reason = Some(reason);
+                report.seconds = start.elapsed().as_secs_f64();
+                return Ok(report);
+            }
+        };
+        let vertices = p.vertices().len();
+        let condition = match self.conditions {
+            Conditions::Corollary2 => Condition::Corollary2,
+            _ => Condition::Theorem3,
+        };
+        let search_options = self.search.unwrap_or(WindowSearchOptions {
+            bracketing: Bracketing::Doubling { start: None },
+            tolerance: Tolerance::Absolute(1e-3 * window.t2()),
+            max_probes: options.search.max_probes,
+        });
+        let mut compiled: Option<CompiledProbe<'_>> = None;
+        let mut best: Option<(f64, DesignReport)> = None;
+        let mut run = |t2: f64| -> Result<Verdict, MethodError> {
+            if let Some(limit) = options.time_limit
+                && start.elapsed() > limit
+            {
+                return Err(MethodError::Numerical {
+                    method: ID,
+                    source: Box::new(TimeLimit(limit)),
+                });
+            }
+            let probe_start = Instant::now();
+            let s = sampling.with_t2(t2).map_err(|e| invalid(e.into()))?;
+            let w = window_of(&s)?;
+            let result = if w.is_periodic() {
+                design(&p, Condition::Remark6, &w, &self.design)
+            } else {
+                if compiled.is_none() {
+                    let c =
+                        CompiledProbe::new(&p, condition, Bounds::of(&w), &self.design.feasibility);
+                    compiled = Some(match c {
+                        Ok(c) => c,
+                        Err(e) => return verdict_of(e).map(Verdict::failed),
+                    });
+                }
+                match compiled.as_mut() {
+                    Some(c) => c.design(w, &self.design),
+                    None => {
+                        return Err(invalid(
+                            sporadic_linalg::InputError::empty("LMI (20)").into(),
+                        ));
+                    }
+                }
+            };
+            let v = match result {
+                Ok(d) => {
+                    let v = Verdict::certified(Some(d.lmi.margin));
+                    if best.as_ref().is_none_or(|(b, _)| *b < t2) {
+                        let note = format!(
+                            "largest-window search: {} at every probe (compiled once, the \
+                             window entering through parameters)",
+                            if condition == Condition::Theorem3 {
+                                "Theorem 3 (which contains Corollary 2)"
+                            } else {
+                                "Corollary 2"
+                            }
+                        );
+                        let seconds = probe_start.elapsed().as_secs_f64();
+                        best = Some((
+                            t2,
+                            self.report(plant, &s, vertices, &d, vec![note], seconds),
+                        ));
+                    }
+                    v
+                }
+                Err(e) => Verdict::failed(verdict_of(e)?),
+            };
+            progress(&Probe {
+                t1,
+                t2,
+                certified: v.certified,
+                margin: v.margin,
+                reason: v.reason.clone(),
+            });
+            Ok(v)
+        };
+        let search = match search_upper(t1, limit, &search_options, &mut run) {
+            Ok(s) => s,
+            Err(SearchError::Input(e)) => return Err(invalid(e.into())),
+            Err(SearchError::Probe(MethodError::Numerical { source, .. }))
+                if source.downcast_ref::<TimeLimit>().is_some() =>
+            {
+                report.reason = Some(Reason::BudgetExhausted {
+                    message: source.to_string(),
+                });
+                report.search_end = Some(SearchEnd::BudgetExhausted);
+                report.largest_certified_t2 = best.as_ref().map(|(t2, _)| *t2);
+                report.status = if best.is_some() {
+                    Status::Certified
+                } else {
+                    Status::NotCertified
+                };
+                report.design = best.map(|(_, d)| d);
+                report.seconds = start.elapsed().as_secs_f64();
+                return Ok(report);
+            }
+            Err(SearchError::Probe(e)) => return Err(e),
+        };
+        report.largest_certified_t2 = search.best;
+        report.first_failing_t2 = search.first_failure;
+        report.search_end = Some(search.end);
+        report.monotone = search.monotone;
+        report.status = if search.best.is_some() {
+            Status::Certified
+        } else {
+            Status::NotCertified
+        };
+        if search.best.is_none() {
+            report.reason = search.probes.iter().rev().find_map(|p| p.reason.clone());
+        } else if search.end == SearchEnd::BudgetExhausted {
+            report.reason = Some(Reason::BudgetExhausted {
+                message: format!("window search stopped after {} probes", search.probes.len()),
+            });
+        }
+        report.probes = search.probes;
+        report.design = best
+            .filter(|(t2, _)| Some(*t2) == search.best)
+            .map(|(_, d)| d);
+        report.seconds = start.elapsed().as_secs_f64();
+        Ok(report)
+    }
+
+    /// Not available: the observer (3) copies the nonlinearity `φ` between samples, and a plant
+    /// description only bounds it (`G`, `H` and the Jacobian bounds). With `φ` as a function,
+    /// use [`crate::simulate_observer`].
+    fn simulate(
+        &self,
+        _plant: &ModelPlant,
+        _design: &DesignReport,
+        _scenario: &Scenario,
+    ) -> Result<Trajectory, MethodError> {
+        Err(MethodError::SimulationUnavailable {
+            method: ID,
+            why: "etienne2017 would need the nonlinearity phi itself, which a plant description \
+                  only bounds (G, H and the Jacobian bounds of phi); with phi as a function, \
+                  simulate with sporadic_etienne2017::simulate_observer"
+                .into(),
+        })
+    }
+}

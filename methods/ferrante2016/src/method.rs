@@ -1,0 +1,604 @@
+//! The [`ObserverMethod`] contract for Ferrante et al. (2016): design by Corollary 1 (LMI (41) at
+//! the vertices of a polytopic embedding of `e^{Av}`), largest window by the shared search with
+//! one compiled LMI re-used across the probes, and simulation of the error system (5).
+
+use std::time::Instant;
+
+use sporadic_model::{
+    Check, DesignReport, Gain, MAX_INTERVAL_SCHEMA, Margin, MaxIntervalReport, MethodError,
+    MethodOptions, NamedMatrix, NotApplicable, ObserverMethod, Outputs, Plant as ModelPlant, Probe,
+    Reason, Sampling, SamplingScenario, SamplingWindow, Scenario, SearchEnd, SearchError,
+    SimulationReport, Status, TimeLimit, Trajectory, Verdict, search_upper,
+};
+use sporadic_sdp::lmi::Normalisation;
+use sporadic_sim::{Periodic, SamplingRule, SimOptions, UniformRandom};
+
+use crate::design::{Design, DesignOptions, design};
+use crate::error::Error;
+use crate::lmi::LmiForm;
+use crate::simulation::simulate_error;
+use crate::system::Plant;
+use crate::window::probe;
+
+const ID: &str = "ferrante2016";
+
+/// Ferrante, Gouaisbaut, Sanfelice & Tarbouriech (2016): observer with a constant jump gain `L`
+/// for a linear plant whose output is sampled with every inter-sample time in a window
+/// `[T1, T2]`, designed by LMI (41) (Corollary 1) and re-verified on a grid of `[T1, T2]`.
+///
+/// ```
+/// use sporadic_ferrante2016::Ferrante2016;
+/// use sporadic_ferrante2016::ObserverMethod;
+///
+/// let method = Ferrante2016::default(); // the paper's construction (residue embedding, 1 piece)
+/// assert_eq!(method.id(), "ferrante2016");
+/// assert_eq!(method.design.pieces, 1);
+/// ```
+#[derive(Debug, Clone, Default)]
+pub struct Ferrante2016 {
+    /// Options of the design at every window (default [`DesignOptions::default`]: residue
+    /// embedding of §4.1 on one piece, LMI (41) as printed, margin problem with every variable
+    /// normalised by `‖·‖₂ ≤ 1` and the margin capped at 1, grid check of (12) on 2801 points,
+    /// Remark 3 precheck on 1001 points plus the aliasing instants).
+    pub design: DesignOptions,
+}
+
+impl Ferrante2016 {
+    /// The crate's plant `(A, C)` of a plant the method applies to.
+    fn plant_of(&self, plant: &ModelPlant) -> Result<Plant, MethodError> {
+        let c = plant.c().ok_or_else(|| MethodError::InvalidInput {
+            method: ID,
+            source: "ferrante2016 needs one synchronously sampled output matrix C".into(),
+        })?;
+        Plant::new(plant.a(), c).map_err(invalid)
+    }
+
+    /// The report of a verified design at `window`.
+    fn report(
+        &self,
+        plant: &ModelPlant,
+        sampling: &Sampling,
+        d: &Design,
+        seconds: f64,
+    ) -> DesignReport {
+        let mut r = DesignReport::certified(self, plant.name(), sampling);
+        r.gains.push(Gain::constant(
+            "L",
+            d.l.as_ref(),
+            "jump gain of observer (3): ẑ⁺ = ẑ + L(y − Cẑ) at each sample (the paper's M is C), \
+             ẑ' = Aẑ + Bu between samples; the error ε = z − ẑ jumps by ε⁺ = (I − LC)ε (5); \
+             L = F⁻¹J (Remark 8)",
+        ));
+        let cert = &d.certificate;
+        r.certificate.push(NamedMatrix::new(
+            "P",
+            cert.p.as_ref(),
+            "Lyapunov matrix of Theorem 1: (12) (I − LC)'e^{A'v}Pe^{Av}(I − LC) − P ≺ 0 for every \
+             v ∈ [T1, T2]; V(ε, τ) = ε'e^{A'τ}Pe^{Aτ}ε (13), τ the time to the next sample",
+        ));
+        r.certificate.push(NamedMatrix::new(
+            "F",
+            cert.f.as_ref(),
+            "multiplier of Proposition 1 / LMI (41) (F + F' ≻ 0)",
+        ));
+        r.certificate.push(NamedMatrix::new(
+            "J",
+            cert.j.as_ref(),
+            "J = FL, the decision variable of LMI (41) (Remark 8)",
+        ));
+        if let Some(mu) = cert.robust_multiplier {
+            r.certificate.push(NamedMatrix::new(
+                "mu",
+                faer::mat![[mu]].as_ref(),
+                "multiplier μ of the robust form of (41) for an embedding with a remainder",
+            ));
+        }
+        r.margin = Some(Margin {
+            value: cert.margin,
+            definition: margin_definition(&self.design, d),
+        });
+        r.checks = checks(&self.design, d);
+        r.notes.push(format!(
+            "LMI (41) at {} vertices of the {} embedding of e^(Av), v in {} ({} piece(s)); {} \
+             interior-point iterations, {} decision scalars",
+            d.embedding.vertex_count(),
+            match self.design.embedding {
+                crate::EmbeddingMethod::Residue(_) => "residue (§4.1)",
+                crate::EmbeddingMethod::Taylor(_) => "Taylor",
+            },
+            SamplingWindow::new(d.embedding.interval().t1(), d.embedding.interval().t2())
+                .map_or_else(|_| String::from("[T1, T2]"), |w| w.to_string()),
+            self.design.pieces,
+            d.stats.iterations,
+            d.stats.decision_scalars,
+        ));
+        if !d.embedding.containment().is_guaranteed() {
+            r.notes.push(format!(
+                "the embedding's containment of e^(Av) is not proven ({:?}): the grid check of \
+                 (12) is the evidence for the certificate",
+                d.embedding.containment()
+            ));
+        }
+        if plant.bounds().is_some() {
+            r.notes.push(
+                "the disturbance/noise bounds of the plant are not used: the design is for the \
+                 noise-free error (5); by Theorem 2 the same (P, L) gives ISS with respect to \
+                 measurement noise"
+                    .into(),
+            );
+        }
+        r.notes.push(
+            "L is not unique: any gain satisfying (12) solves Problem 1; this one maximises the \
+             margin of LMI (41)"
+                .into(),
+        );
+        r.seconds = seconds;
+        r
+    }
+
+    /// A report without design for the verdict `reason`.
+    fn failed(
+        &self,
+        plant: &ModelPlant,
+        sampling: &Sampling,
+        reason: Reason,
+        seconds: f64,
+    ) -> DesignReport {
+        let mut r = DesignReport::without_design(self, plant.name(), Some(sampling), reason);
+        r.seconds = seconds;
+        r
+    }
+}
+
+/// Bad input, with the crate's error as the source.
+fn invalid(e: Error) -> MethodError {
+    MethodError::InvalidInput {
+        method: ID,
+        source: Box::new(e),
+    }
+}
+
+/// An error that is not a verdict on the plant: bad input, or a failure that is neither.
+fn not_a_verdict(e: Error) -> MethodError {
+    if e.is_input() {
+        invalid(e)
+    } else {
+        MethodError::Numerical {
+            method: ID,
+            source: Box::new(e),
+        }
+    }
+}
+
+/// What the margin of a design is, with the normalisation of `options`.
+fn margin_definition(options: &DesignOptions, d: &Design) -> String {
+    let robust = d.certificate.robust_multiplier.is_some();
+    let form = match (robust, options.form) {
+        (true, _) => "the robust 4n × 4n form of (41) (embedding with a remainder)",
+        (false, LmiForm::Reduced) => "the reduced 2n × 2n form (39) of (41)",
+        (false, LmiForm::Corollary1) => "the 3n × 3n matrix of (41) as printed",
+    };
+    let norm = match options.lmi.default_normalisation {
+        Normalisation::Norm(r) => format!(
+            "‖P‖₂ ≤ {r}, ‖F‖₂ ≤ {r}, ‖J‖₂ ≤ {r}{}",
+            if robust {
+                format!(", |μ| ≤ {r}")
+            } else {
+                String::new()
+            }
+        ),
+        Normalisation::Trace(c) => format!("tr P ≤ {c} (F, J unbounded)"),
+        Normalisation::Free => "no bound on P, F, J".into(),
+    };
+    format!(
+        "LMI (41) margin: the largest t with Φ_i(P, F, J) ⪯ −t·I at every vertex X_i of the \
+         polytopic embedding of e^(Av), v in [T1, T2] (Φ_i is {form}), under the normalisation \
+         {norm} (spectral norms) and the cap t ≤ {}; (41) is homogeneous, so t > 0 iff (41) is \
+         strictly feasible, and t is the slack of the certificate relative to that scale",
+        options.lmi.margin_cap
+    )
+}
+
+/// Every re-verification of a design.
+fn checks(options: &DesignOptions, d: &Design) -> Vec<Check> {
+    let det = &d.detectability;
+    let v = &d.verification;
+    let tol = options.verify.tolerance;
+    let mut out = vec![Check {
+        what: "necessary condition of Remark 3: (e^(Av), C) detectable for every v in [T1, T2]"
+            .into(),
+        how: format!(
+            "PBH test at {} values of v ({} grid points plus {} aliasing instants of the \
+             non-decaying modes), eigenvalues of e^(Av) by spectral mapping; rank tolerance {:e} \
+             on the normalised PBH matrix, |μ| ≥ 1 − {:e} counted as non-decaying; the value is \
+             the smallest PBH margin (+inf: A Hurwitz)",
+            det.points_tested,
+            options.detectability.grid_points.max(1),
+            det.aliasing_instants.len(),
+            options.detectability.pbh.rank_tol,
+            options.detectability.pbh.unit_circle_tol,
+        ),
+        value: det.min_margin.is_finite().then_some(det.min_margin),
+        passed: true,
+    }];
+    out.push(Check {
+        what: "LMI (41) at the vertices of the embedding, re-verified at the solver's point".into(),
+        how: format!(
+            "{} vertex LMIs of order {}; interior point {:?} after {} iterations (relative gap \
+             {:.1e}); every constraint's eigenvalues re-computed at the returned point, margin \
+             required above the verification threshold {}",
+            d.size.lmi_count,
+            d.size.block_size,
+            d.stats.status,
+            d.stats.iterations,
+            d.stats.rel_gap,
+            d.stats
+                .margin_threshold
+                .map_or_else(|| "(none)".into(), |t| format!("{t:.2e}")),
+        ),
+        value: Some(d.certificate.margin),
+        passed: true,
+    });
+    out.push(Check {
+        what: "polytopic embedding contains e^(Av) for every v in [T1, T2] (hypothesis of \
+               Corollary 1)"
+            .into(),
+        how: format!(
+            "{:?}; remainder bound {:e}",
+            d.embedding.containment(),
+            d.embedding.remainder_bound()
+        ),
+        value: None,
+        passed: !matches!(
+            d.embedding.containment(),
+            sporadic_embed::Containment::NotGuaranteed { .. }
+        ),
+    });
+    out.push(Check {
+        what: "condition (12) of Theorem 1 on a v-grid, independent of the embedding".into(),
+        how: format!(
+            "λmax((I − LC)'e^(A'v)Pe^(Av)(I − LC) − P) on {} equally spaced v in [T1, T2] plus \
+             a golden-section refinement (60 steps) of the worst cell, e^(Av) in f64; passes \
+             when λmax < −{tol:e}·‖P‖ (relative value {:.3e}, worst at v = {:.6})",
+            v.grid_points, v.relative_max_eigenvalue, v.max_eigenvalue_at
+        ),
+        value: Some(v.max_eigenvalue),
+        passed: v.condition12_holds,
+    });
+    out.push(Check {
+        what: "e^(Av)(I − LC) Schur for every v in [T1, T2] (Remark 3)".into(),
+        how: format!(
+            "spectral radius on the same grid plus refinement; passes when below 1 − {tol:e} \
+             (worst at v = {:.6})",
+            v.max_spectral_radius_at
+        ),
+        value: Some(v.max_spectral_radius),
+        passed: v.schur_holds,
+    });
+    out
+}
+
+impl ObserverMethod for Ferrante2016 {
+    fn id(&self) -> &'static str {
+        ID
+    }
+
+    fn citation(&self) -> &'static str {
+        "F. Ferrante, F. Gouaisbaut, R. G. Sanfelice, S. Tarbouriech (2016), State estimation of \
+         linear systems in the presence of sporadic measurements, Automatica 73, 101–109"
+    }
+
+    fn summary(&self) -> &'static str {
+        "constant-gain jump observer for a linear plant with every inter-sample time in [T1, T2], \
+         by LMI (41) over a polytopic embedding of e^(Av)"
+    }
+
+    fn observer(&self) -> &'static str {
+        "between samples ẑ' = Aẑ + Bu; at a sample ẑ⁺ = ẑ + L(y − Cẑ) (observer (3), the paper's \
+         M is C); error ε = z − ẑ: ε' = Aε, ε⁺ = (I − LC)ε (5)"
+    }
+
+    fn applies(&self, plant: &ModelPlant, sampling: &Sampling) -> Result<(), NotApplicable> {
+        if plant.lipschitz().is_some() {
+            return Err(NotApplicable::unsupported(
+                ID,
+                "the plant has a Lipschitz nonlinearity; Ferrante et al. (2016) is for linear \
+                 plants (use etienne2017)",
+            ));
+        }
+        if let Outputs::RoundRobin(_) = plant.output_structure() {
+            return Err(NotApplicable::unsupported(
+                ID,
+                "the plant has round-robin sensors; Ferrante et al. (2016) samples one output \
+                 matrix at once (use sferlazza2021)",
+            ));
+        }
+        if let Sampling::RoundRobin(_) = sampling {
+            return Err(NotApplicable::unsupported(
+                ID,
+                "the sampling is round-robin (one window per sensor); Ferrante et al. (2016) \
+                 needs one window [T1, T2] for all outputs",
+            ));
+        }
+        Ok(())
+    }
+
+    fn design(
+        &self,
+        plant: &ModelPlant,
+        sampling: &Sampling,
+        _options: &MethodOptions,
+    ) -> Result<DesignReport, MethodError> {
+        let start = Instant::now();
+        if let Err(na) = self.applies(plant, sampling) {
+            return Ok(DesignReport::without_design(
+                self,
+                plant.name(),
+                Some(sampling),
+                na.reason,
+            ));
+        }
+        let Sampling::Synchronous(window) = sampling else {
+            unreachable_round_robin()?
+        };
+        let p = self.plant_of(plant)?;
+        match design(&p, window, &self.design) {
+            Ok(d) => Ok(self.report(plant, sampling, &d, start.elapsed().as_secs_f64())),
+            Err(e) => match e.reason() {
+                Some(r) => Ok(self.failed(plant, sampling, r, start.elapsed().as_secs_f64())),
+                None => Err(not_a_verdict(e)),
+            },
+        }
+    }
+
+    /// The shared [`search_upper`] with a probe that re-solves one compiled LMI (41) (the vertex
+    /// count of the residue box does not depend on the window), reported exactly as
+    /// [`sporadic_model::default_largest_window`] reports it.
+    fn largest_window(
+        &self,
+        plant: &ModelPlant,
+        sampling: &Sampling,
+        limit: f64,
+        options: &MethodOptions,
+        progress: &mut dyn FnMut(&Probe),
+    ) -> Result<MaxIntervalReport, MethodError> {
+        let start = Instant::now();
+        let t1 = sampling.t1();
+        let mut report = MaxIntervalReport {
+            schema: MAX_INTERVAL_SCHEMA.into(),
+            plant: plant.name().into(),
+            method: ID.into(),
+            status: Status::NotCertified,
+            reason: None,
+            t1: Some(t1),
+            limit: Some(limit),
+            largest_certified_t2: None,
+            first_failing_t2: None,
+            search_end: None,
+            monotone: true,
+            probes: Vec::new(),
+            design: None,
+            seconds: 0.0,
+        };
+        if let Err(na) = self.applies(plant, sampling) {
+            report.status = Status::NotApplicable;
+            report.reason = Some(na.reason);
+            return Ok(report);
+        }
+        let p = self.plant_of(plant)?;
+        self.design.validate().map_err(invalid)?;
+        let mut cache = None;
+        let mut best: Option<(f64, DesignReport)> = None;
+        let mut run = |t2: f64| -> Result<Verdict, MethodError> {
+            if let Some(limit) = options.time_limit
+                && start.elapsed() > limit
+            {
+                return Err(MethodError::Numerical {
+                    method: ID,
+                    source: Box::new(TimeLimit(limit)),
+                });
+            }
+            let probe_start = Instant::now();
+            let s = sampling.with_t2(t2).map_err(|e| invalid(e.into()))?;
+            let Sampling::Synchronous(window) = &s else {
+                unreachable_round_robin()?
+            };
+            let (v, d) = probe(&p, window, &self.design, &mut cache).map_err(not_a_verdict)?;
+            progress(&Probe {
+                t1,
+                t2,
+                certified: v.certified,
+                margin: v.margin,
+                reason: v.reason.clone(),
+            });
+            if let Some(d) = d
+                && best.as_ref().is_none_or(|(b, _)| *b < t2)
+            {
+                let seconds = probe_start.elapsed().as_secs_f64();
+                best = Some((t2, self.report(plant, &s, &d, seconds)));
+            }
+            Ok(v)
+        };
+        let search = match search_upper(t1, limit, &options.search, &mut run) {
+            Ok(s) => s,
+            Err(SearchError::Input(e)) => return Err(invalid(e.into())),
+            Err(SearchError::Probe(MethodError::Numerical { source, .. }))
+                if source.downcast_ref::<TimeLimit>().is_some() =>
+            {
+                report.reason = Some(Reason::BudgetExhausted {
+                    message: source.to_string(),
+                });
+                report.search_end = Some(SearchEnd::BudgetExhausted);
+                report.largest_certified_t2 = best.as_ref().map(|(t2, _)| *t2);
+                report.status = if best.is_some() {
+                    Status::Certified
+                } else {
+                    Status::NotCertified
+                };
+                report.design = best.map(|(_, d)| d);
+                report.seconds = start.elapsed().as_secs_f64();
+                return Ok(report);
+            }
+            Err(SearchError::Probe(e)) => return Err(e),
+        };
+        report.largest_certified_t2 = search.best;
+        report.first_failing_t2 = search.first_failure;
+        report.search_end = Some(search.end);
+        report.monotone = search.monotone;
+        report.status = if search.best.is_some() {
+            Status::Certified
+        } else {
+            Status::NotCertified
+        };
+        if search.best.is_none() {
+            report.reason = search.probes.iter().rev().find_map(|p| p.reason.clone());
+        } else if search.end == SearchEnd::BudgetExhausted {
+            report.reason = Some(Reason::BudgetExhausted {
+                message: format!("window search stopped after {} probes", search.probes.len()),
+            });
+        }
+        report.probes = search.probes;
+        report.design = best
+            .filter(|(t2, _)| Some(*t2) == search.best)
+            .map(|(_, d)| d);
+        report.seconds = start.elapsed().as_secs_f64();
+        Ok(report)
+    }
+
+    /// The error system (5) with the report's gain `L`: `ε' = Aε` between samples,
+    /// `ε⁺ = (I − LC)ε` at the samples. Defaults: `ε(0) = (1, …, 1)`, horizon `30·T2`.
+    fn simulate(
+        &self,
+        plant: &ModelPlant,
+        design: &DesignReport,
+        scenario: &Scenario,
+    ) -> Result<Trajectory, MethodError> {
+        let unavailable = |why: String| MethodError::SimulationUnavailable { method: ID, why };
+        if design.method != ID {
+            return Err(unavailable(format!(
+                "the report is a design of {}, not of {ID}",
+                design.method
+            )));
+        }
+        if !design.status.is_certified() {
+            return Err(unavailable(format!(
+                "the design is {} ({}): there is no certified gain to simulate",
+                design.status,
+                design
+                    .reason
+                    .as_ref()
+                    .map_or_else(|| "no reason given".into(), |r| r.to_string())
+            )));
+        }
+        let window = design
+            .window
+            .ok_or_else(|| unavailable("the report has no single sampling window".into()))?;
+        let l = design
+            .gain("L")
+            .ok_or_else(|| unavailable("the report has no gain L".into()))?
+            .to_mat();
+        let p = self.plant_of(plant)?;
+        p.check_gain(l.as_ref()).map_err(invalid)?;
+        let n = p.n();
+        let eps0 = scenario
+            .initial_error
+            .clone()
+            .unwrap_or_else(|| vec![1.0; n]);
+        if eps0.len() != n {
+            return Err(invalid(
+                sporadic_linalg::InputError::mismatch(
+                    "entries of the initial error",
+                    n,
+                    eps0.len(),
+                )
+                .into(),
+            ));
+        }
+        let horizon = scenario.horizon.unwrap_or(30.0 * window.t2());
+        if !(horizon.is_finite() && horizon > 0.0) {
+            return Err(invalid(
+                sporadic_linalg::InputError::parameter(
+                    "horizon",
+                    horizon,
+                    "must be a positive finite time",
+                )
+                .into(),
+            ));
+        }
+        let sim_err = |e: sporadic_sim::SimError| not_a_verdict(e.into());
+        let (mut rule, sampling_words): (Box<dyn SamplingRule>, String) = match scenario.sampling {
+            SamplingScenario::Uniform { seed } => (
+                Box::new(UniformRandom::new(window.t1(), window.t2(), seed).map_err(sim_err)?),
+                format!("intervals uniform in {window} (seed {seed})"),
+            ),
+            SamplingScenario::PeriodicT1 => (
+                Box::new(Periodic::new(window.t1()).map_err(sim_err)?),
+                format!("periodic, every interval T1 = {}", window.t1()),
+            ),
+            SamplingScenario::PeriodicT2 => (
+                Box::new(Periodic::new(window.t2()).map_err(sim_err)?),
+                format!("periodic, every interval T2 = {}", window.t2()),
+            ),
+        };
+        let arc = simulate_error(
+            &p,
+            l.as_ref(),
+            rule.as_mut(),
+            &eps0,
+            &SimOptions::new(horizon),
+        )
+        .map_err(not_a_verdict)?;
+        let norm = arc.norms();
+        let signals = (0..n)
+            .map(|k| {
+                arc.component(k)
+                    .map(|x| (format!("ε_{}", k + 1), x))
+                    .map_err(sim_err)
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let initial_error = norm.first().copied().unwrap_or(f64::NAN);
+        let final_error = norm.last().copied().unwrap_or(f64::NAN);
+        let samples = arc.num_jumps();
+        Ok(Trajectory {
+            quantity: "estimation error ε = z − ẑ of the error system (5)".into(),
+            t: arc.times().to_vec(),
+            j: arc.jump_counters().to_vec(),
+            signals,
+            norm,
+            report: SimulationReport {
+                setup: format!(
+                    "error system (5) with the designed L, ε(0) = {}, |ε(0)| = {:.4}, \
+                     {sampling_words}, horizon {horizon} s",
+                    vector_words(&eps0),
+                    initial_error
+                ),
+                samples,
+                initial_error,
+                final_error,
+                result: format!(
+                    "{samples} samples, |ε| at the end = {final_error:.3e} ({:.3e} of |ε(0)|)",
+                    final_error / initial_error
+                ),
+                figure: None,
+            },
+        })
+    }
+}
+
+/// `(x1, …, xn)` with `(1, ..., 1)` abbreviated.
+fn vector_words(x: &[f64]) -> String {
+    if x.len() > 3 && x.iter().all(|v| *v == x[0]) {
+        return format!("({0}, …, {0})", x[0]);
+    }
+    let parts: Vec<String> = x.iter().map(|v| v.to_string()).collect();
+    format!("({})", parts.join(", "))
+}
+
+/// The error for a round-robin sampling past [`ObserverMethod::applies`] (cannot happen: it is
+/// rejected there).
+fn unreachable_round_robin<T>() -> Result<T, MethodError> {
+    Err(MethodError::InvalidInput {
+        method: ID,
+        source: "ferrante2016 needs one sampling window [T1, T2]".into(),
+    })
+}
