@@ -17,7 +17,9 @@ const ACTIVE_BOUND_REL: f64 = 1e-5;
 pub enum Outcome {
     /// The returned point satisfies every constraint by the [`Verification`] rule (strict ones
     /// with a positive margin); in objective mode the solver also reached its optimality
-    /// tolerances.
+    /// tolerances, the full ones ([`Status::Optimal`]) or the reduced ones
+    /// ([`Status::AlmostOptimal`]: the objective is optimal to reduced accuracy only; check
+    /// `sdp.status`). In feasibility mode any verified point is feasible, whatever the status.
     Feasible,
     /// The constraints have no (strictly, for strict constraints) feasible point: a solver
     /// infeasibility certificate, or in feasibility mode a maximal margin at or below the
@@ -333,9 +335,24 @@ pub(crate) fn finish(c: &Compiled, sdp: Solution) -> Result<LmiSolution, ModelEr
                     "the objective is unbounded (solver certificate: a ray of the feasible set)"
                         .to_string(),
                 ),
-                (Status::Optimal, Some(f)) => (
+                (Status::AlmostOptimal, None) => (
+                    Outcome::Feasible,
+                    format!(
+                        "almost optimal (solved to reduced accuracy: largest DIMACS error {:e}); \
+                         every constraint verified at the returned point",
+                        sdp.measures.dimacs_max()
+                    ),
+                ),
+                (Status::Optimal | Status::AlmostOptimal, Some(f)) => (
                     Outcome::Inconclusive,
-                    format!("the solver reports an optimum but {f}{strict_note}"),
+                    format!(
+                        "the solver reports an {} optimum but {f}{strict_note}",
+                        if status.is_optimal() {
+                            "optimal"
+                        } else {
+                            "almost optimal"
+                        }
+                    ),
                 ),
                 (s, None) => (
                     Outcome::Inconclusive,

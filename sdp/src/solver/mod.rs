@@ -141,10 +141,15 @@ impl fmt::Debug for Solver {
 
 fn check_settings(s: &Settings) -> Result<(), SdpError> {
     let positive = |v: f64| v.is_finite() && v > 0.0;
-    if !(positive(s.tol_gap) && positive(s.tol_feas) && positive(s.tol_infeas)) {
+    if !(positive(s.tol_gap)
+        && positive(s.tol_feas)
+        && positive(s.tol_infeas)
+        && positive(s.tol_reduced))
+    {
         return Err(SdpError::InvalidSettings(format!(
-            "tolerances must be finite and positive (tol_gap {}, tol_feas {}, tol_infeas {})",
-            s.tol_gap, s.tol_feas, s.tol_infeas
+            "tolerances must be finite and positive (tol_gap {}, tol_feas {}, tol_infeas {}, \
+             tol_reduced {})",
+            s.tol_gap, s.tol_feas, s.tol_infeas, s.tol_reduced
         )));
     }
     if let Some(g) = s.step_fraction
