@@ -76,6 +76,7 @@ mod ipm;
 mod linsys;
 mod lsq;
 mod par;
+mod point;
 mod residuals;
 mod schur;
 mod settings;
@@ -91,6 +92,7 @@ use std::sync::Arc;
 use faer::{Mat, Par};
 
 pub use certificate::InfeasibilityCertificate;
+pub use point::{Point, dimacs_errors, point_measures};
 pub use settings::{IterationLog, LogCallback, Settings};
 pub use solution::{Measures, Solution, Status};
 
@@ -104,6 +106,16 @@ use structure::Analysis;
 /// Solves `problem` (analysis and interior-point iterations in one call).
 pub fn solve(problem: &Problem, settings: &Settings) -> Result<Solution, SdpError> {
     Solver::new(problem, settings.clone())?.solve(problem)
+}
+
+/// Solves `problem` starting the interior-point method from `start` instead of the default
+/// starting point (see [`Solver::solve_from`]).
+pub fn solve_from(
+    problem: &Problem,
+    settings: &Settings,
+    start: &Point,
+) -> Result<Solution, SdpError> {
+    Solver::new(problem, settings.clone())?.solve_from(problem, start)
 }
 
 /// Smallest Schur dimension for which the dense Cholesky uses several threads.
@@ -219,6 +231,27 @@ impl Solver {
     /// Solves `problem`, which must have the analysed block layout and a sparsity pattern
     /// contained in the analysed one (otherwise [`SdpError::Structure`]).
     pub fn solve(&mut self, problem: &Problem) -> Result<Solution, SdpError> {
+        self.run(problem, None)
+    }
+
+    /// Like [`Solver::solve`], but the interior-point method starts from `start` (a warm start,
+    /// e.g. a solution read with [`crate::solution_file::read_solution`]) instead of SDPT3's
+    /// default point. The point need not be feasible, but the method needs an interior one:
+    /// PSD blocks are symmetrised, `(M + Mᵀ)/2`, and every block of `X` or `S` that is not
+    /// positive definite (no Cholesky factorisation; LP: an entry `≤ 0`) is shifted to
+    /// `M + (ℓ − min(λ_min(M), 0))·I`, whose smallest eigenvalue is at least the level `ℓ` of the
+    /// default starting point for that block (`ξ` for `X`, `η` for `S`, SDPT3's `infeaspt`;
+    /// every entry for an LP block). Positive definite blocks, however close to the boundary,
+    /// and `y` are used as given, so a written optimal solution restarts where it ended.
+    ///
+    /// Errors as for [`Solver::solve`], and [`SdpError::DimensionMismatch`] /
+    /// [`SdpError::NonFinite`] for a starting point that does not fit the problem.
+    pub fn solve_from(&mut self, problem: &Problem, start: &Point) -> Result<Solution, SdpError> {
+        point::check_point(&self.analysis, &start.y, &start.x, &start.s)?;
+        self.run(problem, Some(start))
+    }
+
+    fn run(&mut self, problem: &Problem, start: Option<&Point>) -> Result<Solution, SdpError> {
         let vals = self.analysis.values(problem)?;
         let Self {
             settings,
@@ -226,7 +259,7 @@ impl Solver {
             pool,
             workspace,
         } = self;
-        let mut run = || ipm::run(analysis, &vals, problem, settings, workspace);
+        let mut run = || ipm::run(analysis, &vals, problem, settings, workspace, start);
         Ok(match (pool, analysis.exec) {
             (_, Exec::Sequential) => run(),
             (Some(p), Exec::Parallel) => p.install(run),
