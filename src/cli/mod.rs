@@ -38,7 +38,7 @@ pub fn run() -> ExitCode {
         Command::MaxInterval(args) => design::max_interval(&args),
         Command::Compare(args) => design::compare(&args),
         Command::Reproduce(args) => reproduce::run(&args),
-        Command::Sdp(args) => sdp::run(&args),
+        Command::Sdp(args) => return sdp::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
