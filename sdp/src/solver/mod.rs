@@ -31,9 +31,12 @@
 //! 4. steps `α = min(1, γ α_max)` with `γ = 0.9 + 0.09 min(α_p, α_d)` (SDPT3), backtracked if a
 //!    Cholesky factorisation of the new `X` or `S` fails.
 //!
-//! The starting point is SDPT3's `infeaspt` (module `start`). The solve stops as **optimal** when
-//! the relative gap `|⟨C,X⟩ − bᵀy|/(1+|⟨C,X⟩|+|bᵀy|)`, the relative complementarity
-//! `⟨X,S⟩/(1+|⟨C,X⟩|+|bᵀy|)` and the relative infeasibilities are all within tolerance.
+//! The starting point is SDPT3's `infeaspt` (module `start`), or a given point
+//! ([`Solver::solve_from`]). The solve stops as **optimal** when the relative gap
+//! `|⟨C,X⟩ − bᵀy|/(1+|⟨C,X⟩|+|bᵀy|)`, the relative complementarity `⟨X,S⟩/(1+|⟨C,X⟩|+|bᵀy|)`
+//! and the relative infeasibilities are all within tolerance; a solve that stops early (stall,
+//! breakdown, iteration limit) is **almost optimal** when the six DIMACS errors of the best point
+//! are all within the reduced tolerance (the rule is documented at [`Status`]).
 //!
 //! ## Why HKM with an infeasible start rather than NT or a self-dual embedding
 //!
