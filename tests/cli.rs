@@ -231,12 +231,144 @@ fn sdp_solve_reports_malformed_files_with_a_line() {
     std::fs::write(&bad, "2 =mdim\n1 =nblocks\n2\n1.0 x\n").unwrap();
     let o = sporadic(&["sdp", "solve", &bad.display().to_string()]);
     assert_clean_failure(&o, "bad.dat-s");
+    assert_eq!(o.status.code(), Some(2), "bad input exits with 2");
+}
+
+/// `sdp solve` exit codes: 0 solved, 1 not solved (infeasible, iteration limit), 2 bad input
+/// (missing or malformed file, invalid option value, unknown option).
+#[test]
+fn sdp_solve_exit_codes() {
+    let file = ferrante_sdpa();
+    let o = sporadic(&["sdp", "solve", &file]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(stdout(&o).contains("status      optimal"), "{}", stdout(&o));
+
+    // Iteration limit: status and DIMACS errors are still reported, exit 1.
+    let o = sporadic(&["sdp", "solve", "--json", "--max-iterations", "3", &file]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let r: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(r["status"], "iteration_limit", "{r}");
+    assert_eq!(r["solved"], false, "{r}");
+    assert_eq!(r["dimacs"].as_array().map(Vec::len), Some(6), "{r}");
+    assert!(r["dimacs_max"].as_f64().unwrap() > 1e-6, "{r}");
+    let o = sporadic(&["sdp", "solve", "--max-iterations", "3", &file]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        stdout(&o).contains("status      iteration limit"),
+        "{}",
+        stdout(&o)
+    );
+    assert!(stdout(&o).contains("DIMACS "), "{}", stdout(&o));
+
+    // An infeasible LP in SDPA form: x − 1 ≥ 0 and −x ≥ 0.
+    let infeasible = scratch("infeasible.dat-s");
+    std::fs::write(
+        &infeasible,
+        "1 =mdim\n1 =nblocks\n-2\n1.0\n0 1 1 1 1.0\n1 1 1 1 1.0\n1 1 2 2 -1.0\n",
+    )
+    .unwrap();
+    let o = sporadic(&["sdp", "solve", "--json", &infeasible.display().to_string()]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let r: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(r["status"], "sdpa_primal_infeasible", "{r}");
+    assert_eq!(r["dimacs"].as_array().map(Vec::len), Some(6), "{r}");
+
+    let missing = scratch("missing.dat-s").display().to_string();
+    for args in [
+        vec!["sdp", "solve", missing.as_str()],
+        vec!["sdp", "solve", "--tol-reduced=-1", file.as_str()],
+        vec!["sdp", "solve", "--max-iterations=x", file.as_str()],
+        vec!["sdp", "solve", "--no-such-option", file.as_str()],
+    ] {
+        let o = sporadic(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
+    }
+    let o = sporadic(&["sdp", "solve", "--help"]);
+    assert!(o.status.success());
+    for needle in ["Exit status:", "0  solved", "1  not solved", "2  bad input"] {
+        assert!(stdout(&o).contains(needle), "--help lacks {needle:?}");
+    }
+}
+
+/// `--write-solution` writes CSDP's format; `--initial-solution` restarts from it (at the
+/// optimum: no iteration needed), and a malformed starting file is bad input naming its line.
+#[test]
+fn sdp_solve_writes_and_reads_solutions() {
+    let file = ferrante_sdpa();
+    let sol = scratch("ferrante.sol");
+    let sol_arg = sol.display().to_string();
+    let o = sporadic(&[
+        "sdp",
+        "solve",
+        "--json",
+        "--write-solution",
+        &sol_arg,
+        &file,
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let cold: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let text = std::fs::read_to_string(&sol).unwrap();
+    let mut lines = text.lines();
+    let m = lines.next().unwrap().split_whitespace().count();
+    assert_eq!(m, 40, "y has one value per constraint (m = 40)");
+    let mut matrices = std::collections::BTreeSet::new();
+    for l in lines {
+        let f: Vec<&str> = l.split_whitespace().collect();
+        assert_eq!(f.len(), 5, "{l}");
+        let (i, j): (usize, usize) = (f[2].parse().unwrap(), f[3].parse().unwrap());
+        assert!(i >= 1 && i <= j, "upper triangle, 1-based: {l}");
+        f[4].parse::<f64>().unwrap();
+        matrices.insert(f[0].to_string());
+    }
+    assert_eq!(matrices.into_iter().collect::<Vec<_>>(), ["1", "2"]);
+
+    let o = sporadic(&[
+        "sdp",
+        "solve",
+        "--json",
+        "--initial-solution",
+        &sol_arg,
+        &file,
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let warm: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(warm["status"], "optimal", "{warm}");
+    assert_eq!(warm["iterations"], 0, "{warm}");
+    assert_eq!(warm["dual_objective_sdpa"], cold["dual_objective_sdpa"]);
+    let o = sporadic(&["sdp", "solve", "--initial-solution", &sol_arg, &file]);
+    assert!(
+        stdout(&o).contains(&format!("start       {sol_arg}")),
+        "{}",
+        stdout(&o)
+    );
+
+    let bad = scratch("bad.sol");
+    std::fs::write(&bad, format!("{}\n1 1 1 1 1\n3 1 1 1 1\n", "0 ".repeat(40))).unwrap();
+    let o = sporadic(&[
+        "sdp",
+        "solve",
+        "--initial-solution",
+        &bad.display().to_string(),
+        &file,
+    ]);
+    assert_clean_failure(&o, "line 3");
+    assert_eq!(o.status.code(), Some(2));
+    let o = sporadic(&[
+        "sdp",
+        "solve",
+        "--write-solution",
+        "/nonexistent-dir/x.sol",
+        &file,
+    ]);
+    assert_clean_failure(&o, "--write-solution");
+    assert_eq!(o.status.code(), Some(2));
 }
 
 /// The SDPA file of a Ferrante et al. (2016) design LMI shipped with the `sdp` tests.
 fn ferrante_sdpa() -> String {
     Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("sdp/tests/data/ferrante_min_trP.dat-s")
+        .join("kernels/sdp/tests/data/ferrante_min_trP.dat-s")
         .display()
         .to_string()
 }

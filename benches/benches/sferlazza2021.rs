@@ -43,7 +43,8 @@ fn bench(c: &mut Criterion) {
     for sigma in 0..2 {
         let fam = XiFamily::new(&plant, &p, sigma).expect("family");
         let w = plant.sensor(sigma).expect("sensor").window();
-        let grid = UniformGrid::covering(w, (w.t2() - w.t1()) / (POINTS - 1) as f64, 1e9).expect("grid");
+        let grid =
+            UniformGrid::covering(w, (w.t2() - w.t1()) / (POINTS - 1) as f64, 1e9).expect("grid");
         let seq = ValidationOptions {
             parallel: false,
             ..ValidationOptions::default()

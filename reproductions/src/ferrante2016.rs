@@ -22,12 +22,12 @@ use sporadic_sim::{
 };
 
 use crate::ReproductionError as Error;
-use sporadic_ferrante2016::{Bracketing, Tolerance, WindowSearchOptions};
 use sporadic_ferrante2016::bounds::{BoundOptions, bound_constants};
 use sporadic_ferrante2016::design::{DesignOptions, analyse, design, min_trace_certificate};
 use sporadic_ferrante2016::examples::{EXAMPLE2_L_PAPER, example1, example1_paper, example2};
 use sporadic_ferrante2016::simulation::{check_bound, simulate_error, simulate_observer};
 use sporadic_ferrante2016::window::{largest_t2, smallest_t1};
+use sporadic_ferrante2016::{Bracketing, Tolerance, WindowSearchOptions};
 
 /// Half a unit of the fourth decimal (Example 1 is printed with four decimals).
 const FOUR_DECIMALS: f64 = 5e-5;

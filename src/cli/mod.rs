@@ -62,9 +62,7 @@ pub fn run() -> ExitCode {
         Command::MaxInterval(args) => design::max_interval(&args),
         Command::Compare(args) => design::compare(&args),
         Command::Reproduce(args) => reproduce::run(&args),
-        Command::Sdp(args) => sdp::run(&args)
-            .map(|()| Outcome::Certified)
-            .map_err(Failure::Input),
+        Command::Sdp(args) => return sdp::run(&args),
     };
     match result {
         Ok(Outcome::Certified) => ExitCode::SUCCESS,

@@ -31,6 +31,18 @@ pub enum SdpError {
     /// An I/O error while reading or writing a file.
     #[error("I/O error: {0}")]
     Io(String),
+    /// A primal–dual point `(X, y, S)` does not fit the problem: `y` must be `m×1`, `X` and `S`
+    /// must have one matrix per block (the list is `blocks×1`), each in the dense block layout
+    /// of [`crate::problem`] (PSD `n×n`, LP `n×1`).
+    #[error("{what} has shape {}×{}, expected {}×{}", found.0, found.1, expected.0, expected.1)]
+    DimensionMismatch {
+        /// What does not fit (e.g. `"X, block 2"`).
+        what: String,
+        /// The shape the problem requires (rows, columns).
+        expected: (usize, usize),
+        /// The shape given.
+        found: (usize, usize),
+    },
     /// A solver setting is out of range (e.g. a non-positive tolerance).
     #[error("invalid solver settings: {0}")]
     InvalidSettings(String),

@@ -14,6 +14,19 @@
 //! Data are stored **by block** (as in CSDP): every block keeps `C` restricted to the block and the
 //! list of constraints that have a nonzero in it. Interior-point iterations assemble the Schur
 //! complement block by block, so only pairs of constraints that share a block cost anything.
+//!
+//! # Dense block layout
+//!
+//! Wherever a block is a dense matrix — the iterates and solutions (`X`, `S` of
+//! [`crate::Solution`] and [`crate::Point`]), the input of [`crate::dimacs_errors`] and of a warm
+//! start, the dense views [`Problem::dense_objective`] and [`Problem::dense_constraint`] — it has
+//! one layout: a PSD block of order `n` is an `n×n` symmetric matrix, and an LP block of length
+//! `n` is an `n×1` **column holding the diagonal** (entry `(i, 0)` is the diagonal entry
+//! `(i, i)` of the sparse storage, which keeps only diagonal entries for LP blocks). Inner
+//! products `⟨A, X⟩` are then the sums of entrywise products over this layout for LP blocks
+//! and over the full matrices for PSD blocks.
+
+use faer::Mat;
 
 use crate::error::SdpError;
 
@@ -22,7 +35,8 @@ use crate::error::SdpError;
 pub enum BlockKind {
     /// Symmetric positive-semidefinite block of the given order.
     Psd,
-    /// Nonnegative orthant of the given length (a diagonal block).
+    /// Nonnegative orthant of the given length: a diagonal block, stored sparsely by its
+    /// diagonal entries and densely as an `n×1` column (see the [module documentation](self)).
     Lp,
 }
 
@@ -68,6 +82,31 @@ impl SparseSym {
             .zip(&self.vals)
             .map(|((&i, &j), &v)| (i, j, v))
     }
+
+    /// The matrix in the dense layout of `block` (see the [module documentation](self)): PSD
+    /// `n×n` with both triangles filled, LP an `n×1` column of the diagonal. Entries outside
+    /// the block (possible only for hand-built data that [`ProblemBuilder::build`] would reject)
+    /// are skipped, and an off-diagonal entry of an LP block is ignored.
+    pub fn to_dense(&self, block: Block) -> Mat<f64> {
+        let n = block.size;
+        match block.kind {
+            BlockKind::Psd => {
+                let mut m = Mat::zeros(n, n);
+                for (i, j, v) in self.iter().filter(|&(i, j, _)| i < n && j < n) {
+                    m[(i, j)] = v;
+                    m[(j, i)] = v;
+                }
+                m
+            }
+            BlockKind::Lp => {
+                let mut m = Mat::zeros(n, 1);
+                for (i, _, v) in self.iter().filter(|&(i, j, _)| i == j && i < n) {
+                    m[(i, 0)] = v;
+                }
+                m
+            }
+        }
+    }
 }
 
 /// All data of one cone block.
@@ -94,6 +133,34 @@ impl Problem {
     /// Number of equality constraints `m` (= number of dual variables `y`).
     pub fn num_constraints(&self) -> usize {
         self.b.len()
+    }
+
+    /// `C`, one dense matrix per block in the layout of the [module documentation](self).
+    pub fn dense_objective(&self) -> Vec<Mat<f64>> {
+        self.blocks
+            .iter()
+            .map(|bd| bd.c.to_dense(bd.block))
+            .collect()
+    }
+
+    /// `A_i` (0-based `i`), one dense matrix per block in the layout of the
+    /// [module documentation](self) (zero in blocks it does not touch);
+    /// [`SdpError::Structure`] if `i ≥ m`.
+    pub fn dense_constraint(&self, i: usize) -> Result<Vec<Mat<f64>>, SdpError> {
+        if i >= self.b.len() {
+            return Err(SdpError::Structure(format!(
+                "constraint index {i} out of range (m = {})",
+                self.b.len()
+            )));
+        }
+        Ok(self
+            .blocks
+            .iter()
+            .map(|bd| match bd.a.binary_search_by_key(&i, |(k, _)| *k) {
+                Ok(p) => bd.a[p].1.to_dense(bd.block),
+                Err(_) => SparseSym::default().to_dense(bd.block),
+            })
+            .collect())
     }
 }
 
@@ -280,6 +347,26 @@ mod tests {
         // The explicit zero in block 1 for constraint 1 is dropped.
         assert_eq!(p.blocks[1].a.len(), 1);
         assert_eq!(p.blocks[1].a[0].0, 0);
+    }
+
+    #[test]
+    fn dense_views_use_the_block_layout() {
+        let mut pb = ProblemBuilder::new(2);
+        let s = pb.add_block(BlockKind::Psd, 2);
+        let l = pb.add_block(BlockKind::Lp, 3);
+        pb.add_c(s, 1, 0, 0.5).add_c(l, 2, 2, -1.0);
+        pb.add_a(1, s, 1, 1, 2.0).add_a(1, l, 0, 0, 3.0);
+        let p = pb.build().unwrap();
+        let c = p.dense_objective();
+        assert_eq!(c[0], faer::mat![[0.0, 0.5], [0.5, 0.0]]);
+        assert_eq!(c[1], faer::mat![[0.0], [0.0], [-1.0]]);
+        let a0 = p.dense_constraint(0).unwrap();
+        assert_eq!(a0[0], Mat::zeros(2, 2));
+        assert_eq!(a0[1], Mat::zeros(3, 1));
+        let a1 = p.dense_constraint(1).unwrap();
+        assert_eq!(a1[0], faer::mat![[0.0, 0.0], [0.0, 2.0]]);
+        assert_eq!(a1[1], faer::mat![[3.0], [0.0], [0.0]]);
+        assert!(matches!(p.dense_constraint(2), Err(SdpError::Structure(_))));
     }
 
     #[test]

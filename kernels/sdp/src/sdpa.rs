@@ -148,15 +148,31 @@ pub fn sdpa_objectives(solution: &Solution) -> SdpaObjectives {
     }
 }
 
-/// The SDPLIB/SDPA name of a status (the infeasibility names swap, see the
-/// [module documentation](self)).
+/// The SDPLIB/SDPA name of a status, for people (the infeasibility names swap, see the
+/// [module documentation](self)); [`sdpa_status_id`] is the machine-readable form.
 pub fn sdpa_status_name(status: Status) -> &'static str {
     match status {
         Status::Optimal => "optimal",
+        Status::AlmostOptimal => "almost optimal",
         Status::PrimalInfeasible => "SDPA dual infeasible",
         Status::DualInfeasible => "SDPA primal infeasible",
         Status::MaxIterations => "iteration limit",
         Status::NumericalTrouble => "numerical trouble",
+    }
+}
+
+/// The snake-case identifier of a status in the SDPA naming (used in JSON output): `optimal`,
+/// `almost_optimal`, `sdpa_dual_infeasible` ([`Status::PrimalInfeasible`]),
+/// `sdpa_primal_infeasible` ([`Status::DualInfeasible`]), `iteration_limit`,
+/// `numerical_trouble`.
+pub fn sdpa_status_id(status: Status) -> &'static str {
+    match status {
+        Status::Optimal => "optimal",
+        Status::AlmostOptimal => "almost_optimal",
+        Status::PrimalInfeasible => "sdpa_dual_infeasible",
+        Status::DualInfeasible => "sdpa_primal_infeasible",
+        Status::MaxIterations => "iteration_limit",
+        Status::NumericalTrouble => "numerical_trouble",
     }
 }
 

@@ -332,8 +332,9 @@ fn maximisation_over_lp_block() {
 
 /// In objective mode a strict constraint is imposed with the absolute margin `strict_margin`:
 /// `min t s.t. t > 0` ends at `t = strict_margin`, which passes the strict verification rule
-/// (`t ≥ 10·1e-8·(1 + t)`); with `strict_margin = 0` the optimum sits on the boundary and the
-/// strict constraint cannot be verified.
+/// (`t ≥ τ = 10·1e-8·(1 + t)`). With `strict_margin = 0` the first solve ends on the boundary,
+/// where the strict constraint cannot be verified, so the margin is raised to the `2τ` its
+/// check requires and the model re-solved: `t = 2τ ≈ 2e-7`, verified.
 #[test]
 fn strict_constraints_in_objective_mode() {
     let mut m = Model::new();
@@ -349,8 +350,18 @@ fn strict_constraints_in_objective_mode() {
         ..SolveOptions::default()
     };
     let sol = m.solve(&opts).unwrap();
-    assert_eq!(sol.outcome, Outcome::Inconclusive, "{}", sol.reason);
-    assert!(!sol.verification.get("t > 0").unwrap().passed);
+    assert_eq!(sol.outcome, Outcome::Feasible, "{}", sol.reason);
+    let report = sol.verification.get("t > 0").unwrap();
+    assert!(
+        report.passed && report.value >= report.tolerance,
+        "{report:?}"
+    );
+    assert!(
+        (sol.scalar(&t).unwrap() - 2e-7).abs() < 1e-8,
+        "{}",
+        sol.reason
+    );
+    assert!(sol.reason.contains("raised"), "{}", sol.reason);
     // The same question as a margin problem: strictly feasible.
     let sol = m.feasibility(&FeasibilityOptions::default()).unwrap();
     assert_eq!(sol.outcome, Outcome::Feasible, "{}", sol.reason);
@@ -384,4 +395,23 @@ fn scalar_variable_is_broadcast_to_identity() {
     assert_eq!(sol.outcome, Outcome::Feasible, "{}", sol.reason);
     assert!((sol.objective.unwrap() - 4.0).abs() < 1e-6);
     assert!((sol.value(&p).unwrap()[(1, 1)] - 4.0).abs() < 1e-5);
+}
+
+/// `LmiSolution::scalar` on a matrix variable names the variable and its shape.
+#[test]
+fn scalar_of_a_matrix_variable_is_a_precise_error() {
+    let mut m = Model::new();
+    let p = m.symmetric("P", 3);
+    m.constrain(p.ge(1.0)).unwrap();
+    m.minimize(p.trace()).unwrap();
+    let sol = m.solve(&SolveOptions::default()).unwrap();
+    match sol.scalar(&p) {
+        Err(ModelError::NotScalar { what, shape }) => {
+            assert_eq!(what, "variable `P`");
+            assert_eq!(shape, Shape::new(3, 3));
+        }
+        other => panic!("expected NotScalar, got {other:?}"),
+    }
+    let e = sol.scalar(&p).unwrap_err().to_string();
+    assert!(e.contains("3×3") && e.contains("`P`"), "{e}");
 }

@@ -4,6 +4,7 @@
 use faer::linalg::solvers::Solve;
 use faer::{Mat, MatRef, Side, mat};
 use proptest::prelude::*;
+use sporadic_sdp::Status;
 use sporadic_sdp::lmi::{Expr, FeasibilityOptions, Model, Outcome, SolveOptions};
 
 /// Largest real part of the eigenvalues (faer's nonsymmetric eigensolver).
@@ -208,4 +209,90 @@ fn bounded_real_lemma_resonant_second_order() {
         assert!(min_eig(p.as_ref()) > -1e-6);
         assert!(min_eig((-&brl).as_ref()) > -1e-6 * exact);
     }
+}
+
+/// The bounded-real lemma written with strict inequalities (`≺ 0`, `P ≻ 0`) and `minimize`:
+/// strictly feasible for every γ > ‖G‖_∞, so the outcome must be `Feasible` — a strict
+/// constraint is imposed with the margin its verification checks. (Reported case: imposed as
+/// `⪰ 1e-6·I` but checked against `1e-7·(1 + scale) = 1.35e-5`, it came back `Inconclusive`.)
+/// G(s) = C(sI − A)⁻¹B = (s + 2.5)/((s + 1)(s + 2)), whose gain is largest at ω = 0:
+/// ‖G‖_∞ = 2.5/2 = 1.25.
+#[test]
+fn strict_bounded_real_lemma_is_feasible() {
+    let a = mat![[-1.0, 0.5], [0.0, -2.0]];
+    let b = mat![[1.0], [1.0]];
+    let c = mat![[1.0, 0.0]];
+    let mut m = Model::new();
+    let p = m.symmetric("P", 2);
+    let g = m.scalar("γ");
+    let brl = Expr::sym_blocks(&[
+        [Some(a.transpose() * &p + &p * &a), None, None],
+        [
+            Some(b.transpose() * &p),
+            Some(-(&g * Expr::identity(1))),
+            None,
+        ],
+        [
+            Some(Expr::from(&c)),
+            Some(Expr::zeros(1, 1)),
+            Some(-(&g * Expr::identity(1))),
+        ],
+    ]);
+    m.constrain(brl.lt(0.0).named("BRL ≺ 0")).unwrap();
+    m.constrain(p.gt(0.0).named("P ≻ 0")).unwrap();
+    m.minimize(&g).unwrap();
+    let sol = m.solve(&SolveOptions::default()).unwrap();
+    assert_eq!(sol.outcome, Outcome::Feasible, "{}", sol.reason);
+    assert!(sol.verification.passed());
+    let gamma = sol.scalar(&g).unwrap();
+    // Above the infimum (strictness) and close to it (the margins are small).
+    assert!(gamma > 1.25 && gamma < 1.25 * (1.0 + 1e-3), "γ = {gamma}");
+    let strict = sol.verification.get("BRL ≺ 0").unwrap();
+    assert!(strict.value >= strict.tolerance, "{strict:?}");
+    // Independently: −BRL and P are positive definite at the returned point.
+    assert!(min_eig((-sol.eval(&brl).unwrap()).as_ref()) > 0.0);
+    assert!(min_eig(sol.value(&p).unwrap().as_ref()) > 0.0);
+}
+
+/// A solve that cannot reach its (unattainably tight) tolerances stops early; at a point within
+/// the reduced tolerance the solver reports `AlmostOptimal`, and a verified point is `Feasible`
+/// with a reason that says the accuracy is reduced.
+#[test]
+fn almost_optimal_verified_point_is_feasible_with_reduced_accuracy() {
+    let a = mat![[-1.0, 0.5], [0.0, -2.0]];
+    let b = mat![[1.0], [1.0]];
+    let c = mat![[1.0, 0.0]];
+    let mut m = Model::new();
+    let p = m.symmetric("P", 2);
+    let g = m.scalar("γ");
+    let brl = Expr::sym_blocks(&[
+        [Some(a.transpose() * &p + &p * &a), None, None],
+        [
+            Some(b.transpose() * &p),
+            Some(-(&g * Expr::identity(1))),
+            None,
+        ],
+        [
+            Some(Expr::from(&c)),
+            Some(Expr::zeros(1, 1)),
+            Some(-(&g * Expr::identity(1))),
+        ],
+    ]);
+    m.constrain(brl.le(0.0).named("BRL")).unwrap();
+    m.constrain(p.ge(0.0)).unwrap();
+    m.minimize(&g).unwrap();
+    let mut opts = SolveOptions::default();
+    opts.settings.tol_gap = 1e-300;
+    opts.settings.tol_feas = 1e-300;
+    let sol = m.solve(&opts).unwrap();
+    assert_eq!(
+        sol.sdp.status,
+        Status::AlmostOptimal,
+        "{:?}",
+        sol.sdp.measures
+    );
+    assert!(sol.sdp.measures.dimacs_max() <= 1e-6);
+    assert_eq!(sol.outcome, Outcome::Feasible, "{}", sol.reason);
+    assert!(sol.reason.starts_with("almost optimal"), "{}", sol.reason);
+    assert!((sol.scalar(&g).unwrap() - 1.25).abs() < 1e-5);
 }

@@ -328,7 +328,7 @@ pub fn min_trace_certificate(
     }
     Ok(TraceCertificate {
         trace: (0..r.p.nrows()).map(|i| r.p[(i, i)]).sum(),
-        optimal: r.stats.outcome == Outcome::Feasible,
+        optimal: r.stats.outcome == Outcome::Feasible && r.stats.status.is_optimal(),
         p: r.p,
         f: r.f,
         j: r.j,

@@ -30,9 +30,13 @@ use crate::{Settings, Solver};
 pub struct SolveOptions {
     /// Interior-point settings (tolerances, iteration limit, log).
     pub settings: Settings,
-    /// In objective mode a strict constraint `F ≻ 0` is imposed as `F ⪰ strict_margin·I`
-    /// (absolute; default `1e-6`). Interior-point methods cannot impose strictness; prefer
-    /// explicit, problem-scaled margins (`F.ge(eps)`) or [`Model::feasibility`].
+    /// In objective mode a strict constraint `F ≻ 0` is imposed as `F ⪰ ε·I` with at least this
+    /// margin (absolute; default `1e-6`), and with more where its verification needs it: the
+    /// margin is `ε = max(strict_margin, 2τ)` with `τ` the constraint's verification tolerance
+    /// at the returned point (see [`super::Verification`] and [`Compiled::solve`]), so a strictly
+    /// feasible model is never inconclusive because of our own tolerances. Interior-point methods
+    /// cannot impose strictness; explicit, problem-scaled margins (`F.ge(eps)`) or
+    /// [`Model::feasibility`] state the intent directly.
     pub strict_margin: f64,
     /// Safety factor of the verification rule (default 10; see [`super::Verification`]).
     pub safety: f64,
@@ -183,6 +187,9 @@ pub struct Compiled {
     pub(crate) t_col: Option<usize>,
     pub(crate) homogeneous: bool,
     pub(crate) norms: Vec<NormConstraint>,
+    /// Per constraint: the margin `ε` a strict constraint is imposed with in objective mode
+    /// (`F ⪰ εI`); see [`SolveOptions::strict_margin`].
+    pub(crate) strict_margins: Vec<f64>,
     solver: Option<(Solver, Problem)>,
     pub(crate) stats: CompileStats,
 }
@@ -364,6 +371,7 @@ impl Compiled {
             return Err(ModelError::NoConstraints);
         }
         let n = model.constraints.len();
+        let strict_margins = vec![options.strict_margin; n];
         Ok(Self {
             model,
             mode,
@@ -378,6 +386,7 @@ impl Compiled {
             t_col: None,
             homogeneous: false,
             norms: Vec::new(),
+            strict_margins,
             solver: None,
             stats: CompileStats::default(),
         })
@@ -440,6 +449,7 @@ impl Compiled {
         self.model.constraints.push(data);
         self.evals.push(None);
         self.reduced.push(None);
+        self.strict_margins.push(self.options.strict_margin);
         Ok(ConstraintId(self.model.constraints.len() - 1))
     }
 
@@ -537,16 +547,17 @@ impl Compiled {
         self.stats.assemblies += 1;
         let model = &self.model;
         let elim = self.elim.as_ref().expect("eliminated");
-        let ineqs: Vec<(&ConstraintData, &Affine)> = model
+        let ineqs: Vec<(usize, &ConstraintData, &Affine)> = model
             .constraints
             .iter()
             .zip(&self.reduced)
-            .filter(|(d, _)| d.kind != ConstraintKind::Equality)
-            .map(|(d, r)| (d, r.as_ref().expect("reduced")))
+            .enumerate()
+            .filter(|(_, (d, _))| d.kind != ConstraintKind::Equality)
+            .map(|(c, (d, r))| (c, d, r.as_ref().expect("reduced")))
             .collect();
         // Columns: free scalars occurring in some inequality.
         let mut col_of = vec![usize::MAX; model.num_scalars];
-        for (_, r) in &ineqs {
+        for (_, _, r) in &ineqs {
             for s in r.slots().filter(|&s| s != CONST) {
                 col_of[s as usize - 1] = 0;
             }
@@ -571,7 +582,7 @@ impl Compiled {
         self.homogeneous = elim.is_homogeneous()
             && ineqs
                 .iter()
-                .all(|(_, r)| r.entries.first().is_none_or(|e| e.slot != CONST));
+                .all(|(_, _, r)| r.entries.first().is_none_or(|e| e.slot != CONST));
 
         // Objective.
         let mut b = vec![0.0; m];
@@ -602,9 +613,9 @@ impl Compiled {
             a: vec![Vec::new(); m],
         };
         let mut psd: Vec<BlockData> = Vec::new();
-        let strict_terms = |strict: bool| -> Strictness {
+        let strict_terms = |c: usize, strict: bool| -> Strictness {
             match (&self.mode, strict) {
-                (Mode::Optimize { strict_margin }, true) => (-strict_margin, None),
+                (Mode::Optimize { .. }, true) => (-self.strict_margins[c], None),
                 (Mode::Margin { .. }, true) => (0.0, Some(-1.0)),
                 _ => (0.0, None),
             }
@@ -646,8 +657,8 @@ impl Compiled {
             }
         }
 
-        for (d, red) in &ineqs {
-            let (shift, t_coef) = strict_terms(d.strict);
+        for (c, d, red) in &ineqs {
+            let (shift, t_coef) = strict_terms(*c, d.strict);
             let is_matrix = d.kind == ConstraintKind::Matrix;
             if is_matrix
                 && red.rows > 1
@@ -709,7 +720,43 @@ impl Compiled {
     }
 
     /// Solves (re-using the analysed structure when possible) and verifies the result.
+    ///
+    /// In objective mode every strict constraint starts with the margin
+    /// [`SolveOptions::strict_margin`]. If at the returned point a strict constraint fails its
+    /// verification (`λ_min(F) < τ`) while its margin is below `2τ` — the solver met the margin
+    /// but the margin is smaller than what the check requires — the margin is raised to `2τ`
+    /// and the model re-solved (at most [`MARGIN_ROUNDS`] times, re-using the structure
+    /// analysis; `τ` depends on the point through the scale of `F`). The margins start from
+    /// `strict_margin` again at every call, so a result does not depend on earlier solves.
     pub fn solve(&mut self) -> Result<LmiSolution, ModelError> {
+        let default = self.options.strict_margin;
+        if self.strict_margins.iter().any(|&e| e != default) {
+            self.strict_margins.iter_mut().for_each(|e| *e = default);
+            self.problem = None;
+        }
+        let mut sol = self.solve_once()?;
+        if !matches!(self.mode, Mode::Optimize { .. }) {
+            return Ok(sol);
+        }
+        for _ in 0..MARGIN_ROUNDS {
+            let mut raised = false;
+            for (c, r) in sol.verification.constraints.iter().enumerate() {
+                let need = STRICT_MARGIN_FACTOR * r.tolerance;
+                if r.strict && !r.passed && self.strict_margins[c] < need {
+                    self.strict_margins[c] = need;
+                    raised = true;
+                }
+            }
+            if !raised {
+                break;
+            }
+            self.problem = None;
+            sol = self.solve_once()?;
+        }
+        Ok(sol)
+    }
+
+    fn solve_once(&mut self) -> Result<LmiSolution, ModelError> {
         self.refresh()?;
         let problem = self.problem.as_ref().expect("assembled");
         let reuse =
@@ -725,6 +772,14 @@ impl Compiled {
         solution::finish(self, sdp)
     }
 }
+
+/// Re-solves of [`Compiled::solve`] that may raise strict margins.
+pub const MARGIN_ROUNDS: usize = 3;
+
+/// A strict constraint that fails verification with tolerance `τ` is re-imposed with the
+/// margin `STRICT_MARGIN_FACTOR · τ` ([`Compiled::solve`]): twice the tolerance, so that the
+/// solver's own error (far below `τ`, which carries a safety factor) cannot bring it below `τ`.
+pub const STRICT_MARGIN_FACTOR: f64 = 2.0;
 
 /// The normalisation constraints `F ⪰ 0` (or entrywise `≥ 0`) of variable `v` as forms over the
 /// original decision scalars, each with its bound.

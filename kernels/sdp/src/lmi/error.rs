@@ -133,6 +133,15 @@ pub enum ModelError {
         /// Its shape.
         shape: Shape,
     },
+    /// A scalar value was asked of a variable or expression that is not 1×1
+    /// ([`crate::lmi::LmiSolution::scalar`]).
+    #[error("{what} is not a scalar: it has shape {shape}, expected 1×1")]
+    NotScalar {
+        /// The variable or expression.
+        what: String,
+        /// Its shape.
+        shape: Shape,
+    },
     /// A variable created after [`crate::lmi::Model::compile`] was used in the compiled model.
     #[error("{what} was created after the model was compiled")]
     UnknownVariable {

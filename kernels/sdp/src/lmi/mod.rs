@@ -70,7 +70,11 @@
 //!   them for some scalars, and the substitution is applied to every inequality (module
 //!   `eliminate`). Redundant equalities are dropped; inconsistent ones are an error.
 //! * **Strict inequalities.** In objective mode ([`Model::solve`]) a strict `F ≻ 0` is imposed as
-//!   `F ⪰ ε I` with `ε =` [`SolveOptions::strict_margin`] (default `1e-6`). For feasibility
+//!   `F ⪰ ε I` and verified as `λ_min(F) ≥ τ` (the scale-aware tolerance of [`Verification`]),
+//!   with the same margin on both sides: `ε = max(`[`SolveOptions::strict_margin`]`, 2τ)`, the
+//!   default `1e-6` raised by a re-solve where `τ` at the returned point requires it
+//!   ([`Compiled::solve`]), so a strictly feasible model is not reported inconclusive because
+//!   of our own tolerances. For feasibility
 //!   questions use [`Model::feasibility`]: it maximises a common margin `t` (`F ⪰ tI` for every
 //!   strict constraint) under a normalisation (default `‖X‖₂ ≤ 1` per variable and `t ≤ 1`; see
 //!   [`FeasibilityOptions`]) and reports `t*`; the model is declared strictly feasible only when the
@@ -101,7 +105,10 @@ mod expr;
 mod model;
 mod solution;
 
-pub use compile::{CompileStats, Compiled, FeasibilityOptions, Normalisation, SolveOptions};
+pub use compile::{
+    CompileStats, Compiled, FeasibilityOptions, MARGIN_ROUNDS, Normalisation, STRICT_MARGIN_FACTOR,
+    SolveOptions,
+};
 pub use error::{ModelError, Shape};
 pub use expr::{Expr, Param, Var, VarKind, he};
 pub use model::{Constraint, ConstraintId, ConstraintKind, Model, SYMMETRY_TOL, Sense};

@@ -17,7 +17,9 @@ const ACTIVE_BOUND_REL: f64 = 1e-5;
 pub enum Outcome {
     /// The returned point satisfies every constraint by the [`Verification`] rule (strict ones
     /// with a positive margin); in objective mode the solver also reached its optimality
-    /// tolerances.
+    /// tolerances, the full ones ([`Status::Optimal`]) or the reduced ones
+    /// ([`Status::AlmostOptimal`]: the objective is optimal to reduced accuracy only; check
+    /// `sdp.status`). In feasibility mode any verified point is feasible, whatever the status.
     Feasible,
     /// The constraints have no (strictly, for strict constraints) feasible point: a solver
     /// infeasibility certificate, or in feasibility mode a maximal margin at or below the
@@ -154,13 +156,15 @@ impl LmiSolution {
         Ok(m)
     }
 
-    /// Value of a scalar (or any 1×1) variable.
+    /// Value of a scalar (or any 1×1) variable; [`ModelError::NotScalar`] for a larger one.
     pub fn scalar(&self, v: &Var) -> Result<f64, ModelError> {
-        let m = self.value(v)?;
-        if (m.nrows(), m.ncols()) != (1, 1) {
-            return Err(ModelError::ObjectiveNotScalar { shape: v.shape });
+        if (v.shape.rows, v.shape.cols) != (1, 1) {
+            return Err(ModelError::NotScalar {
+                what: format!("variable `{}`", v.name),
+                shape: v.shape,
+            });
         }
-        Ok(m[(0, 0)])
+        Ok(self.value(v)?[(0, 0)])
     }
 
     /// Value of any expression of the model at the returned point (with the parameter values
@@ -312,15 +316,38 @@ pub(crate) fn finish(c: &Compiled, sdp: Solution) -> Result<LmiSolution, ModelEr
     let status = sdp.status;
     let (outcome, reason) = match &c.mode {
         Mode::Optimize { strict_margin } => {
-            let strict_note = if strict.is_empty() {
+            let raised: Vec<String> = verification
+                .constraints
+                .iter()
+                .zip(&c.strict_margins)
+                .filter(|(r, e)| r.strict && **e != *strict_margin)
+                .map(|(r, e)| format!("`{}` with {e:e}", r.name))
+                .collect();
+            let raised_note = if raised.is_empty() {
                 String::new()
             } else {
-                format!(" (strict constraints were imposed as ⪰ {strict_margin:e}·I)")
+                format!(
+                    " (strict margins raised to twice the verification tolerance: {})",
+                    raised.join(", ")
+                )
+            };
+            let strict_note = match (strict.is_empty(), raised.is_empty()) {
+                (true, _) => String::new(),
+                (false, true) => {
+                    format!(" (strict constraints were imposed as ⪰ {strict_margin:e}·I)")
+                }
+                (false, false) => format!(
+                    " (strict constraints were imposed as ⪰ ε·I with ε = {strict_margin:e}, \
+                     raised to twice the verification tolerance for {})",
+                    raised.join(", ")
+                ),
             };
             match (status, &failure) {
                 (Status::Optimal, None) => (
                     Outcome::Feasible,
-                    "optimal; every constraint verified at the returned point".to_string(),
+                    format!(
+                        "optimal; every constraint verified at the returned point{raised_note}"
+                    ),
                 ),
                 (Status::DualInfeasible, _) => (
                     Outcome::Infeasible,
@@ -333,9 +360,24 @@ pub(crate) fn finish(c: &Compiled, sdp: Solution) -> Result<LmiSolution, ModelEr
                     "the objective is unbounded (solver certificate: a ray of the feasible set)"
                         .to_string(),
                 ),
-                (Status::Optimal, Some(f)) => (
+                (Status::AlmostOptimal, None) => (
+                    Outcome::Feasible,
+                    format!(
+                        "almost optimal (solved to reduced accuracy: largest DIMACS error {:e}); \
+                         every constraint verified at the returned point{raised_note}",
+                        sdp.measures.dimacs_max()
+                    ),
+                ),
+                (Status::Optimal | Status::AlmostOptimal, Some(f)) => (
                     Outcome::Inconclusive,
-                    format!("the solver reports an optimum but {f}{strict_note}"),
+                    format!(
+                        "the solver reports {} but {f}{strict_note}",
+                        if status.is_optimal() {
+                            "an optimum"
+                        } else {
+                            "an almost optimal point"
+                        }
+                    ),
                 ),
                 (s, None) => (
                     Outcome::Inconclusive,

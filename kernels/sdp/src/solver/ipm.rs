@@ -9,6 +9,7 @@ use super::certificate::InfeasibilityCertificate;
 use super::direction::{Direction, Iterate, System};
 use super::linsys::SchurSolver;
 use super::lsq::LeastSquares;
+use super::point::{Point, interior_start};
 use super::residuals::{DataNorms, Residuals, measures, residuals};
 use super::schur::assemble;
 use super::settings::{IterationLog, Settings};
@@ -296,19 +297,24 @@ fn backtrack(
     None
 }
 
-/// Runs the interior-point method on validated, analysed data.
+/// Runs the interior-point method on validated, analysed data, from `start` (validated against
+/// the analysis) or from the default starting point.
 pub(crate) fn run(
     an: &Analysis,
     vals: &Values,
     problem: &Problem,
     settings: &Settings,
     ws: &mut Workspace,
+    start: Option<&Point>,
 ) -> Solution {
     let started = Instant::now();
     let cd = c_dense(an, vals);
     let norms = DataNorms::new(&vals.b, &cd);
     let nu = an.nu as f64;
-    let (mut x, mut y, mut s) = initial_point(an, vals);
+    let (mut x, mut y, mut s) = match start {
+        Some(p) => interior_start(an, vals, p),
+        None => initial_point(an, vals),
+    };
     let mut fx = factor_all(an, &x);
     let mut fs = factor_all(an, &s);
     let mut steps = (0.0, 0.0);
@@ -558,6 +564,13 @@ pub(crate) fn run(
     }
     let res = residuals(an, vals, &cd, &norms, &x, &y, &s);
     let measures = measures(an, &norms, &res, &x, &s);
+    // The rule of `Status`: an early stop at a point within the reduced tolerance in every
+    // DIMACS error is almost optimal (a NaN maximum fails the comparison).
+    let status = if status.is_failure() && measures.dimacs_max() <= settings.tol_reduced {
+        Status::AlmostOptimal
+    } else {
+        status
+    };
     Solution {
         status,
         x,

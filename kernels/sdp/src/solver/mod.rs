@@ -31,9 +31,12 @@
 //! 4. steps `α = min(1, γ α_max)` with `γ = 0.9 + 0.09 min(α_p, α_d)` (SDPT3), backtracked if a
 //!    Cholesky factorisation of the new `X` or `S` fails.
 //!
-//! The starting point is SDPT3's `infeaspt` (module `start`). The solve stops as **optimal** when
-//! the relative gap `|⟨C,X⟩ − bᵀy|/(1+|⟨C,X⟩|+|bᵀy|)`, the relative complementarity
-//! `⟨X,S⟩/(1+|⟨C,X⟩|+|bᵀy|)` and the relative infeasibilities are all within tolerance.
+//! The starting point is SDPT3's `infeaspt` (module `start`), or a given point
+//! ([`Solver::solve_from`]). The solve stops as **optimal** when the relative gap
+//! `|⟨C,X⟩ − bᵀy|/(1+|⟨C,X⟩|+|bᵀy|)`, the relative complementarity `⟨X,S⟩/(1+|⟨C,X⟩|+|bᵀy|)`
+//! and the relative infeasibilities are all within tolerance; a solve that stops early (stall,
+//! breakdown, iteration limit) is **almost optimal** when the six DIMACS errors of the best point
+//! are all within the reduced tolerance (the rule is documented at [`Status`]).
 //!
 //! ## Why HKM with an infeasible start rather than NT or a self-dual embedding
 //!
@@ -76,6 +79,7 @@ mod ipm;
 mod linsys;
 mod lsq;
 mod par;
+mod point;
 mod residuals;
 mod schur;
 mod settings;
@@ -91,6 +95,7 @@ use std::sync::Arc;
 use faer::{Mat, Par};
 
 pub use certificate::InfeasibilityCertificate;
+pub use point::{Point, dimacs_errors, point_measures};
 pub use settings::{IterationLog, LogCallback, Settings};
 pub use solution::{Measures, Solution, Status};
 
@@ -104,6 +109,16 @@ use structure::Analysis;
 /// Solves `problem` (analysis and interior-point iterations in one call).
 pub fn solve(problem: &Problem, settings: &Settings) -> Result<Solution, SdpError> {
     Solver::new(problem, settings.clone())?.solve(problem)
+}
+
+/// Solves `problem` starting the interior-point method from `start` instead of the default
+/// starting point (see [`Solver::solve_from`]).
+pub fn solve_from(
+    problem: &Problem,
+    settings: &Settings,
+    start: &Point,
+) -> Result<Solution, SdpError> {
+    Solver::new(problem, settings.clone())?.solve_from(problem, start)
 }
 
 /// Smallest Schur dimension for which the dense Cholesky uses several threads.
@@ -141,10 +156,15 @@ impl fmt::Debug for Solver {
 
 fn check_settings(s: &Settings) -> Result<(), SdpError> {
     let positive = |v: f64| v.is_finite() && v > 0.0;
-    if !(positive(s.tol_gap) && positive(s.tol_feas) && positive(s.tol_infeas)) {
+    if !(positive(s.tol_gap)
+        && positive(s.tol_feas)
+        && positive(s.tol_infeas)
+        && positive(s.tol_reduced))
+    {
         return Err(SdpError::InvalidSettings(format!(
-            "tolerances must be finite and positive (tol_gap {}, tol_feas {}, tol_infeas {})",
-            s.tol_gap, s.tol_feas, s.tol_infeas
+            "tolerances must be finite and positive (tol_gap {}, tol_feas {}, tol_infeas {}, \
+             tol_reduced {})",
+            s.tol_gap, s.tol_feas, s.tol_infeas, s.tol_reduced
         )));
     }
     if let Some(g) = s.step_fraction
@@ -214,6 +234,27 @@ impl Solver {
     /// Solves `problem`, which must have the analysed block layout and a sparsity pattern
     /// contained in the analysed one (otherwise [`SdpError::Structure`]).
     pub fn solve(&mut self, problem: &Problem) -> Result<Solution, SdpError> {
+        self.run(problem, None)
+    }
+
+    /// Like [`Solver::solve`], but the interior-point method starts from `start` (a warm start,
+    /// e.g. a solution read with [`crate::solution_file::read_solution`]) instead of SDPT3's
+    /// default point. The point need not be feasible, but the method needs an interior one:
+    /// PSD blocks are symmetrised, `(M + Mᵀ)/2`, and every block of `X` or `S` that is not
+    /// positive definite (no Cholesky factorisation; LP: an entry `≤ 0`) is shifted to
+    /// `M + (ℓ − min(λ_min(M), 0))·I`, whose smallest eigenvalue is at least the level `ℓ` of the
+    /// default starting point for that block (`ξ` for `X`, `η` for `S`, SDPT3's `infeaspt`;
+    /// every entry for an LP block). Positive definite blocks, however close to the boundary,
+    /// and `y` are used as given, so a written optimal solution restarts where it ended.
+    ///
+    /// Errors as for [`Solver::solve`], and [`SdpError::DimensionMismatch`] /
+    /// [`SdpError::NonFinite`] for a starting point that does not fit the problem.
+    pub fn solve_from(&mut self, problem: &Problem, start: &Point) -> Result<Solution, SdpError> {
+        point::check_point(&self.analysis, &start.y, &start.x, &start.s)?;
+        self.run(problem, Some(start))
+    }
+
+    fn run(&mut self, problem: &Problem, start: Option<&Point>) -> Result<Solution, SdpError> {
         let vals = self.analysis.values(problem)?;
         let Self {
             settings,
@@ -221,7 +262,7 @@ impl Solver {
             pool,
             workspace,
         } = self;
-        let mut run = || ipm::run(analysis, &vals, problem, settings, workspace);
+        let mut run = || ipm::run(analysis, &vals, problem, settings, workspace, start);
         Ok(match (pool, analysis.exec) {
             (_, Exec::Sequential) => run(),
             (Some(p), Exec::Parallel) => p.install(run),

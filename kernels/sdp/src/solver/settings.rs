@@ -10,7 +10,8 @@ pub type LogCallback = Arc<dyn Fn(&IterationLog) + Send + Sync>;
 ///
 /// The defaults are the consensus values of SDPT3 (`gaptol = 1e-8`), CSDP
 /// (`axtol = atytol = objtol = 1e-8`) and Clarabel: relative gap and relative primal/dual
-/// infeasibility `≤ 1e-8`, infeasibility certificates accurate to `1e-8`, at most 100 iterations.
+/// infeasibility `≤ 1e-8`, infeasibility certificates accurate to `1e-8`, at most 100 iterations;
+/// a point that only meets `1e-6` in every DIMACS error is reported almost optimal.
 #[derive(Clone)]
 pub struct Settings {
     /// Relative duality gap: stop when `|⟨C,X⟩ − bᵀy| / (1 + |⟨C,X⟩| + |bᵀy|)` and the
@@ -22,6 +23,10 @@ pub struct Settings {
     /// Infeasibility certificates: with `bᵀy = 1`, `λ_max(Σ y_i A_i) ≤ tol_infeas`; with
     /// `⟨C,X⟩ = −1`, `‖𝒜(X)‖₂ ≤ tol_infeas` (see [`crate::InfeasibilityCertificate`]).
     pub tol_infeas: f64,
+    /// Reduced tolerance of [`crate::Status::AlmostOptimal`]: a solve that stops early (stall,
+    /// numerical trouble, iteration limit) at a point whose six DIMACS errors are all within it
+    /// is reported almost optimal (default `1e-6`; see [`crate::Status`]).
+    pub tol_reduced: f64,
     /// Iteration limit.
     pub max_iterations: usize,
     /// Called once per iteration (including iteration 0, the starting point) when set.
@@ -42,6 +47,7 @@ impl Default for Settings {
             tol_gap: 1e-8,
             tol_feas: 1e-8,
             tol_infeas: 1e-8,
+            tol_reduced: 1e-6,
             max_iterations: 100,
             log: None,
             threads: 0,
@@ -56,6 +62,7 @@ impl fmt::Debug for Settings {
             .field("tol_gap", &self.tol_gap)
             .field("tol_feas", &self.tol_feas)
             .field("tol_infeas", &self.tol_infeas)
+            .field("tol_reduced", &self.tol_reduced)
             .field("max_iterations", &self.max_iterations)
             .field("log", &self.log.as_ref().map(|_| "callback"))
             .field("threads", &self.threads)

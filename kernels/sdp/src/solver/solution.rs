@@ -7,21 +7,105 @@ use faer::Mat;
 use super::certificate::InfeasibilityCertificate;
 
 /// How a solve ended.
+///
+/// # The rule
+///
+/// With the tolerances of [`crate::Settings`] (defaults in brackets):
+///
+/// * [`Status::Optimal`]: the relative gap `|⟨C,X⟩ − bᵀy|/(1+|⟨C,X⟩|+|bᵀy|)` and the relative
+///   complementarity `⟨X,S⟩/(1+|⟨C,X⟩|+|bᵀy|)` are `≤ tol_gap` [1e-8], and the relative
+///   infeasibilities `‖𝒜(X)−b‖₂/(1+‖b‖₂)` and `‖C−𝒜ᵀ(y)−S‖_F/(1+‖C‖_F)` are `≤ tol_feas` [1e-8]
+///   (the iterates stay strictly inside the cone, so `X, S ≻ 0`).
+/// * [`Status::PrimalInfeasible`] / [`Status::DualInfeasible`]: a certificate verified on the
+///   problem data to `tol_infeas` [1e-8].
+/// * Otherwise the solve stopped early — progress stalled, a Newton system or a step broke down
+///   (numerical trouble), or the iteration limit was reached — and the best point found is
+///   returned. It is [`Status::AlmostOptimal`] when **all six DIMACS errors** of that point
+///   ([`Measures::dimacs`], which are scaled by `1 + ‖b‖_∞`, `1 + max|C_ij|` and
+///   `1 + |⟨C,X⟩| + |bᵀy|`; the signed gap error is taken in absolute value) are
+///   `≤ tol_reduced` [1e-6], in the style of Clarabel's `AlmostSolved` and SDPA's `pdFEAS`;
+///   [`Measures::dimacs_max`] is the accuracy it met. Otherwise it is
+///   [`Status::MaxIterations`] (limit reached) or [`Status::NumericalTrouble`] (anything else).
+///
+/// So `NumericalTrouble` and `MaxIterations` never label a point whose DIMACS errors are all
+/// within `tol_reduced`. The DIMACS errors are reported with every status.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Status {
     /// Relative gap, complementarity and both relative infeasibilities are within tolerance.
     Optimal,
+    /// The solve stopped before [`Status::Optimal`] (stall, numerical trouble or iteration
+    /// limit) at a point whose six DIMACS errors are all within the reduced tolerance
+    /// `Settings::tol_reduced` (see the rule above): solved to reduced accuracy.
+    AlmostOptimal,
     /// (P) has no feasible `X`: certificate `y` with `Σ y_i A_i ⪯ 0`, `bᵀy > 0` (a ray of (D)).
     PrimalInfeasible,
     /// (D) has no feasible `(y, S)` (an LMI `C − Σ y_i A_i ⪰ 0` is infeasible): certificate
     /// `X ⪰ 0` with `𝒜(X) = 0`, `⟨C, X⟩ < 0`.
     DualInfeasible,
-    /// The iteration limit was reached; the best point found is returned.
+    /// The iteration limit was reached at a point that is not [`Status::AlmostOptimal`]; the
+    /// best point found is returned.
     MaxIterations,
     /// Progress stopped (tiny steps, stalled gap or infeasibility, Schur system breakdown)
-    /// before the tolerances were met; the best point found is returned and its
-    /// [`Measures`] tell how accurate it is.
+    /// at a point that is not [`Status::AlmostOptimal`]; the best point found is returned and
+    /// its [`Measures`] tell how accurate it is.
     NumericalTrouble,
+}
+
+impl Status {
+    /// [`Status::Optimal`]: solved to the full tolerances.
+    pub fn is_optimal(self) -> bool {
+        self == Status::Optimal
+    }
+
+    /// [`Status::AlmostOptimal`]: solved to the reduced tolerance only.
+    pub fn is_almost_optimal(self) -> bool {
+        self == Status::AlmostOptimal
+    }
+
+    /// Optimal or almost optimal: the returned point is a (possibly reduced-accuracy) optimum.
+    pub fn is_solved(self) -> bool {
+        matches!(self, Status::Optimal | Status::AlmostOptimal)
+    }
+
+    /// Either infeasibility status (a verified certificate is attached to the solution).
+    pub fn is_infeasible(self) -> bool {
+        matches!(self, Status::PrimalInfeasible | Status::DualInfeasible)
+    }
+
+    /// [`Status::PrimalInfeasible`].
+    pub fn is_primal_infeasible(self) -> bool {
+        self == Status::PrimalInfeasible
+    }
+
+    /// [`Status::DualInfeasible`].
+    pub fn is_dual_infeasible(self) -> bool {
+        self == Status::DualInfeasible
+    }
+
+    /// Neither solved nor infeasible: [`Status::MaxIterations`] or [`Status::NumericalTrouble`].
+    pub fn is_failure(self) -> bool {
+        matches!(self, Status::MaxIterations | Status::NumericalTrouble)
+    }
+
+    /// A stable snake-case identifier in this crate's (P)/(D) naming: `optimal`,
+    /// `almost_optimal`, `primal_infeasible`, `dual_infeasible`, `max_iterations`,
+    /// `numerical_trouble` (for SDPA files see [`crate::sdpa::sdpa_status_id`]).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Status::Optimal => "optimal",
+            Status::AlmostOptimal => "almost_optimal",
+            Status::PrimalInfeasible => "primal_infeasible",
+            Status::DualInfeasible => "dual_infeasible",
+            Status::MaxIterations => "max_iterations",
+            Status::NumericalTrouble => "numerical_trouble",
+        }
+    }
+}
+
+impl std::fmt::Display for Status {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
 }
 
 /// Quality measures of the returned point, recomputed from the problem data.
@@ -44,12 +128,27 @@ pub struct Measures {
     pub min_eig_s: f64,
 }
 
+impl Measures {
+    /// The largest DIMACS error in absolute value (`NaN` if any is `NaN`): the accuracy a
+    /// [`Status::AlmostOptimal`] point met.
+    pub fn dimacs_max(&self) -> f64 {
+        self.dimacs.iter().fold(0.0f64, |m, e| {
+            if e.is_nan() || m.is_nan() {
+                f64::NAN
+            } else {
+                m.max(e.abs())
+            }
+        })
+    }
+}
+
 /// Outcome of a solve.
 #[derive(Debug, Clone)]
 pub struct Solution {
     /// How the solve ended.
     pub status: Status,
-    /// Primal matrix per block (PSD: `n×n` symmetric; LP: `n×1` column).
+    /// Primal matrix per block in the dense block layout of [`crate::problem`] (PSD: `n×n`
+    /// symmetric; LP: `n×1` column holding the diagonal).
     pub x: Vec<Mat<f64>>,
     /// Dual variables.
     pub y: Vec<f64>,
@@ -68,4 +167,41 @@ pub struct Solution {
     pub certificate: Option<InfeasibilityCertificate>,
     /// Wall-clock time of the solve (analysis excluded when re-solving with a [`crate::Solver`]).
     pub solve_time: Duration,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn status_helpers_partition_the_statuses() {
+        use Status::*;
+        for s in [
+            Optimal,
+            AlmostOptimal,
+            PrimalInfeasible,
+            DualInfeasible,
+            MaxIterations,
+            NumericalTrouble,
+        ] {
+            let classes = [s.is_solved(), s.is_infeasible(), s.is_failure()];
+            assert_eq!(classes.iter().filter(|&&c| c).count(), 1, "{s:?}");
+            assert_eq!(s.is_optimal(), s == Optimal);
+            assert_eq!(s.is_almost_optimal(), s == AlmostOptimal);
+            assert_eq!(s.to_string(), s.as_str());
+        }
+        assert!(PrimalInfeasible.is_primal_infeasible() && !PrimalInfeasible.is_dual_infeasible());
+        assert!(DualInfeasible.is_dual_infeasible() && !DualInfeasible.is_primal_infeasible());
+    }
+
+    #[test]
+    fn dimacs_max_takes_absolute_values_and_propagates_nan() {
+        let mut m = Measures {
+            dimacs: [1e-9, 0.0, 2e-9, 0.0, -3e-7, 1e-8],
+            ..Measures::default()
+        };
+        assert_eq!(m.dimacs_max(), 3e-7);
+        m.dimacs[3] = f64::NAN;
+        assert!(m.dimacs_max().is_nan());
+    }
 }

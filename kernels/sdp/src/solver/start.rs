@@ -18,41 +18,52 @@ use super::blockops::BlockMats;
 use super::structure::{Analysis, Values};
 use crate::problem::BlockKind;
 
+/// `(ξ, η)` of every block: the default starting levels `X⁰ = ξ I`, `S⁰ = η I`.
+pub(crate) fn levels(an: &Analysis, vals: &Values) -> Vec<(f64, f64)> {
+    an.blocks
+        .iter()
+        .enumerate()
+        .map(|(k, b)| {
+            let n = b.n as f64;
+            // 1 + ‖A_i‖_F for every constraint (1 for those not touching the block).
+            let mut norm_a = vec![1.0; an.m];
+            for (p, pat) in b.cons.iter().enumerate() {
+                let sq: f64 = pat
+                    .rows
+                    .iter()
+                    .zip(&pat.cols)
+                    .zip(&vals.a[k][p])
+                    .map(|((r, c), v)| if r == c { v * v } else { 2.0 * v * v })
+                    .sum();
+                norm_a[pat.con] = 1.0 + sq.sqrt();
+            }
+            let c_sq: f64 = vals.c[k]
+                .iter()
+                .map(|(r, c, v)| if r == c { v * v } else { 2.0 * v * v })
+                .sum();
+            let norm_c = 1.0 + c_sq.sqrt();
+            let ratio = vals
+                .b
+                .iter()
+                .zip(&norm_a)
+                .fold(0.0f64, |acc, (bi, na)| acc.max((1.0 + bi.abs()) / na));
+            let max_a = norm_a.iter().fold(0.0f64, |acc, &v| acc.max(v));
+            let scale_x = match b.kind {
+                BlockKind::Psd => n,
+                BlockKind::Lp => n.sqrt(),
+            };
+            let xi = 10f64.max(n.sqrt()).max(scale_x * ratio);
+            let eta = 10f64.max(n.sqrt()).max(max_a).max(norm_c);
+            (xi, eta)
+        })
+        .collect()
+}
+
 /// `(X⁰, y⁰, S⁰)`.
 pub(crate) fn initial_point(an: &Analysis, vals: &Values) -> (BlockMats, Vec<f64>, BlockMats) {
     let mut x = Vec::with_capacity(an.blocks.len());
     let mut s = Vec::with_capacity(an.blocks.len());
-    for (k, b) in an.blocks.iter().enumerate() {
-        let n = b.n as f64;
-        // 1 + ‖A_i‖_F for every constraint (1 for those not touching the block).
-        let mut norm_a = vec![1.0; an.m];
-        for (p, pat) in b.cons.iter().enumerate() {
-            let sq: f64 = pat
-                .rows
-                .iter()
-                .zip(&pat.cols)
-                .zip(&vals.a[k][p])
-                .map(|((r, c), v)| if r == c { v * v } else { 2.0 * v * v })
-                .sum();
-            norm_a[pat.con] = 1.0 + sq.sqrt();
-        }
-        let c_sq: f64 = vals.c[k]
-            .iter()
-            .map(|(r, c, v)| if r == c { v * v } else { 2.0 * v * v })
-            .sum();
-        let norm_c = 1.0 + c_sq.sqrt();
-        let ratio = vals
-            .b
-            .iter()
-            .zip(&norm_a)
-            .fold(0.0f64, |acc, (bi, na)| acc.max((1.0 + bi.abs()) / na));
-        let max_a = norm_a.iter().fold(0.0f64, |acc, &v| acc.max(v));
-        let scale_x = match b.kind {
-            BlockKind::Psd => n,
-            BlockKind::Lp => n.sqrt(),
-        };
-        let xi = 10f64.max(n.sqrt()).max(scale_x * ratio);
-        let eta = 10f64.max(n.sqrt()).max(max_a).max(norm_c);
+    for (b, (xi, eta)) in an.blocks.iter().zip(levels(an, vals)) {
         match b.kind {
             BlockKind::Psd => {
                 x.push(Mat::from_fn(b.n, b.n, |i, j| if i == j { xi } else { 0.0 }));

@@ -191,3 +191,55 @@ pub fn dual_ray_defect(problem: &Problem, x: &[Mat<f64>]) -> f64 {
     let res = ax.iter().map(|v| v * v).sum::<f64>().sqrt();
     res.max(-lam) / -cx
 }
+
+/// The six DIMACS errors of `(y, X, S)` recomputed with dense code from the problem data
+/// (Mittelmann 2003; the definitions of `sporadic_sdp::Measures::dimacs`):
+/// `‖𝒜(X)−b‖₂/(1+‖b‖_∞)`, `max(0,−λ_min(X))/(1+‖b‖_∞)`, `‖𝒜ᵀ(y)+S−C‖_F/(1+‖C‖_max)`,
+/// `max(0,−λ_min(S))/(1+‖C‖_max)`, `(⟨C,X⟩−bᵀy)/(1+|⟨C,X⟩|+|bᵀy|)`,
+/// `⟨X,S⟩/(1+|⟨C,X⟩|+|bᵀy|)`.
+pub fn dimacs(problem: &Problem, y: &[f64], x: &[Mat<f64>], s: &[Mat<f64>]) -> [f64; 6] {
+    let m = problem.b.len();
+    let ax = apply_a(problem, x);
+    let rp: f64 = ax
+        .iter()
+        .zip(&problem.b)
+        .map(|(a, b)| (a - b) * (a - b))
+        .sum::<f64>()
+        .sqrt();
+    let b_inf = problem.b.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let zero = vec![0.0; m];
+    let minus_y: Vec<f64> = y.iter().map(|v| -v).collect();
+    let (mut rd2, mut c_max, mut pobj, mut xs) = (0.0, 0.0f64, 0.0, 0.0);
+    let (mut lx, mut ls) = (f64::INFINITY, f64::INFINITY);
+    for (k, bd) in problem.blocks.iter().enumerate() {
+        let c = dense_combination(problem, k, &zero, 1.0);
+        for j in 0..c.ncols() {
+            for i in 0..c.nrows() {
+                c_max = c_max.max(c[(i, j)].abs());
+            }
+        }
+        let mut r = dense_combination(problem, k, &minus_y, 1.0);
+        r -= &s[k];
+        rd2 += dot(&r, &r);
+        pobj += dot(&c, &x[k]);
+        xs += dot(&x[k], &s[k]);
+        lx = lx.min(eig_range(bd.block.kind, &x[k]).0);
+        ls = ls.min(eig_range(bd.block.kind, &s[k]).0);
+    }
+    let dobj: f64 = problem.b.iter().zip(y).map(|(b, v)| b * v).sum();
+    let denom = 1.0 + pobj.abs() + dobj.abs();
+    let (bi, cm) = (1.0 + b_inf, 1.0 + c_max);
+    [
+        rp / bi,
+        (-lx).max(0.0) / bi,
+        rd2.sqrt() / cm,
+        (-ls).max(0.0) / cm,
+        (pobj - dobj) / denom,
+        xs / denom,
+    ]
+}
+
+/// Largest absolute value of six DIMACS errors.
+pub fn dimacs_max(e: &[f64; 6]) -> f64 {
+    e.iter().fold(0.0f64, |m, v| m.max(v.abs()))
+}
