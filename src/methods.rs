@@ -35,22 +35,27 @@ pub fn method(id: &str) -> Option<Box<dyn ObserverMethod>> {
 }
 
 /// The setup (plant and sampling) `method` runs on: the first of the file's setups it applies
-/// to, or the reason it applies to none (the reason for the first setup, or missing sampling).
+/// to, or the reason it applies to none: missing data if one setup lacks data the method needs
+/// (the actionable reason), else the reason for the first setup, else missing sampling.
 pub fn setup(
     file: &PlantFile,
     method: &dyn ObserverMethod,
 ) -> Result<(Plant, Sampling), (Option<Sampling>, Reason)> {
     let setups = file.setups();
-    let mut first_reason = None;
+    let mut reasons = Vec::new();
     for (plant, sampling) in setups {
         match method.applies(&plant, &sampling) {
             Ok(()) => return Ok((plant, sampling)),
-            Err(na) => {
-                first_reason.get_or_insert((Some(sampling), na.reason));
-            }
+            Err(na) => reasons.push((Some(sampling), na.reason)),
         }
     }
-    Err(first_reason.unwrap_or((
+    let missing = reasons
+        .iter()
+        .position(|(_, r)| matches!(r, Reason::MissingData { .. }));
+    if let Some(k) = missing {
+        return Err(reasons.swap_remove(k));
+    }
+    Err(reasons.into_iter().next().unwrap_or((
         None,
         Reason::MissingData {
             message: "the plant file has no sampling: give a [sampling] window (with plant.C) or \

@@ -523,8 +523,12 @@ fn design_rabehi_toml_gain_is_schur_on_the_window_and_simulates() {
     let sim = d.simulation.unwrap();
     let figure = sim.figure.as_ref().unwrap();
     assert!(std::fs::read_to_string(figure).unwrap().starts_with("<svg"));
-    assert!(sim.result.contains("violated at 0 of"), "{sim:?}");
-    assert!(sim.final_error < sim.initial_error, "{sim:?}");
+    assert!(sim.result.contains("0 violations"), "{sim:?}");
+    // The width of x2 is never corrected (only x1 is measured): the widths stay bounded.
+    assert!(
+        sim.final_error.is_finite() && sim.final_error < 2.0 * sim.initial_error,
+        "{sim:?}"
+    );
 }
 
 #[test]
@@ -579,7 +583,7 @@ fn design_sferlazza_simulate_round_robin_error_decreases() {
             .unwrap()
     };
     assert!(
-        number_after("largest V+/V over the jumps = ") < 1.0,
+        number_after("largest V⁺/V over the jumps = ") < 1.0,
         "{result}"
     );
     let figure = out.join("sferlazza2021_error.svg");
@@ -814,13 +818,14 @@ fn reports_on_every_example_file_parse_into_the_report_types() {
         assert_eq!((d.method.as_str(), d.status), (own, Status::Certified));
         let windows = d.sampling_windows();
         let t2 = windows.iter().map(|w| w.t2()).fold(0.0, f64::max);
+        let limit = format!("{}", 1.5 * t2);
         let o = sporadic(&[
             "max-interval",
             &path,
             "--method",
             own,
             "--limit",
-            &format!("{}", 1.5 * t2),
+            &limit,
             "--json",
         ]);
         assert_eq!(code(&o), 0, "{path}: {}", stderr(&o));
@@ -833,7 +838,10 @@ fn reports_on_every_example_file_parse_into_the_report_types() {
             "{path}: {r:?}"
         );
         match r.first_failing_t2 {
-            None => assert_eq!(best, 1.5 * t2),
+            None => {
+                let limit: f64 = limit.parse().unwrap();
+                assert!((best - limit).abs() <= 1e-12 * limit, "{path}: {best} vs {limit}");
+            }
             Some(f) => assert!(f > best, "{path}: {r:?}"),
         }
         assert!(!r.probes.is_empty());
@@ -870,7 +878,7 @@ fn exit_codes_follow_one_policy() {
         "{:?}",
         d.reason
     );
-    // max-interval: nothing certified → 1.
+    // max-interval: sub-windows [0.1, T2] below the aliasing interval are certified → 0.
     let o = sporadic(&[
         "max-interval",
         &osc,
@@ -879,7 +887,29 @@ fn exit_codes_follow_one_policy() {
         "--limit",
         "0.5",
     ]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    // max-interval: an undetectable plant, nothing certified → 1.
+    let undetectable = scratch("undetectable.toml");
+    std::fs::write(
+        &undetectable,
+        "[plant]\nA = [[1.0, 0.0], [0.0, -1.0]]\nC = [[0.0, 1.0]]\n[sampling]\nwindow = [0.1, 0.5]\n",
+    )
+    .unwrap();
+    let undetectable = undetectable.display().to_string();
+    let o = sporadic(&[
+        "max-interval",
+        &undetectable,
+        "--method",
+        "ferrante2016",
+        "--json",
+    ]);
     assert_eq!(code(&o), 1, "{}", stderr(&o));
+    let r: MaxIntervalReport = serde_json::from_str(stdout(&o).trim()).unwrap();
+    assert_eq!(
+        (r.status, r.largest_certified_t2),
+        (Status::NotCertified, None)
+    );
+    assert_eq!(r.reason.unwrap().kind(), "undetectable");
     // max-interval: a limit below T1 is bad input → 2 (not clamped silently).
     let o = sporadic(&[
         "max-interval",
@@ -901,7 +931,7 @@ fn exit_codes_follow_one_policy() {
     assert_eq!(code(&o), 2);
     // compare: nothing certified → 1; the JSON still lists every method.
     let out = scratch("cmp-osc").display().to_string();
-    let o = sporadic(&["compare", &osc, "--json", "--out", &out]);
+    let o = sporadic(&["compare", &undetectable, "--json", "--out", &out]);
     assert_eq!(code(&o), 1, "{}", stderr(&o));
     let c: CompareReport = serde_json::from_str(stdout(&o).trim()).unwrap();
     assert!(c.results.iter().all(|d| !d.status.is_certified()));
