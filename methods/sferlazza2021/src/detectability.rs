@@ -15,6 +15,8 @@
 //! * Jitter-tolerant plants: the box of windows is screened on a uniform grid. This is a necessary
 //!   screen only, not a proof over the continuum.
 
+use std::f64::consts::TAU;
+
 use faer::{Mat, c64};
 use sporadic_linalg::{InputError, PbhOptions, PbhTest, expm_scaled, pbh_detectability};
 
@@ -157,12 +159,20 @@ pub fn check_detectability(
             )));
         }
     };
+    // The aliasing tuples first: they are where detectability is lost, and testing them first
+    // makes an undetectable plant fail fast.
+    let aliasing = aliasing_tuples(plant, settings)?;
+    let extra = aliasing.len();
     let mut idx = vec![0usize; axes.len()];
     let mut max_rho = 0.0f64;
     let mut worst: Option<PbhCheck> = None;
     let mut detectable = true;
-    for _ in 0..tuples {
-        let t: Vec<f64> = idx.iter().zip(&axes).map(|(&i, ax)| ax[i]).collect();
+    for k in 0..tuples + extra {
+        let t: Vec<f64> = if k < extra {
+            aliasing[k].clone()
+        } else {
+            idx.iter().zip(&axes).map(|(&i, ax)| ax[i]).collect()
+        };
         let chk = pbh(plant, &t, settings)?;
         max_rho = max_rho.max(chk.test.spectral_radius);
         detectable &= chk.test.detectable;
@@ -174,6 +184,9 @@ pub fn check_detectability(
         if better {
             worst = Some(chk);
         }
+        if k < extra {
+            continue;
+        }
         for (i, ax) in idx.iter_mut().zip(&axes) {
             *i += 1;
             if *i < ax.len() {
@@ -184,11 +197,79 @@ pub fn check_detectability(
     }
     Ok(DetectabilityReport {
         exact: plant.is_jitter_free(),
-        tuples,
+        tuples: tuples + extra,
         max_spectral_radius: max_rho,
         worst,
         detectable,
     })
+}
+
+/// Upper limit on the number of aliasing periods tested (a window spanning more than this many is
+/// screened on its grid only; the cap keeps the screen's cost bounded for huge windows).
+const MAX_ALIASING_INSTANTS: usize = 10_000;
+
+/// The periods `T ∈ [Σ T_mσ, Σ T_Mσ]` at which two non-decaying eigenvalues `λ ≠ λ'` of `A` with
+/// equal real parts alias under `e^{AT}`, `T |Im λ − Im λ'| = 2πk`, `k ≥ 1`, each as one tuple of
+/// intervals on the segment `T_σ = T_mσ + θ(T_Mσ − T_mσ)` of the box with `Σ T_σ = T`. Only at
+/// these isolated periods can the eigenspaces of `e^{AT}` merge while `(A, C)` is detectable, so a
+/// grid alone would miss them (as in Ferrante et al. 2016, Remark 3; the rank test is the shared
+/// kernel [`pbh_detectability`]). The comparisons of eigenvalues are relative to `|λ|`, and the
+/// non-decaying test is the PBH one on `|e^{λT}|`: both are unit-free.
+fn aliasing_tuples(
+    plant: &RoundRobinPlant,
+    settings: &DetectabilityOptions,
+) -> Result<Vec<Vec<f64>>, Error> {
+    let lo: f64 = plant.sensors().iter().map(|s| s.window().t1()).sum();
+    let hi: f64 = plant.sensors().iter().map(|s| s.window().t2()).sum();
+    let lambdas = plant
+        .a()
+        .eigenvalues()
+        .map_err(|_| Error::numerical("eigenvalues of A did not converge"))?;
+    // |e^{λT}| ≥ 1 − tol for some T ∈ [lo, hi] ⇔ Re λ ≥ ln(1 − tol)/hi (or any Re λ ≥ 0).
+    let re_floor = (-settings.pbh.unit_circle_tol).ln_1p() / hi.max(f64::MIN_POSITIVE);
+    let slow: Vec<c64> = lambdas.into_iter().filter(|l| l.re >= re_floor).collect();
+    let mut periods = Vec::new();
+    for (i, li) in slow.iter().enumerate() {
+        for lj in &slow[i + 1..] {
+            let scale = li.norm().max(lj.norm());
+            let d = (li.im - lj.im).abs();
+            // Equal real parts up to rounding of the eigenvalue solver, distinct imaginary parts.
+            if (li.re - lj.re).abs() > 1e-9 * scale || d <= 1e-12 * scale {
+                continue;
+            }
+            let k_lo = (lo * d / TAU).ceil().max(1.0);
+            let k_hi = (hi * d / TAU).floor();
+            let mut k = k_lo;
+            while k <= k_hi && periods.len() < MAX_ALIASING_INSTANTS {
+                periods.push(TAU * k / d);
+                k += 1.0;
+            }
+        }
+    }
+    periods.sort_by(f64::total_cmp);
+    periods.dedup();
+    Ok(periods
+        .into_iter()
+        .map(|t| {
+            let theta = if hi > lo {
+                ((t - lo) / (hi - lo)).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            plant
+                .sensors()
+                .iter()
+                .map(|s| {
+                    let w = s.window();
+                    if plant.num_sensors() == 1 {
+                        t.clamp(w.t1(), w.t2())
+                    } else {
+                        w.t1() + theta * (w.t2() - w.t1())
+                    }
+                })
+                .collect()
+        })
+        .collect())
 }
 
 /// [`check_detectability`], turning a failure into [`Error::NotDetectable`] with the failing tuple.

@@ -1,0 +1,172 @@
+//! Issue 22 ("any plant, any window: bounded time, scale-invariant verdicts"): regressions on the
+//! corpus plants (matrices copied from `tests/corpus/*.toml`) and metamorphic tests (time scaling,
+//! diagonal state similarity, output scaling).
+
+use std::time::Instant;
+
+use faer::{Mat, mat};
+use sporadic_sferlazza2021::{
+    MethodOptions, ObserverMethod, Plant, Reason, Sampling, SamplingWindow, Sferlazza2021, Status,
+};
+
+fn win(t1: f64, t2: f64) -> SamplingWindow {
+    SamplingWindow::new(t1, t2).unwrap()
+}
+
+fn run(a: Mat<f64>, c: Mat<f64>, w: SamplingWindow) -> (sporadic_sferlazza2021::DesignReport, f64) {
+    let plant = Plant::linear(a.as_ref(), None, c.as_ref()).unwrap();
+    let t = Instant::now();
+    let r = Sferlazza2021::default()
+        .design(&plant, &Sampling::Synchronous(w), &MethodOptions::default())
+        .unwrap();
+    (r, t.elapsed().as_secs_f64())
+}
+
+fn oscillator(w: f64) -> Mat<f64> {
+    mat![[0.0, 1.0], [-w * w, 0.0]]
+}
+
+fn assert_undetectable_at(r: &sporadic_sferlazza2021::DesignReport, tau: f64) {
+    assert_eq!(r.status, Status::NotCertified, "{:?}", r.reason);
+    match &r.reason {
+        Some(Reason::Undetectable { tau: t, .. }) => {
+            assert!((t - tau).abs() <= 1e-9 * tau, "τ = {t}, expected {tau}")
+        }
+        other => panic!("expected Undetectable at τ = {tau}, got {other:?}"),
+    }
+}
+
+/// `oscillator-w10-aliasing.toml`: ran past 60 s; the window [0.1, 0.5] contains the aliasing
+/// interval π/10, missed by the 26-point screen.
+#[test]
+fn oscillator_w10_aliasing_is_undetectable_fast() {
+    let (r, secs) = run(oscillator(10.0), mat![[1.0, 0.0]], win(0.1, 0.5));
+    assert_undetectable_at(&r, std::f64::consts::PI / 10.0);
+    assert!(secs < 2.0, "{secs} s");
+}
+
+/// `oscillator-w1-aliasing.toml`: 5.2 s ending `solver_inconclusive`; the window [0.5, 3.5]
+/// contains π.
+#[test]
+fn oscillator_w1_aliasing_is_undetectable_fast() {
+    let (r, secs) = run(oscillator(1.0), mat![[1.0, 0.0]], win(0.5, 3.5));
+    assert_undetectable_at(&r, std::f64::consts::PI);
+    assert!(secs < 2.0, "{secs} s");
+}
+
+/// Round-robin sensors: the lifted pair (8) with both sensors reading the position is
+/// undetectable when the period T_1 + T_2 is an aliasing period π/ω·k... only if the lifted output
+/// loses rank; here the two sensors read the same output, so the lifted pair at T = 2π/ω... The
+/// screen must at least test the aliasing periods and stay fast.
+#[test]
+fn round_robin_aliasing_screen_is_fast() {
+    let a = oscillator(10.0);
+    let plant = Plant::round_robin(
+        a.as_ref(),
+        None,
+        &[mat![[1.0, 0.0]].as_ref(), mat![[1.0, 0.0]].as_ref()],
+    )
+    .unwrap();
+    // T_1 + T_2 ∈ [0.2, 0.4] ∋ π/10; at T_1 = T_2 = π/20 the lifted pair is (−I, [C e^{Aπ/20}; C(−I)]),
+    // detectable, so the screen passes; the test only bounds the time of the aliasing tuples.
+    let t = Instant::now();
+    let r = Sferlazza2021::default()
+        .design(
+            &plant,
+            &Sampling::RoundRobin(vec![win(0.1, 0.2), win(0.1, 0.2)]),
+            &MethodOptions::default(),
+        )
+        .unwrap();
+    let secs = t.elapsed().as_secs_f64();
+    assert!(secs < 25.0, "{secs} s, {:?}", r.reason);
+}
+
+/// `oscillator-w100.toml` (ω = 100, window [0.001, 0.02]) is the time-scaled
+/// `oscillator-w10-below-aliasing` and must certify like it (it ended `budget_exhausted`).
+#[test]
+fn oscillator_w100_certifies_like_its_time_scaled_versions() {
+    let (r10, _) = run(oscillator(10.0), mat![[1.0, 0.0]], win(0.01, 0.2));
+    assert_eq!(r10.status, Status::Certified, "{:?}", r10.reason);
+    let (r100, secs) = run(oscillator(100.0), mat![[1.0, 0.0]], win(0.001, 0.02));
+    assert_eq!(r100.status, Status::Certified, "{:?}", r100.reason);
+    assert!(secs < 25.0, "{secs} s");
+}
+
+/// `badly-scaled-units.toml`: a mass-spring-damper (ω = 2, ζ = 0.1) in mm and km/s; it ended
+/// `budget_exhausted` while the unit-scaled plant certifies.
+#[test]
+fn badly_scaled_units_certifies_like_the_unit_scaled_plant() {
+    let (good, _) = run(
+        mat![[0.0, 1.0], [-4.0, -0.4]],
+        mat![[1.0, 0.0]],
+        win(0.05, 1.0),
+    );
+    assert_eq!(good.status, Status::Certified, "{:?}", good.reason);
+    let (r, secs) = run(
+        mat![[0.0, 1e6], [-4e-6, -0.4]],
+        mat![[0.001, 0.0]],
+        win(0.05, 1.0),
+    );
+    assert_eq!(r.status, Status::Certified, "{:?}", r.reason);
+    assert!(secs < 25.0, "{secs} s");
+}
+
+/// `stiff-two-time-scales.toml`: `e^{−Aτ}` of (44) overflows (a stable mode at −10⁴ over τ = 1):
+/// a typed reason, fast.
+#[test]
+fn stiff_two_time_scales_answers_fast() {
+    let (r, secs) = run(
+        mat![[-10000.0, 1000.0], [0.001, -0.001]],
+        mat![[0.0, 1.0]],
+        win(0.01, 1.0),
+    );
+    assert!(r.reason.is_some() || r.status == Status::Certified);
+    assert!(secs < 10.0, "{secs} s");
+}
+
+/// The plant used by the metamorphic tests: a lightly damped oscillator read in position.
+fn base() -> (Mat<f64>, Mat<f64>, SamplingWindow) {
+    (
+        mat![[0.0, 1.0], [-4.0, -0.4]],
+        mat![[1.0, 0.0]],
+        win(0.05, 0.6),
+    )
+}
+
+fn certified(a: &Mat<f64>, c: &Mat<f64>, w: SamplingWindow) -> bool {
+    run(a.clone(), c.clone(), w).0.status == Status::Certified
+}
+
+/// Time scaling `(A, window) → (kA, window/k)`, k ∈ {0.1, 10}: same verdict.
+#[test]
+fn metamorphic_time_scaling() {
+    let (a, c, w) = base();
+    let ok = certified(&a, &c, w);
+    assert!(ok);
+    for k in [0.1, 10.0] {
+        let ak = Mat::from_fn(2, 2, |i, j| k * a[(i, j)]);
+        let wk = win(w.t1() / k, w.t2() / k);
+        assert_eq!(certified(&ak, &c, wk), ok, "k = {k}");
+    }
+}
+
+/// Diagonal similarity with entries 1e-3 and 1e3: `(A, C) → (TAT⁻¹, CT⁻¹)`, same verdict.
+#[test]
+fn metamorphic_diagonal_similarity() {
+    let (a, c, w) = base();
+    let ok = certified(&a, &c, w);
+    for d in [[1e-3, 1e3], [1e3, 1e-3]] {
+        let at = Mat::from_fn(2, 2, |i, j| d[i] * a[(i, j)] / d[j]);
+        let ct = Mat::from_fn(1, 2, |i, j| c[(i, j)] / d[j]);
+        assert_eq!(certified(&at, &ct, w), ok, "T = diag{d:?}");
+    }
+}
+
+/// Output scaling `C → 1e3·C`: same verdict.
+#[test]
+fn metamorphic_output_scaling() {
+    let (a, c, w) = base();
+    let ok = certified(&a, &c, w);
+    let cs = Mat::from_fn(1, 2, |i, j| 1e3 * c[(i, j)]);
+    assert_eq!(certified(&a, &cs, w), ok);
+}
