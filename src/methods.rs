@@ -140,22 +140,7 @@ fn not_searched(
     limit: f64,
     reason: Reason,
 ) -> MaxIntervalReport {
-    MaxIntervalReport {
-        schema: sporadic_model::MAX_INTERVAL_SCHEMA.into(),
-        plant: file.name.clone(),
-        method: method.id().into(),
-        status: reason.status(),
-        reason: Some(reason),
-        t1: sampling.map(|s| s.t1()),
-        limit: limit.is_finite().then_some(limit),
-        largest_certified_t2: None,
-        first_failing_t2: None,
-        search_end: None,
-        monotone: true,
-        probes: Vec::new(),
-        design: None,
-        seconds: 0.0,
-    }
+    MaxIntervalReport::without_search(method.id(), &file.name, sampling, Some(limit), reason)
 }
 
 /// Every registered method on the plant file.

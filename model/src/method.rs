@@ -2,7 +2,7 @@
 
 use crate::outcome::{NotApplicable, Reason, Status};
 use crate::plant::Plant;
-use crate::report::{DesignReport, MAX_INTERVAL_SCHEMA, MaxIntervalReport, SimulationReport};
+use crate::report::{DesignReport, MaxIntervalReport, SimulationReport};
 use crate::search::{SearchError, Verdict, WindowSearchOptions, search_upper};
 use crate::window::Sampling;
 use std::time::{Duration, Instant};
@@ -179,8 +179,8 @@ pub trait ObserverMethod: Send + Sync {
     }
 }
 
-/// The search behind [`ObserverMethod::largest_window`]'s default: [`search_upper`] with
-/// [`ObserverMethod::design`] as the probe, stopped early by [`MethodOptions::time_limit`].
+/// The search behind [`ObserverMethod::largest_window`]'s default: [`largest_window_with`] with
+/// [`MethodOptions::search`] and [`ObserverMethod::design`] as the probe.
 pub fn default_largest_window<M: ObserverMethod + ?Sized>(
     method: &M,
     plant: &Plant,
@@ -189,35 +189,64 @@ pub fn default_largest_window<M: ObserverMethod + ?Sized>(
     options: &MethodOptions,
     progress: &mut dyn FnMut(&crate::report::Probe),
 ) -> Result<MaxIntervalReport, MethodError> {
+    largest_window_with(
+        method,
+        plant,
+        sampling,
+        limit,
+        &options.search,
+        options,
+        progress,
+        &mut |s| method.design(plant, s, options),
+    )
+}
+
+/// The body of every [`ObserverMethod::largest_window`]: [`search_upper`] on `T2` with
+/// `probe` designing at each window ([`Sampling::with_t2`] of `sampling`), stopped early by
+/// [`MethodOptions::time_limit`] (the report then holds the best window found so far, reason
+/// [`Reason::BudgetExhausted`]). A method that can reuse work across probes (e.g. a compiled LMI
+/// model whose window enters through parameters) passes its own `probe` and `search`.
+///
+/// `progress` sees every probe as it is made; the report keeps the design at the largest
+/// certified `T2`.
+#[allow(clippy::too_many_arguments)]
+pub fn largest_window_with<M: ObserverMethod + ?Sized>(
+    method: &M,
+    plant: &Plant,
+    sampling: &Sampling,
+    limit: f64,
+    search: &WindowSearchOptions,
+    options: &MethodOptions,
+    progress: &mut dyn FnMut(&crate::report::Probe),
+    probe: &mut dyn FnMut(&Sampling) -> Result<DesignReport, MethodError>,
+) -> Result<MaxIntervalReport, MethodError> {
     let start = Instant::now();
     let t1 = sampling.t1();
-    let mut report = MaxIntervalReport {
-        schema: MAX_INTERVAL_SCHEMA.into(),
-        plant: plant.name().into(),
-        method: method.id().into(),
-        status: Status::NotCertified,
-        reason: None,
-        t1: Some(t1),
-        limit: Some(limit),
-        largest_certified_t2: None,
-        first_failing_t2: None,
-        search_end: None,
-        monotone: true,
-        probes: Vec::new(),
-        design: None,
-        seconds: 0.0,
-    };
     if let Err(na) = method.applies(plant, sampling) {
-        report.status = Status::NotApplicable;
-        report.reason = Some(na.reason);
-        return Ok(report);
+        return Ok(MaxIntervalReport::without_search(
+            method.id(),
+            plant.name(),
+            Some(sampling),
+            Some(limit),
+            na.reason,
+        ));
     }
+    let mut report = MaxIntervalReport::without_search(
+        method.id(),
+        plant.name(),
+        Some(sampling),
+        Some(limit),
+        Reason::BudgetExhausted {
+            message: String::new(),
+        },
+    );
+    report.reason = None;
     let invalid = |e: BoxedError| MethodError::InvalidInput {
         method: method.id(),
         source: e,
     };
     let mut best: Option<(f64, DesignReport)> = None;
-    let mut probe = |t2: f64| -> Result<Verdict, MethodError> {
+    let mut run = |t2: f64| -> Result<Verdict, MethodError> {
         if let Some(limit) = options.time_limit
             && start.elapsed() > limit
         {
@@ -227,7 +256,7 @@ pub fn default_largest_window<M: ObserverMethod + ?Sized>(
             });
         }
         let s = sampling.with_t2(t2).map_err(|e| invalid(Box::new(e)))?;
-        let d = method.design(plant, &s, options)?;
+        let d = probe(&s)?;
         let v = Verdict {
             certified: d.status.is_certified(),
             margin: d.margin.as_ref().map(|m| m.value),
@@ -245,8 +274,7 @@ pub fn default_largest_window<M: ObserverMethod + ?Sized>(
         }
         Ok(v)
     };
-    let search = search_upper(t1, limit, &options.search, &mut probe);
-    let search = match search {
+    let search = match search_upper(t1, limit, search, &mut run) {
         Ok(s) => s,
         Err(SearchError::Input(e)) => return Err(invalid(Box::new(e))),
         Err(SearchError::Probe(MethodError::Numerical { source, .. }))

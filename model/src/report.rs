@@ -351,6 +351,35 @@ pub struct MaxIntervalReport {
     pub seconds: f64,
 }
 
+impl MaxIntervalReport {
+    /// A report without a search (the method does not apply, or the plant cannot be probed):
+    /// the status is the reason's ([`Reason::status`]).
+    pub fn without_search(
+        method: &str,
+        plant: &str,
+        sampling: Option<&Sampling>,
+        limit: Option<f64>,
+        reason: Reason,
+    ) -> Self {
+        Self {
+            schema: MAX_INTERVAL_SCHEMA.into(),
+            plant: plant.into(),
+            method: method.into(),
+            status: reason.status(),
+            reason: Some(reason),
+            t1: sampling.map(|s| s.t1()),
+            limit: limit.filter(|l| l.is_finite()),
+            largest_certified_t2: None,
+            first_failing_t2: None,
+            search_end: None,
+            monotone: true,
+            probes: Vec::new(),
+            design: None,
+            seconds: 0.0,
+        }
+    }
+}
+
 /// Every method on one plant: `sporadic.compare/1`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct CompareReport {

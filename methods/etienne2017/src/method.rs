@@ -7,10 +7,10 @@
 use std::time::Instant;
 
 use sporadic_model::{
-    Bracketing, Check, DesignReport, Gain, MAX_INTERVAL_SCHEMA, Margin, MaxIntervalReport,
-    MethodError, MethodOptions, NamedMatrix, NotApplicable, ObserverMethod, Outputs,
-    Plant as ModelPlant, Probe, Reason, Sampling, SamplingWindow, Scenario, SearchEnd, SearchError,
-    Status, TimeLimit, Tolerance, Trajectory, Verdict, WindowSearchOptions, search_upper,
+    Bracketing, Check, DesignReport, Gain, Margin, MaxIntervalReport, MethodError, MethodOptions,
+    NamedMatrix, NotApplicable, ObserverMethod, Outputs, Plant as ModelPlant, Probe, Reason,
+    Sampling, SamplingWindow, Scenario, Tolerance, Trajectory, WindowSearchOptions,
+    largest_window_with,
 };
 
 use crate::bisection::CompiledProbe;
@@ -545,39 +545,32 @@ impl ObserverMethod for Etienne2017 {
         options: &MethodOptions,
         progress: &mut dyn FnMut(&Probe),
     ) -> Result<MaxIntervalReport, MethodError> {
-        let start = Instant::now();
-        let t1 = sampling.t1();
-        let mut report = MaxIntervalReport {
-            schema: MAX_INTERVAL_SCHEMA.into(),
-            plant: plant.name().into(),
-            method: ID.into(),
-            status: Status::NotCertified,
-            reason: None,
-            t1: Some(t1),
-            limit: Some(limit),
-            largest_certified_t2: None,
-            first_failing_t2: None,
-            search_end: None,
-            monotone: true,
-            probes: Vec::new(),
-            design: None,
-            seconds: 0.0,
-        };
         if let Err(na) = self.applies(plant, sampling) {
-            report.status = Status::NotApplicable;
-            report.reason = Some(na.reason);
-            return Ok(report);
+            let r = MaxIntervalReport::without_search(
+                ID,
+                plant.name(),
+                Some(sampling),
+                Some(limit),
+                na.reason,
+            );
+            return Ok(r);
         }
+        let start = Instant::now();
         let window = window_of(sampling)?;
         self.design.validate().map_err(invalid)?;
         let p = match plant_of(plant) {
             Ok(p) => p,
             Err(e) => {
                 let reason = verdict_of(e)?;
-                report.status = reason.status();
-                report.reason = Some(reason);
-                report.seconds = start.elapsed().as_secs_f64();
-                return Ok(report);
+                let mut r = MaxIntervalReport::without_search(
+                    ID,
+                    plant.name(),
+                    Some(sampling),
+                    Some(limit),
+                    reason,
+                );
+                r.seconds = start.elapsed().as_secs_f64();
+                return Ok(r);
             }
         };
         let vertices = p.vertices().len();
@@ -590,20 +583,19 @@ impl ObserverMethod for Etienne2017 {
             tolerance: Tolerance::Absolute(1e-3 * window.t2()),
             max_probes: options.search.max_probes,
         });
-        let mut compiled: Option<CompiledProbe<'_>> = None;
-        let mut best: Option<(f64, DesignReport)> = None;
-        let mut run = |t2: f64| -> Result<Verdict, MethodError> {
-            if let Some(limit) = options.time_limit
-                && start.elapsed() > limit
-            {
-                return Err(MethodError::Numerical {
-                    method: ID,
-                    source: Box::new(TimeLimit(limit)),
-                });
+        let note = format!(
+            "largest-window search: {} at every probe (compiled once, the window entering \
+             through parameters)",
+            if condition == Condition::Theorem3 {
+                "Theorem 3 (which contains Corollary 2)"
+            } else {
+                "Corollary 2"
             }
+        );
+        let mut compiled: Option<CompiledProbe<'_>> = None;
+        let mut probe = |s: &Sampling| -> Result<DesignReport, MethodError> {
             let probe_start = Instant::now();
-            let s = sampling.with_t2(t2).map_err(|e| invalid(e.into()))?;
-            let w = window_of(&s)?;
+            let w = window_of(s)?;
             let result = if w.is_periodic() {
                 design(&p, Condition::Remark6, &w, &self.design)
             } else {
@@ -612,7 +604,15 @@ impl ObserverMethod for Etienne2017 {
                         CompiledProbe::new(&p, condition, Bounds::of(&w), &self.design.feasibility);
                     compiled = Some(match c {
                         Ok(c) => c,
-                        Err(e) => return verdict_of(e).map(Verdict::failed),
+                        Err(e) => {
+                            let reason = verdict_of(e)?;
+                            return Ok(DesignReport::without_design(
+                                self,
+                                plant.name(),
+                                Some(s),
+                                reason,
+                            ));
+                        }
                     });
                 }
                 match compiled.as_mut() {
@@ -624,82 +624,24 @@ impl ObserverMethod for Etienne2017 {
                     }
                 }
             };
-            let v = match result {
+            Ok(match result {
                 Ok(d) => {
-                    let v = Verdict::certified(Some(d.lmi.margin));
-                    if best.as_ref().is_none_or(|(b, _)| *b < t2) {
-                        let note = format!(
-                            "largest-window search: {} at every probe (compiled once, the \
-                             window entering through parameters)",
-                            if condition == Condition::Theorem3 {
-                                "Theorem 3 (which contains Corollary 2)"
-                            } else {
-                                "Corollary 2"
-                            }
-                        );
-                        let seconds = probe_start.elapsed().as_secs_f64();
-                        best = Some((
-                            t2,
-                            self.report(plant, &s, vertices, &d, vec![note], seconds),
-                        ));
-                    }
-                    v
+                    let seconds = probe_start.elapsed().as_secs_f64();
+                    self.report(plant, s, vertices, &d, vec![note.clone()], seconds)
                 }
-                Err(e) => Verdict::failed(verdict_of(e)?),
-            };
-            progress(&Probe {
-                t1,
-                t2,
-                certified: v.certified,
-                margin: v.margin,
-                reason: v.reason.clone(),
-            });
-            Ok(v)
+                Err(e) => DesignReport::without_design(self, plant.name(), Some(s), verdict_of(e)?),
+            })
         };
-        let search = match search_upper(t1, limit, &search_options, &mut run) {
-            Ok(s) => s,
-            Err(SearchError::Input(e)) => return Err(invalid(e.into())),
-            Err(SearchError::Probe(MethodError::Numerical { source, .. }))
-                if source.downcast_ref::<TimeLimit>().is_some() =>
-            {
-                report.reason = Some(Reason::BudgetExhausted {
-                    message: source.to_string(),
-                });
-                report.search_end = Some(SearchEnd::BudgetExhausted);
-                report.largest_certified_t2 = best.as_ref().map(|(t2, _)| *t2);
-                report.status = if best.is_some() {
-                    Status::Certified
-                } else {
-                    Status::NotCertified
-                };
-                report.design = best.map(|(_, d)| d);
-                report.seconds = start.elapsed().as_secs_f64();
-                return Ok(report);
-            }
-            Err(SearchError::Probe(e)) => return Err(e),
-        };
-        report.largest_certified_t2 = search.best;
-        report.first_failing_t2 = search.first_failure;
-        report.search_end = Some(search.end);
-        report.monotone = search.monotone;
-        report.status = if search.best.is_some() {
-            Status::Certified
-        } else {
-            Status::NotCertified
-        };
-        if search.best.is_none() {
-            report.reason = search.probes.iter().rev().find_map(|p| p.reason.clone());
-        } else if search.end == SearchEnd::BudgetExhausted {
-            report.reason = Some(Reason::BudgetExhausted {
-                message: format!("window search stopped after {} probes", search.probes.len()),
-            });
-        }
-        report.probes = search.probes;
-        report.design = best
-            .filter(|(t2, _)| Some(*t2) == search.best)
-            .map(|(_, d)| d);
-        report.seconds = start.elapsed().as_secs_f64();
-        Ok(report)
+        largest_window_with(
+            self,
+            plant,
+            sampling,
+            limit,
+            &search_options,
+            options,
+            progress,
+            &mut probe,
+        )
     }
 
     /// Not available: the observer (3) copies the nonlinearity `φ` between samples, and a plant
