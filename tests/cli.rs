@@ -840,7 +840,10 @@ fn reports_on_every_example_file_parse_into_the_report_types() {
         match r.first_failing_t2 {
             None => {
                 let limit: f64 = limit.parse().unwrap();
-                assert!((best - limit).abs() <= 1e-12 * limit, "{path}: {best} vs {limit}");
+                assert!(
+                    (best - limit).abs() <= 1e-12 * limit,
+                    "{path}: {best} vs {limit}"
+                );
             }
             Some(f) => assert!(f > best, "{path}: {r:?}"),
         }
@@ -960,4 +963,24 @@ fn exit_codes_follow_one_policy() {
     // --help documents the policy.
     let help = stdout(&sporadic(&["--help"]));
     assert!(help.contains("Exit status"), "{help}");
+}
+
+/// `sporadic init` writes each template; each is a plant file the other commands accept, and an
+/// existing file is never overwritten (exit 2).
+#[test]
+fn init_writes_templates_that_the_commands_accept() {
+    for kind in ["linear", "round-robin", "lipschitz", "bounds"] {
+        let path = scratch(&format!("init-{kind}.toml"));
+        let _ = std::fs::remove_file(&path);
+        let p = path.display().to_string();
+        let o = sporadic(&["init", "--kind", kind, &p]);
+        assert_eq!(code(&o), 0, "{kind}: {}", stderr(&o));
+        let out = scratch(&format!("init-{kind}-out")).display().to_string();
+        let o = sporadic(&["compare", &p, "--json", "--out", &out]);
+        assert_eq!(code(&o), 0, "{kind}: {}", stderr(&o));
+        let c: CompareReport = serde_json::from_str(stdout(&o).trim()).unwrap();
+        assert!(c.results.iter().any(|d| d.status.is_certified()), "{kind}");
+        let o = sporadic(&["init", "--kind", kind, &p]);
+        assert_eq!(code(&o), 2, "{kind}: overwrote an existing file");
+    }
 }

@@ -38,7 +38,7 @@ fn method_arg(id: &str) -> Result<String, String> {
 /// Arguments of `sporadic design`.
 #[derive(Debug, clap::Args)]
 pub struct DesignArgs {
-    /// The plant file (TOML; see `examples/`).
+    /// The plant file (TOML; `sporadic init` writes a commented template, `examples/` has more).
     pub plant: PathBuf,
     /// The observer design method (ferrante2016, sferlazza2021, andrieu2014, etienne2017,
     /// rabehi2021).

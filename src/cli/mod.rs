@@ -2,6 +2,7 @@
 //! policy shared by every subcommand.
 
 mod design;
+mod init;
 mod reproduce;
 mod sdp;
 
@@ -24,6 +25,9 @@ struct Cli {
 #[derive(Debug, Subcommand)]
 enum Command {
     /// Design an observer for a plant file with one method; print gains and certificate.
+    ///
+    /// A plant file is TOML; `sporadic init [--kind linear|round-robin|lipschitz|bounds]`
+    /// writes a commented template.
     Design(design::DesignArgs),
     /// Find the largest certified sampling window of a plant file with one method.
     MaxInterval(design::MaxIntervalArgs),
@@ -33,6 +37,8 @@ enum Command {
     Reproduce(reproduce::Args),
     /// Solve SDPA sparse files with our interior-point solver, or benchmark it.
     Sdp(sdp::Args),
+    /// Write a commented plant-file template (the plant-file format, with every field).
+    Init(init::Args),
 }
 
 /// What a subcommand established (exit 0 or 1).
@@ -62,6 +68,7 @@ pub fn run() -> ExitCode {
         Command::MaxInterval(args) => design::max_interval(&args),
         Command::Compare(args) => design::compare(&args),
         Command::Reproduce(args) => reproduce::run(&args),
+        Command::Init(args) => init::run(&args),
         Command::Sdp(args) => return sdp::run(&args),
     };
     match result {

@@ -21,6 +21,7 @@ use sporadic_sdp::lmi::{FeasibilityOptions, Outcome};
 use crate::detectability::{DetectabilityOptions, DetectabilityReport, check_detectability};
 use crate::error::Error;
 use crate::lmi::{GainTerm, Lmi41, LmiForm, LmiResult, LmiSize, Objective, gain_from};
+use crate::normalise;
 use crate::system::Plant;
 use crate::verify::{Verification, VerifyOptions, verify};
 use sporadic_model::SamplingWindow;
@@ -124,13 +125,17 @@ pub struct Design {
     pub l: Mat<f64>,
     /// `(P, F, J, margin)`.
     pub certificate: Certificate,
-    /// The embedding used: vertices, method, containment statement, remainder bound. When its
+    /// The embedding used (of the normalised problem, see [`Design::scaling`]): vertices, method, containment statement, remainder bound. When its
     /// containment is not [`sporadic_embed::Containment::Guaranteed`] (e.g. clustered eigenvalues
     /// with a truncated expansion), Corollary 1's hypothesis is not proven and the grid
     /// [`Design::verification`] is the only evidence for (12).
     pub embedding: Embedding,
-    /// The grid verification of (12) (passed).
+    /// The grid verification of (12) (passed), on the user's data.
     pub verification: Verification,
+    /// The exact power-of-two scaling of time, states and outputs under which LMI (41) was
+    /// solved ([`crate::normalise`]); the embedding and the margin are those of the normalised
+    /// problem, the gain and the certificate are mapped back to the user's coordinates.
+    pub scaling: normalise::Scaling,
     /// The Remark 3 precheck (passed).
     pub detectability: DetectabilityReport,
     /// Solver statistics.
@@ -167,12 +172,12 @@ fn solve_on(
     embedding: &Embedding,
     gain: GainTerm,
     options: &DesignOptions,
-    cache: &mut Option<Lmi41>,
+    cache: &mut LmiCache,
 ) -> Result<LmiResult, Error> {
     let vertices = embedding.vertices();
     let delta = embedding.remainder_bound();
     let lmi = match cache.take() {
-        Some(mut lmi) if lmi.fits(vertices.len(), delta) => {
+        Some((cached, mut lmi)) if cached == *plant && lmi.fits(vertices.len(), delta) => {
             lmi.set_vertices(vertices, delta)?;
             lmi
         }
@@ -185,8 +190,12 @@ fn solve_on(
             Objective::Margin(&options.lmi),
         )?,
     };
-    cache.insert(lmi).solve()
+    cache.insert((plant.clone(), lmi)).1.solve()
 }
+
+/// A compiled LMI (41) kept across the probes of a window search, with the (normalised) plant
+/// it was built for.
+pub(crate) type LmiCache = Option<(Plant, Lmi41)>;
 
 fn certificate_of(r: &LmiResult) -> Certificate {
     Certificate {
@@ -213,19 +222,60 @@ pub(crate) fn design_cached(
     plant: &Plant,
     window: &SamplingWindow,
     options: &DesignOptions,
-    cache: &mut Option<Lmi41>,
+    cache: &mut LmiCache,
 ) -> Result<Design, Error> {
     let start = Instant::now();
     options.validate()?;
     let detectability = check_detectability(plant, window, &options.detectability)?;
-    let embedding = embed_split(
-        plant.a(),
-        window.t1(),
-        window.t2(),
-        options.pieces,
-        &options.embedding,
-    )?;
-    let r = solve_on(plant, &embedding, GainTerm::Free, options, cache)?;
+    // The problem as given first (the paper's construction, unchanged on well-scaled data);
+    // when that is no certificate, the normalised problem (exact power-of-two scalings of
+    // time, states and outputs, see `crate::normalise`).
+    let first = attempt(
+        plant,
+        window,
+        options,
+        cache,
+        &identity_scaling(plant),
+        (start, &detectability),
+    );
+    let scaling = normalise::scaling(plant, window);
+    match first {
+        Err(e) if e.reason().is_some() && !scaling.is_identity() => attempt(
+            plant,
+            window,
+            options,
+            cache,
+            &scaling,
+            (start, &detectability),
+        )
+        .map_err(|_| e),
+        other => other,
+    }
+}
+
+fn identity_scaling(plant: &Plant) -> normalise::Scaling {
+    normalise::Scaling {
+        time: 1.0,
+        state: vec![1.0; plant.n()],
+        output: vec![1.0; plant.q()],
+    }
+}
+
+/// One design of LMI (41) under `scaling`, mapped back and verified on the user's data.
+fn attempt(
+    plant: &Plant,
+    window: &SamplingWindow,
+    options: &DesignOptions,
+    cache: &mut LmiCache,
+    scaling: &normalise::Scaling,
+    (start, detectability): (Instant, &DetectabilityReport),
+) -> Result<Design, Error> {
+    let (np, nw) = match (scaling.plant(plant), scaling.window(window)) {
+        (Some(p), Some(w)) => (p, w),
+        _ => (plant.clone(), *window),
+    };
+    let embedding = embed_split(np.a(), nw.t1(), nw.t2(), options.pieces, &options.embedding)?;
+    let mut r = solve_on(&np, &embedding, GainTerm::Free, options, cache)?;
     if !r.feasible {
         return Err(match r.stats.outcome {
             Outcome::Inconclusive => Error::Inconclusive {
@@ -237,7 +287,10 @@ pub(crate) fn design_cached(
             },
         });
     }
-    let l = gain_from(r.f.as_ref(), r.j.as_ref())?;
+    let l = scaling.gain_back(gain_from(r.f.as_ref(), r.j.as_ref())?.as_ref());
+    r.p = scaling.congruence_back(r.p.as_ref());
+    r.f = scaling.congruence_back(r.f.as_ref());
+    r.j = scaling.multiplier_gain_back(r.j.as_ref());
     let verification = verify(plant, window, l.as_ref(), r.p.as_ref(), &options.verify)?;
     if !verification.passed() {
         return Err(verification_failed(&verification));
@@ -247,7 +300,8 @@ pub(crate) fn design_cached(
         l,
         embedding,
         verification,
-        detectability,
+        scaling: scaling.clone(),
+        detectability: detectability.clone(),
         stats: r.stats,
         size: r.size,
         total_time: start.elapsed(),

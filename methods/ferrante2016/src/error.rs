@@ -52,7 +52,10 @@ pub enum Error {
     /// LMI (41) (or (36) with `L` fixed) is not strictly feasible on the vertex set: the optimal
     /// margin is not positive (or the solver certified infeasibility). Corollary 1 is only
     /// sufficient, so this does not prove that no gain exists (try interval splitting).
-    #[error("LMI (41) is not strictly feasible: margin {margin:?}; {reason}")]
+    #[error(
+        "LMI (41) is not strictly feasible: {}; {reason}",
+        margin.map_or_else(|| "no margin computed".to_string(), |m| format!("margin {m:.3e}"))
+    )]
     Infeasible {
         /// Optimal common margin `t*` of the margin problem, when one was computed.
         margin: Option<f64>,

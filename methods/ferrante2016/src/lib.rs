@@ -76,6 +76,7 @@ pub mod examples;
 mod grid;
 mod lmi;
 pub mod method;
+pub mod normalise;
 pub mod simulation;
 pub mod system;
 pub mod verify;

@@ -5,10 +5,9 @@
 use std::time::Instant;
 
 use sporadic_model::{
-    Check, DesignReport, Gain, MAX_INTERVAL_SCHEMA, Margin, MaxIntervalReport, MethodError,
-    MethodOptions, NamedMatrix, NotApplicable, ObserverMethod, Outputs, Plant as ModelPlant, Probe,
-    Reason, Sampling, SamplingScenario, SamplingWindow, Scenario, SearchEnd, SearchError,
-    SimulationReport, Status, TimeLimit, Trajectory, Verdict, search_upper,
+    Check, DesignReport, Gain, Margin, MaxIntervalReport, MethodError, MethodOptions, NamedMatrix,
+    NotApplicable, ObserverMethod, Outputs, Plant as ModelPlant, Probe, Reason, Sampling,
+    SamplingScenario, SamplingWindow, Scenario, SimulationReport, Trajectory, largest_window_with,
 };
 use sporadic_sdp::lmi::Normalisation;
 use sporadic_sim::{Periodic, SamplingRule, SimOptions, UniformRandom};
@@ -106,8 +105,11 @@ impl Ferrante2016 {
                 crate::EmbeddingMethod::Residue(_) => "residue (§4.1)",
                 crate::EmbeddingMethod::Taylor(_) => "Taylor",
             },
-            SamplingWindow::new(d.embedding.interval().t1(), d.embedding.interval().t2())
-                .map_or_else(|_| String::from("[T1, T2]"), |w| w.to_string()),
+            SamplingWindow::new(
+                d.embedding.interval().t1() * d.scaling.time,
+                d.embedding.interval().t2() * d.scaling.time
+            )
+            .map_or_else(|_| String::from("[T1, T2]"), |w| w.to_string()),
             self.design.pieces,
             d.stats.iterations,
             d.stats.decision_scalars,
@@ -126,6 +128,17 @@ impl Ferrante2016 {
                  measurement noise"
                     .into(),
             );
+        }
+        if !d.scaling.is_identity() {
+            r.notes.push(format!(
+                "LMI (41) solved on the normalised problem: time unit {:e} s (exact power of \
+                 two), state scaling x' = Dx with D = diag{}, output scaling y' = Sy with S = \
+                 diag{} (powers of two); L, P, F, J mapped back (L = D^-1 L' S, P = D'P'D, \
+                 F = D'F'D, J = D'J'S) and (12) re-verified on the user's data",
+                d.scaling.time,
+                vector_words(&d.scaling.state),
+                vector_words(&d.scaling.output),
+            ));
         }
         r.notes.push(
             "L is not unique: any gain satisfying (12) solves Problem 1; this one maximises the \
@@ -362,107 +375,49 @@ impl ObserverMethod for Ferrante2016 {
         options: &MethodOptions,
         progress: &mut dyn FnMut(&Probe),
     ) -> Result<MaxIntervalReport, MethodError> {
-        let start = Instant::now();
-        let t1 = sampling.t1();
-        let mut report = MaxIntervalReport {
-            schema: MAX_INTERVAL_SCHEMA.into(),
-            plant: plant.name().into(),
-            method: ID.into(),
-            status: Status::NotCertified,
-            reason: None,
-            t1: Some(t1),
-            limit: Some(limit),
-            largest_certified_t2: None,
-            first_failing_t2: None,
-            search_end: None,
-            monotone: true,
-            probes: Vec::new(),
-            design: None,
-            seconds: 0.0,
-        };
         if let Err(na) = self.applies(plant, sampling) {
-            report.status = Status::NotApplicable;
-            report.reason = Some(na.reason);
-            return Ok(report);
+            return Ok(MaxIntervalReport::without_search(
+                ID,
+                plant.name(),
+                Some(sampling),
+                Some(limit),
+                na.reason,
+            ));
         }
         let p = self.plant_of(plant)?;
         self.design.validate().map_err(invalid)?;
         let mut cache = None;
-        let mut best: Option<(f64, DesignReport)> = None;
-        let mut run = |t2: f64| -> Result<Verdict, MethodError> {
-            if let Some(limit) = options.time_limit
-                && start.elapsed() > limit
-            {
-                return Err(MethodError::Numerical {
-                    method: ID,
-                    source: Box::new(TimeLimit(limit)),
-                });
-            }
+        let mut run = |s: &Sampling| -> Result<DesignReport, MethodError> {
             let probe_start = Instant::now();
-            let s = sampling.with_t2(t2).map_err(|e| invalid(e.into()))?;
-            let Sampling::Synchronous(window) = &s else {
+            let Sampling::Synchronous(window) = s else {
                 unreachable_round_robin()?
             };
             let (v, d) = probe(&p, window, &self.design, &mut cache).map_err(not_a_verdict)?;
-            progress(&Probe {
-                t1,
-                t2,
-                certified: v.certified,
-                margin: v.margin,
-                reason: v.reason.clone(),
-            });
-            if let Some(d) = d
-                && best.as_ref().is_none_or(|(b, _)| *b < t2)
-            {
-                let seconds = probe_start.elapsed().as_secs_f64();
-                best = Some((t2, self.report(plant, &s, &d, seconds)));
-            }
-            Ok(v)
+            Ok(match (d, v.reason) {
+                (Some(d), _) => self.report(plant, s, &d, probe_start.elapsed().as_secs_f64()),
+                (None, Some(reason)) => {
+                    DesignReport::without_design(self, plant.name(), Some(s), reason)
+                }
+                (None, None) => DesignReport::without_design(
+                    self,
+                    plant.name(),
+                    Some(s),
+                    Reason::NumericalFailure {
+                        message: "the probe returned neither a design nor a reason".into(),
+                    },
+                ),
+            })
         };
-        let search = match search_upper(t1, limit, &options.search, &mut run) {
-            Ok(s) => s,
-            Err(SearchError::Input(e)) => return Err(invalid(e.into())),
-            Err(SearchError::Probe(MethodError::Numerical { source, .. }))
-                if source.downcast_ref::<TimeLimit>().is_some() =>
-            {
-                report.reason = Some(Reason::BudgetExhausted {
-                    message: source.to_string(),
-                });
-                report.search_end = Some(SearchEnd::BudgetExhausted);
-                report.largest_certified_t2 = best.as_ref().map(|(t2, _)| *t2);
-                report.status = if best.is_some() {
-                    Status::Certified
-                } else {
-                    Status::NotCertified
-                };
-                report.design = best.map(|(_, d)| d);
-                report.seconds = start.elapsed().as_secs_f64();
-                return Ok(report);
-            }
-            Err(SearchError::Probe(e)) => return Err(e),
-        };
-        report.largest_certified_t2 = search.best;
-        report.first_failing_t2 = search.first_failure;
-        report.search_end = Some(search.end);
-        report.monotone = search.monotone;
-        report.status = if search.best.is_some() {
-            Status::Certified
-        } else {
-            Status::NotCertified
-        };
-        if search.best.is_none() {
-            report.reason = search.probes.iter().rev().find_map(|p| p.reason.clone());
-        } else if search.end == SearchEnd::BudgetExhausted {
-            report.reason = Some(Reason::BudgetExhausted {
-                message: format!("window search stopped after {} probes", search.probes.len()),
-            });
-        }
-        report.probes = search.probes;
-        report.design = best
-            .filter(|(t2, _)| Some(*t2) == search.best)
-            .map(|(_, d)| d);
-        report.seconds = start.elapsed().as_secs_f64();
-        Ok(report)
+        largest_window_with(
+            self,
+            plant,
+            sampling,
+            limit,
+            &options.search,
+            options,
+            progress,
+            &mut run,
+        )
     }
 
     /// The error system (5) with the report's gain `L`: `ε' = Aε` between samples,

@@ -21,9 +21,8 @@
 //! consistent with monotone feasibility ([`WindowSearch::monotone`]), and answers with the
 //! bracket `[last certified, first failed]` of the first transition.
 
-use crate::design::{Design, DesignOptions, design_cached};
+use crate::design::{Design, DesignOptions, LmiCache, design_cached};
 use crate::error::Error;
-use crate::lmi::Lmi41;
 use crate::system::Plant;
 use sporadic_model::{
     SamplingWindow, SearchError, Verdict, WindowSearch, WindowSearchOptions, search_lower,
@@ -78,7 +77,7 @@ pub(crate) fn probe(
     plant: &Plant,
     window: &SamplingWindow,
     design: &DesignOptions,
-    cache: &mut Option<Lmi41>,
+    cache: &mut LmiCache,
 ) -> Result<(Verdict, Option<Design>), Error> {
     match design_cached(plant, window, design, cache) {
         Ok(d) => Ok((Verdict::certified(Some(d.certificate.margin)), Some(d))),
