@@ -530,13 +530,12 @@ impl ObserverMethod for Etienne2017 {
         }
     }
 
-    /// The shared [`search_upper`] with a probe that re-solves one compiled LMI (20) of
+    /// The shared [`largest_window_with`] with a probe that re-solves one compiled LMI (20) of
     /// Theorem 3 (which contains Corollary 2; Corollary 2 alone for
     /// [`Conditions::Corollary2`]), the window entering through parameters, and re-verifies
     /// every certified probe independently as [`ObserverMethod::design`] does; a periodic probe
-    /// `T2 = T1` is designed by Remark 6. Reported exactly as
-    /// [`sporadic_model::default_largest_window`] reports it. The search options are
-    /// [`Etienne2017::search`].
+    /// `T2 = T1` is designed by Remark 6. The search options are [`Etienne2017::search`]
+    /// (default: doubling from `2·T1`, absolute tolerance `1e-3·T2`).
     fn largest_window(
         &self,
         plant: &ModelPlant,

@@ -364,7 +364,7 @@ impl ObserverMethod for Ferrante2016 {
         }
     }
 
-    /// The shared [`search_upper`] with a probe that re-solves one compiled LMI (41) (the vertex
+    /// The shared [`largest_window_with`] with a probe that re-solves one compiled LMI (41) (the vertex
     /// count of the residue box does not depend on the window), reported exactly as
     /// [`sporadic_model::default_largest_window`] reports it.
     fn largest_window(
