@@ -345,7 +345,19 @@ mod tests {
             ..s
         };
         let rep = check_detectability(&plant, &s3).unwrap();
-        assert!(!rep.exact && !rep.detectable && rep.tuples == 3);
+        // 3 grid tuples + the aliasing period π/ω.
+        assert!(!rep.exact && !rep.detectable && rep.tuples == 4);
+        // A grid that misses π/ω (issue 22): the aliasing tuple still catches it.
+        let s2 = DetectabilityOptions {
+            points_per_axis: 2,
+            ..s
+        };
+        match require_detectable(&plant, &s2) {
+            Err(Error::NotDetectable { intervals, .. }) => {
+                assert!((intervals[0] - PI / w).abs() < 1e-12)
+            }
+            other => panic!("expected NotDetectable, got {other:?}"),
+        }
     }
 
     /// An unstable mode seen by no sensor is undetectable; a second sensor that sees it fixes that.

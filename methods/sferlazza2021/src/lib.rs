@@ -64,6 +64,7 @@ pub mod gain;
 pub mod iss;
 pub mod jitter_free;
 pub mod method;
+pub mod normalise;
 pub mod plant;
 pub mod simulation;
 pub mod synthesis;

@@ -29,6 +29,7 @@ use sporadic_model::{
 use crate::design::{Design, DesignOptions, design};
 use crate::error::{Error, check_at_least};
 use crate::gain::GainSchedule;
+use crate::normalise::{balanced_plant, balancing_scales, unscale_k, unscale_p};
 use crate::plant::{RoundRobinPlant, window_grid};
 use crate::simulation::{SimulationOptions, simulate_error};
 use crate::validation::{GridPolicy, XiFamily};
@@ -251,7 +252,43 @@ impl ObserverMethod for Sferlazza2021 {
         self.validate().map_err(invalid_input)?;
         let start = Instant::now();
         let rr = Self::round_robin_plant(plant, sampling).map_err(invalid_input)?;
-        let d = match design(&rr, &self.design) {
+        // Guard before any exponential: (44) needs e^(−Aτ) up to τ = T_M, whose norm is at least
+        // e^(α T_M) with α = −min Re λ(A) (similarity- and time-scale-invariant); past
+        // ln(f64::MAX) ≈ 709 it cannot be represented in double precision.
+        let alpha = rr
+            .a()
+            .eigenvalues()
+            .map(|e| e.iter().map(|z| -z.re).fold(f64::NEG_INFINITY, f64::max))
+            .unwrap_or(f64::NAN);
+        if alpha * rr.t_max() > f64::MAX.ln() {
+            let mut r = DesignReport::without_design(
+                self,
+                plant.name(),
+                Some(sampling),
+                Reason::NumericalFailure {
+                    message: format!(
+                        "e^(−Aτ) of (44) exceeds the double-precision range on the window: A has a \
+                         stable mode with Re λ = {} and T_M = {}, so ‖e^(−A T_M)‖ ≥ e^{} > 1.8e308 \
+                         (the formulation of (44) cannot represent such a fast mode over such a \
+                         long interval)",
+                        short(-alpha),
+                        short(rr.t_max()),
+                        short(alpha * rr.t_max())
+                    ),
+                },
+            );
+            r.seconds = start.elapsed().as_secs_f64();
+            return Ok(r);
+        }
+        // Design in balanced coordinates (crate::normalise): exact, and the identity for a plant
+        // that is already balanced.
+        let scales = balancing_scales(rr.a());
+        let balanced = if scales.iter().all(|&d| d == 1.0) {
+            rr.clone()
+        } else {
+            balanced_plant(&rr, &scales).map_err(invalid_input)?
+        };
+        let d = match design(&balanced, &self.design) {
             Ok(d) => d,
             Err(e) => {
                 let mut r =
@@ -260,7 +297,7 @@ impl ObserverMethod for Sferlazza2021 {
                 return Ok(r);
             }
         };
-        let mut report = match self.report(plant, sampling, &d) {
+        let mut report = match self.report(plant, sampling, &d, &scales) {
             Ok(r) => r,
             Err(e) => DesignReport::without_design(self, plant.name(), Some(sampling), verdict(e)?),
         };
@@ -386,12 +423,19 @@ impl ObserverMethod for Sferlazza2021 {
 
 impl Sferlazza2021 {
     /// The certified report of a successful design `d`.
+    ///
+    /// `d` was designed in the balanced coordinates `x_b = D⁻¹x`, `D = diag(scales)` (powers of 2,
+    /// [`crate::normalise`]); the gains and Lyapunov matrices are reported in the user's
+    /// coordinates (`K = DK_b`, `P = D⁻¹P_bD⁻¹`, exact up to one rounding), the checks are made in
+    /// the balanced ones (positive definiteness of `Ξ_σ(τ)` is invariant under the congruence).
     fn report(
         &self,
         plant: &Plant,
         sampling: &Sampling,
         d: &Design,
+        scales: &[f64],
     ) -> Result<DesignReport, Error> {
+        let balanced = scales.iter().any(|&x| x != 1.0);
         let rr = d.plant();
         let mu = d.mu;
         let mut report = DesignReport::certified(self, plant.name(), sampling);
@@ -401,7 +445,7 @@ impl Sferlazza2021 {
             let taus = window_grid(sensor.window(), self.schedule_points)?;
             let ks = taus
                 .iter()
-                .map(|&t| d.gains().gain(s, t))
+                .map(|&t| d.gains().gain(s, t).map(|k| unscale_k(k.as_ref(), scales)))
                 .collect::<Result<Vec<_>, _>>()?;
             let fam = XiFamily::new(rr, &d.p, s)?;
             for &t in &taus {
@@ -427,12 +471,20 @@ impl Sferlazza2021 {
             ));
         }
         for (s, p) in d.p.iter().enumerate() {
+            let coordinates = if balanced {
+                format!(
+                    " in the balanced coordinates x_b = D⁻¹x, D = diag{scales:?}, mapped back as \
+                     P_σ = D⁻¹P_bD⁻¹"
+                )
+            } else {
+                String::new()
+            };
             report.certificate.push(NamedMatrix::new(
                 format!("P_{}", s + 1),
-                p.as_ref(),
+                unscale_p(p.as_ref(), scales).as_ref(),
                 format!(
                     "Lyapunov matrix of sensor {} in (44), solution of (47): I ⪯ P_σ ⪯ p*·I with \
-                     p* = {}; V = e^(−ρτ) x̃ᵀ e^(−Aᵀτ) P_σ e^(−Aτ) x̃ is (30)",
+                     p* = {}{coordinates}; V = e^(−ρτ) x̃ᵀ e^(−Aᵀτ) P_σ e^(−Aτ) x̃ is (30)",
                     s + 1,
                     short(d.p_star)
                 ),
@@ -562,6 +614,14 @@ impl Sferlazza2021 {
             },
             short(d.p_star)
         ));
+        if balanced {
+            report.notes.push(format!(
+                "designed in the balanced coordinates x_b = D⁻¹x with D = diag{scales:?} (powers of \
+                 2, LAPACK gebal scaling of A; exact): the margin and the checks are those of the \
+                 balanced plant, the gains K_σ = D·K_bσ and certificates P_σ = D⁻¹P_bσD⁻¹ are in \
+                 the plant's coordinates"
+            ));
+        }
         report.notes.push(format!(
             "the gain K_σ(τ) of (45) depends on the time τ since the previous sample; each schedule \
              is listed on {} points of its window and is evaluated online from P_σ",

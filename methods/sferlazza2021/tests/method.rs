@@ -3,6 +3,7 @@
 
 use faer::mat;
 use sporadic_sferlazza2021::example::{QuarterCar, WINDOWS};
+use sporadic_sferlazza2021::normalise::{balanced_plant, balancing_scales, unscale_k, unscale_p};
 use sporadic_sferlazza2021::{
     DesignOptions, GridPolicy, MethodError, MethodOptions, ObserverMethod, Plant, Sampling,
     SamplingScenario, SamplingWindow, Scenario, Sferlazza2021, design,
@@ -32,6 +33,12 @@ fn oscillator(t1: f64, t2: f64) -> (Plant, Sampling) {
     (plant, Sampling::RoundRobin(vec![win(t1, t2), win(t1, t2)]))
 }
 
+/// The round-robin plant in the balanced coordinates the contract designs in.
+fn balanced(plant: &Plant, sampling: &Sampling) -> sporadic_sferlazza2021::RoundRobinPlant {
+    let rr = Sferlazza2021::round_robin_plant(plant, sampling).unwrap();
+    balanced_plant(&rr, &balancing_scales(rr.a())).unwrap()
+}
+
 fn fast() -> Sferlazza2021 {
     Sferlazza2021 {
         design: DesignOptions {
@@ -53,7 +60,13 @@ fn trait_design_equals_the_crate_design() {
         .design(&plant, &sampling, &MethodOptions::default())
         .unwrap();
     assert_eq!(r.status, Status::Certified, "{:?}", r.reason);
-    let rr = Sferlazza2021::round_robin_plant(&plant, &sampling).unwrap();
+    // The contract designs in balanced coordinates (powers of 2, exact) and maps back.
+    let rr = balanced(&plant, &sampling);
+    let scales = balancing_scales(
+        Sferlazza2021::round_robin_plant(&plant, &sampling)
+            .unwrap()
+            .a(),
+    );
     let d = design(&rr, &m.design).unwrap();
     assert_eq!(r.gains.len(), 2);
     for s in 0..2 {
@@ -63,14 +76,14 @@ fn trait_design_equals_the_crate_design() {
         assert_eq!(sch.tau[0], WINDOWS[s].0);
         assert_eq!(*sch.tau.last().unwrap(), WINDOWS[s].1);
         for (t, k) in sch.tau.iter().zip(&sch.samples) {
-            let ours = d.gains().gain(s, *t).unwrap();
+            let ours = unscale_k(d.gains().gain(s, *t).unwrap().as_ref(), &scales);
             assert_eq!(k.len(), 4);
             for (i, row) in k.iter().enumerate() {
                 assert_eq!(row, &vec![ours[(i, 0)]], "K_{}({t})", s + 1);
             }
         }
         let p = r.certificate[s].to_mat();
-        assert_eq!(p, d.p[s], "P_{}", s + 1);
+        assert_eq!(p, unscale_p(d.p[s].as_ref(), &scales), "P_{}", s + 1);
     }
     let minima = d.grid_minima(&m.design.validation).unwrap();
     let margin = d.normalised_margin(&minima).unwrap();
@@ -166,6 +179,8 @@ fn not_certified_cases_have_typed_reasons() {
     let mut one = fast();
     one.design.max_iterations = 1;
     let (plant, sampling) = suspension();
+    // One iteration certifies the §6 windows in balanced coordinates; a wider window needs more.
+    let sampling = sampling.with_t2(0.6).unwrap();
     let r = one
         .design(&plant, &sampling, &MethodOptions::default())
         .unwrap();
@@ -203,13 +218,12 @@ fn invalid_input_is_an_error() {
     assert!(matches!(e, MethodError::InvalidInput { .. }), "{e}");
 }
 
-/// The bisection of the former facade: probe the limit, then `T1`, then halve `[lo, hi]` until
+/// The bisection of the former facade (on the balanced plant the contract designs in): probe the limit, then `T1`, then halve `[lo, hi]` until
 /// `hi/lo − 1 ≤ 10⁻²`, moving every sensor's upper end to `max(T1σ, t2)`.
 fn former_search(m: &Sferlazza2021, plant: &Plant, sampling: &Sampling, limit: f64) -> (f64, f64) {
     let ok = |t2: f64| {
         let s = sampling.with_t2(t2).unwrap();
-        let rr = Sferlazza2021::round_robin_plant(plant, &s).unwrap();
-        design(&rr, &m.design).is_ok()
+        design(&balanced(plant, &s), &m.design).is_ok()
     };
     let t1 = sampling.t1();
     assert!(!ok(limit) && ok(t1));
