@@ -1,0 +1,109 @@
+//! `sporadic compare` on every plant of our corpus (`tests/corpus/*.toml`: 36 plants of order
+//! 1–8 that nobody tuned for — oscillators around their aliasing intervals, integrator chains,
+//! unstable linearisations, lightly damped structures, stiff and badly scaled plants,
+//! multi-output and round-robin plants, undetectable, Lipschitz and bounded-disturbance ones):
+//! every answer comes in bounded time and parses as the compare report, and the verdicts listed
+//! in `tests/corpus/expected.toml` hold. Timing goals live in benchmarks; the 60 s bound here
+//! only catches a hang.
+
+use sporadic::model::{CompareReport, Status};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// Runs `compare --json` on `file`, killing it after `limit`.
+fn compare(file: &Path, out: &Path, limit: Duration) -> Result<(i32, String), String> {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_sporadic"))
+        .args(["compare", &file.display().to_string(), "--json", "--out"])
+        .arg(out)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .map_err(|e| e.to_string())?;
+    let start = Instant::now();
+    loop {
+        if let Some(status) = child.try_wait().map_err(|e| e.to_string())? {
+            let mut text = String::new();
+            std::io::Read::read_to_string(child.stdout.as_mut().unwrap(), &mut text)
+                .map_err(|e| e.to_string())?;
+            return Ok((status.code().unwrap_or(-1), text));
+        }
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            return Err(format!("no answer within {limit:?}"));
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+#[test]
+fn compare_answers_every_corpus_plant_in_time_with_the_expected_verdicts() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/corpus");
+    let expected: toml::Table =
+        toml::from_str(&std::fs::read_to_string(dir.join("expected.toml")).unwrap()).unwrap();
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .filter(|p| p.file_stem().is_some_and(|s| s != "expected"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 30, "{} corpus plants", files.len());
+    for stem in expected.keys() {
+        assert!(
+            files
+                .iter()
+                .any(|f| f.file_stem().unwrap().to_str() == Some(stem)),
+            "expected.toml names {stem}, which is not in the corpus"
+        );
+    }
+    let out = std::env::temp_dir().join(format!("sporadic-corpus-{}", std::process::id()));
+    let mut failures = Vec::new();
+    for file in &files {
+        let stem = file.file_stem().unwrap().to_str().unwrap();
+        let (code, text) = match compare(file, &out, Duration::from_secs(60)) {
+            Ok(r) => r,
+            Err(e) => {
+                failures.push(format!("{stem}: {e}"));
+                continue;
+            }
+        };
+        let report: CompareReport = match serde_json::from_str(text.trim()) {
+            Ok(r) => r,
+            Err(e) => {
+                failures.push(format!("{stem}: exit {code}, unparsable report ({e})"));
+                continue;
+            }
+        };
+        let any = report.results.iter().any(|d| d.status.is_certified());
+        if code != if any { 0 } else { 1 } {
+            failures.push(format!("{stem}: exit {code} with certified = {any}"));
+        }
+        let Some(want) = expected.get(stem).and_then(|t| t.as_table()) else {
+            continue;
+        };
+        for (method, verdict) in want {
+            let verdict = verdict.as_str().unwrap();
+            let (status, kind) = verdict.split_once('/').unwrap_or((verdict, ""));
+            let Some(d) = report.results.iter().find(|d| &d.method == method) else {
+                failures.push(format!("{stem}: no result for {method}"));
+                continue;
+            };
+            let got_kind = d.reason.as_ref().map_or("", |r| r.kind());
+            let status_ok = match status {
+                "certified" => d.status == Status::Certified,
+                "not_certified" => d.status == Status::NotCertified,
+                "not_applicable" => d.status == Status::NotApplicable,
+                other => panic!("{stem}: unknown status {other} in expected.toml"),
+            };
+            if !status_ok || (!kind.is_empty() && kind != got_kind) {
+                failures.push(format!(
+                    "{stem}: {method} expected {verdict}, got {}/{got_kind} ({})",
+                    d.status,
+                    d.reason.as_ref().map_or("", |r| r.message())
+                ));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
