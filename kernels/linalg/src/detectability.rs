@@ -85,6 +85,67 @@ pub struct PbhTest {
     pub detectable: bool,
 }
 
+/// The sampling intervals `v ∈ [lo, hi]` at which two non-decaying eigenvalues `λ ≠ λ'` of `A`
+/// with equal real parts alias under `e^{Av}`: `v |Im λ − Im λ'| = 2πk`, `k ≥ 1`. Only at these
+/// isolated `v` can two eigenvalues of `e^{Av}` merge while `(A, C)` is detectable, so a grid of
+/// `v` alone would miss them (Ferrante et al. 2016, Remark 3; Sferlazza et al. 2021,
+/// Proposition 1, for the period of a round of sensors).
+///
+/// A mode counts as non-decaying when `|e^{λv}| ≥ 1 − unit_circle_tol` for some `v ≥ lo`, i.e.
+/// `Re λ ≥ ln(1 − unit_circle_tol)/lo`; eigenvalues are compared relative to their modulus, so
+/// the result does not depend on the time unit. Sorted, without duplicates.
+///
+/// # Errors
+/// [`InputError`] when `0 < lo ≤ hi` fails, and when the window holds more than `max` aliasing
+/// instants (a window that long is to be split, not tested point by point).
+pub fn aliasing_instants(
+    lambdas: &[c64],
+    lo: f64,
+    hi: f64,
+    unit_circle_tol: f64,
+    max: usize,
+) -> Result<Vec<f64>, InputError> {
+    crate::input::check_window("aliasing window", lo, hi, crate::input::LowerEnd::Positive)?;
+    let re_floor = (-unit_circle_tol).ln_1p() / lo;
+    let slow: Vec<c64> = lambdas
+        .iter()
+        .copied()
+        .filter(|l| l.re >= re_floor)
+        .collect();
+    let mut out = Vec::new();
+    for (i, li) in slow.iter().enumerate() {
+        for lj in &slow[i + 1..] {
+            let scale = li.norm().max(lj.norm());
+            let d = (li.im - lj.im).abs();
+            // Equal real parts up to rounding of the eigenvalue solver, distinct imaginary parts.
+            if (li.re - lj.re).abs() > 1e-9 * scale || d <= 1e-12 * scale {
+                continue;
+            }
+            let tau = std::f64::consts::TAU;
+            let k_lo = (lo * d / tau).ceil().max(1.0);
+            let k_hi = (hi * d / tau).floor();
+            if k_hi - k_lo + 1.0 + out.len() as f64 > max as f64 {
+                return Err(InputError::parameter(
+                    "T2 - T1",
+                    hi - lo,
+                    format!(
+                        "the window spans more than {max} aliasing instants of the non-decaying \
+                         modes; split it"
+                    ),
+                ));
+            }
+            let mut k = k_lo;
+            while k <= k_hi {
+                out.push(tau * k / d);
+                k += 1.0;
+            }
+        }
+    }
+    out.sort_by(f64::total_cmp);
+    out.dedup();
+    Ok(out)
+}
+
 /// PBH test of detectability of `(Φ, C)` (module docs), given the `n` eigenvalues of `Φ` (with
 /// multiplicity). For a general `Φ` pass `Φ.eigenvalues()`; for `Φ = e^{AT}` pass `e^{λ_i(A) T}`.
 ///
@@ -335,5 +396,39 @@ mod tests {
             let r = pbh_detectability(phi.as_ref(), c.as_ref(), &z, &o).unwrap();
             prop_assert!(r.detectable && r.worst.is_none(), "{r:?}");
         }
+    }
+}
+
+#[cfg(test)]
+mod aliasing_tests {
+    use super::*;
+
+    #[test]
+    fn aliasing_instants_of_an_oscillator_are_the_multiples_of_pi_over_omega() {
+        let w = 10.0;
+        let l = [c64::new(0.0, w), c64::new(0.0, -w)];
+        let v = aliasing_instants(&l, 0.1, 1.0, 1e-9, 100).unwrap();
+        let want: Vec<f64> = (1..=3)
+            .map(|k| std::f64::consts::PI * k as f64 / w)
+            .collect();
+        assert_eq!(v.len(), want.len(), "{v:?}");
+        for (a, b) in v.iter().zip(&want) {
+            assert!((a - b).abs() <= 1e-15 * b, "{a} {b}");
+        }
+        // Time scaling: (kA, window/k) gives the instants / k.
+        let l10: Vec<c64> = l.iter().map(|x| x * c64::new(10.0, 0.0)).collect();
+        let v10 = aliasing_instants(&l10, 0.01, 0.1, 1e-9, 100).unwrap();
+        for (a, b) in v10.iter().zip(&v) {
+            assert!((a * 10.0 - b).abs() <= 1e-14 * b, "{a} {b}");
+        }
+        // Decaying modes do not alias; too many instants is an error; bad windows too.
+        let decaying = [c64::new(-5.0, w), c64::new(-5.0, -w)];
+        assert!(
+            aliasing_instants(&decaying, 0.1, 1.0, 1e-9, 100)
+                .unwrap()
+                .is_empty()
+        );
+        assert!(aliasing_instants(&l, 0.1, 1e6, 1e-9, 100).is_err());
+        assert!(aliasing_instants(&l, 1.0, 0.1, 1e-9, 100).is_err());
     }
 }

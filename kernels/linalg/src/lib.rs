@@ -29,7 +29,7 @@ mod subspace;
 pub mod symmetric;
 mod van_loan;
 
-pub use detectability::{PbhMode, PbhOptions, PbhTest, pbh_detectability};
+pub use detectability::{PbhMode, PbhOptions, PbhTest, aliasing_instants, pbh_detectability};
 pub use error::LinalgError;
 pub use expm::{EXACT_NORM_MAX_ORDER, PadeParameters, expm, expm_parameters, expm_scaled};
 pub use input::InputError;

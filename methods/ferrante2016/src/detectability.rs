@@ -16,10 +16,8 @@
 //! singular value is the *PBH margin*), with the eigenvalues of `e^{Av}` taken by spectral mapping
 //! `μ = e^{λv}` from those of `A`, exact also at the aliasing instants.
 
-use std::f64::consts::TAU;
-
 use faer::c64;
-use sporadic_linalg::{InputError, LinalgError, PbhOptions, expm_scaled, pbh_detectability};
+use sporadic_linalg::{LinalgError, PbhOptions, aliasing_instants, expm_scaled, pbh_detectability};
 
 use crate::error::Error;
 use crate::grid::window_grid;
@@ -86,7 +84,13 @@ pub fn check_detectability(
     let lambdas = a.eigenvalues().map_err(|_| LinalgError::NoConvergence {
         what: "eigenvalues of A".into(),
     })?;
-    let aliasing = aliasing_instants(&lambdas, window, options.pbh.unit_circle_tol)?;
+    let aliasing = aliasing_instants(
+        &lambdas,
+        window.t1(),
+        window.t2(),
+        options.pbh.unit_circle_tol,
+        MAX_ALIASING_INSTANTS,
+    )?;
     let mut points = window_grid(window, options.grid_points.max(1))?;
     points.extend_from_slice(&aliasing);
     points.sort_by(f64::total_cmp);
@@ -121,49 +125,4 @@ pub fn check_detectability(
         }
     }
     Ok(report)
-}
-
-/// Instants `v ∈ [T1, T2]` at which two non-decaying eigenvalues of `A` with equal real parts alias,
-/// `v |Im λ − Im λ'| = 2πk`, `k ≥ 1`.
-fn aliasing_instants(
-    lambdas: &[c64],
-    window: &SamplingWindow,
-    unit_circle_tolerance: f64,
-) -> Result<Vec<f64>, Error> {
-    // |e^{λv}| ≥ 1 − tol for some v ≤ T2 ⇔ Re λ ≥ ln(1 − tol)/T1 at worst.
-    let re_floor = (-unit_circle_tolerance).ln_1p() / window.t1();
-    let slow: Vec<c64> = lambdas
-        .iter()
-        .copied()
-        .filter(|l| l.re >= re_floor)
-        .collect();
-    let mut out = Vec::new();
-    for (i, li) in slow.iter().enumerate() {
-        for lj in &slow[i + 1..] {
-            let scale = 1.0 + li.norm().max(lj.norm());
-            let d = (li.im - lj.im).abs();
-            if (li.re - lj.re).abs() > 1e-9 * scale || d <= 1e-12 * scale {
-                continue;
-            }
-            let k_lo = (window.t1() * d / TAU).ceil().max(1.0);
-            let k_hi = (window.t2() * d / TAU).floor();
-            if k_hi - k_lo + 1.0 + out.len() as f64 > MAX_ALIASING_INSTANTS as f64 {
-                return Err(InputError::parameter(
-                    "T2 - T1",
-                    window.t2() - window.t1(),
-                    "the window spans more than 100000 aliasing instants of the \
-                             non-decaying modes; split it",
-                )
-                .into());
-            }
-            let mut k = k_lo;
-            while k <= k_hi {
-                out.push(TAU * k / d);
-                k += 1.0;
-            }
-        }
-    }
-    out.sort_by(f64::total_cmp);
-    out.dedup();
-    Ok(out)
 }

@@ -15,10 +15,10 @@
 //! * Jitter-tolerant plants: the box of windows is screened on a uniform grid. This is a necessary
 //!   screen only, not a proof over the continuum.
 
-use std::f64::consts::TAU;
-
 use faer::{Mat, c64};
-use sporadic_linalg::{InputError, PbhOptions, PbhTest, expm_scaled, pbh_detectability};
+use sporadic_linalg::{
+    InputError, PbhOptions, PbhTest, aliasing_instants, expm_scaled, pbh_detectability,
+};
 
 use crate::error::{Error, check_at_least};
 use crate::plant::{RoundRobinPlant, window_grid};
@@ -225,29 +225,16 @@ fn aliasing_tuples(
         .a()
         .eigenvalues()
         .map_err(|_| Error::numerical("eigenvalues of A did not converge"))?;
-    // |e^{λT}| ≥ 1 − tol for some T ∈ [lo, hi] ⇔ Re λ ≥ ln(1 − tol)/hi (or any Re λ ≥ 0).
-    let re_floor = (-settings.pbh.unit_circle_tol).ln_1p() / hi.max(f64::MIN_POSITIVE);
-    let slow: Vec<c64> = lambdas.into_iter().filter(|l| l.re >= re_floor).collect();
-    let mut periods = Vec::new();
-    for (i, li) in slow.iter().enumerate() {
-        for lj in &slow[i + 1..] {
-            let scale = li.norm().max(lj.norm());
-            let d = (li.im - lj.im).abs();
-            // Equal real parts up to rounding of the eigenvalue solver, distinct imaginary parts.
-            if (li.re - lj.re).abs() > 1e-9 * scale || d <= 1e-12 * scale {
-                continue;
-            }
-            let k_lo = (lo * d / TAU).ceil().max(1.0);
-            let k_hi = (hi * d / TAU).floor();
-            let mut k = k_lo;
-            while k <= k_hi && periods.len() < MAX_ALIASING_INSTANTS {
-                periods.push(TAU * k / d);
-                k += 1.0;
-            }
-        }
-    }
-    periods.sort_by(f64::total_cmp);
-    periods.dedup();
+    // A window spanning more aliasing periods than the cap is screened on its grid only (the
+    // screen is a necessary condition; the design's own validation still decides).
+    let periods = aliasing_instants(
+        &lambdas,
+        lo.max(f64::MIN_POSITIVE),
+        hi.max(f64::MIN_POSITIVE),
+        settings.pbh.unit_circle_tol,
+        MAX_ALIASING_INSTANTS,
+    )
+    .unwrap_or_default();
     Ok(periods
         .into_iter()
         .map(|t| {
