@@ -240,7 +240,8 @@ pub fn largest_window_with<M: ObserverMethod + ?Sized>(
             message: String::new(),
         },
     );
-    report.reason = None;
+    // Filled below; the search decides status and reason.
+    (report.status, report.reason) = (Status::NotCertified, None);
     let invalid = |e: BoxedError| MethodError::InvalidInput {
         method: method.id(),
         source: e,
