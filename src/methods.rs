@@ -9,8 +9,8 @@
 
 use crate::plant_file::PlantFile;
 use sporadic_model::{
-    CompareReport, DesignReport, MaxIntervalReport, MethodError, MethodOptions, ObserverMethod,
-    Plant, Probe, Reason, Sampling, Scenario, Trajectory,
+    CompareEntry, CompareReport, DesignReport, MaxIntervalReport, MethodError, MethodOptions,
+    ObserverMethod, Plant, Probe, Reason, Sampling, Scenario, Trajectory,
 };
 
 /// Every method, in the order of the seed papers.
@@ -93,7 +93,7 @@ pub fn design(
     let start = std::time::Instant::now();
     let mut report = match setup(file, method) {
         Ok((plant, sampling)) => {
-            let r = method.design(&plant, &sampling, options);
+            let r = sporadic_model::design_within(method, &plant, &sampling, options);
             numerical_as_verdict(method, &plant, &sampling, r)?
         }
         Err((sampling, reason)) => {
@@ -143,13 +143,71 @@ fn not_searched(
     MaxIntervalReport::without_search(method.id(), &file.name, sampling, Some(limit), reason)
 }
 
-/// Every registered method on the plant file.
-pub fn compare(file: &PlantFile, options: &MethodOptions) -> Result<CompareReport, MethodError> {
-    let results = registry()
+/// The default upper end of a window search: 10 × the largest `T2` of the file (`None` when the
+/// file has no sampling).
+pub fn default_limit(file: &PlantFile) -> Option<f64> {
+    let t2 = file
+        .sensors
         .iter()
-        .map(|m| design(file, m.as_ref(), options))
-        .collect::<Result<Vec<_>, _>>()?;
-    Ok(CompareReport::new(file.name.clone(), results))
+        .map(|s| s.window.t2())
+        .chain(file.window.map(|w| w.t2()))
+        .fold(0.0, f64::max);
+    (t2 > 0.0).then_some(10.0 * t2)
+}
+
+/// Every registered method on the plant file: the design at the file's own sampling and,
+/// when `limit` is given, the largest certified `T2 ≤ limit` with the file's `T1`.
+///
+/// [`MethodOptions::time_limit`] is the budget of the whole comparison. The designs run first,
+/// each with an equal share of what is left when its turn comes; then the searches of the
+/// methods that apply, again each with an equal share of what is left (so time a fast method
+/// leaves unused goes to the later ones).
+pub fn compare(
+    file: &PlantFile,
+    options: &MethodOptions,
+    limit: Option<f64>,
+    progress: &mut dyn FnMut(&str, &Probe),
+) -> Result<CompareReport, MethodError> {
+    let start = std::time::Instant::now();
+    let share = |turns_left: usize| MethodOptions {
+        time_limit: options
+            .time_limit
+            .map(|t| t.saturating_sub(start.elapsed()) / turns_left.max(1) as u32),
+        ..*options
+    };
+    let methods = registry();
+    let mut designs = Vec::with_capacity(methods.len());
+    for (k, m) in methods.iter().enumerate() {
+        designs.push(design(file, m.as_ref(), &share(methods.len() - k))?);
+    }
+    let searched: Vec<bool> = designs
+        .iter()
+        .map(|d| limit.is_some() && !d.status.is_not_applicable())
+        .collect();
+    let mut searches_left = searched.iter().filter(|&&s| s).count();
+    let mut results = Vec::with_capacity(methods.len());
+    for ((m, design), search) in methods.iter().zip(designs).zip(searched) {
+        let largest_window = match limit {
+            Some(limit) if search => {
+                let mut report = |p: &Probe| progress(m.id(), p);
+                let r = max_interval(file, m.as_ref(), limit, &share(searches_left), &mut report)?;
+                searches_left -= 1;
+                Some(r)
+            }
+            _ => None,
+        };
+        results.push(CompareEntry {
+            method: m.id().to_string(),
+            design,
+            largest_window,
+        });
+    }
+    Ok(CompareReport::new(
+        file.name.clone(),
+        limit,
+        results,
+        start.elapsed().as_secs_f64(),
+    ))
 }
 
 /// Simulates a certified design of `method` for the plant file.
@@ -164,8 +222,14 @@ pub fn simulate(
             method: method.id(),
             why: reason.message().to_string(),
         })?;
-    method.simulate(&plant, design, scenario)
+    let mut run = method.simulate(&plant, design, scenario)?;
+    run.report.settling_time = run.settling_time(SETTLING_BAND);
+    Ok(run)
 }
+
+/// The band of [`sporadic_model::SimulationReport::settling_time`] reported by [`simulate`]:
+/// 2% of the initial error, the usual settling-time band of control engineering.
+pub const SETTLING_BAND: f64 = 0.02;
 
 #[cfg(test)]
 mod tests {

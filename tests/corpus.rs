@@ -2,9 +2,10 @@
 //! 1–8 that nobody tuned for — oscillators around their aliasing intervals, integrator chains,
 //! unstable linearisations, lightly damped structures, stiff and badly scaled plants,
 //! multi-output and round-robin plants, undetectable, Lipschitz and bounded-disturbance ones):
-//! every answer comes in bounded time and parses as the compare report, and the verdicts listed
-//! in `tests/corpus/expected.toml` hold. Timing goals live in benchmarks; the 60 s bound here
-//! only catches a hang.
+//! every answer comes within the default time budget (25 s, `--time-limit`) and parses as the
+//! compare report, and the verdicts listed in `tests/corpus/expected.toml` hold for the file's
+//! own sampling (`--no-search`; the window searches are timed in `benches/`). Timing goals live
+//! in benchmarks; the 40 s bound here only catches a command that overruns its budget.
 
 use sporadic::model::{CompareReport, Status};
 use std::path::{Path, PathBuf};
@@ -14,7 +15,13 @@ use std::time::{Duration, Instant};
 /// Runs `compare --json` on `file`, killing it after `limit`.
 fn compare(file: &Path, out: &Path, limit: Duration) -> Result<(i32, String), String> {
     let mut child = Command::new(env!("CARGO_BIN_EXE_sporadic"))
-        .args(["compare", &file.display().to_string(), "--json", "--out"])
+        .args([
+            "compare",
+            &file.display().to_string(),
+            "--no-search",
+            "--json",
+            "--out",
+        ])
         .arg(out)
         .stdout(Stdio::piped())
         .stderr(Stdio::null())
@@ -61,7 +68,7 @@ fn compare_answers_every_corpus_plant_in_time_with_the_expected_verdicts() {
     let mut failures = Vec::new();
     for file in &files {
         let stem = file.file_stem().unwrap().to_str().unwrap();
-        let (code, text) = match compare(file, &out, Duration::from_secs(60)) {
+        let (code, text) = match compare(file, &out, Duration::from_secs(40)) {
             Ok(r) => r,
             Err(e) => {
                 failures.push(format!("{stem}: {e}"));
@@ -75,7 +82,7 @@ fn compare_answers_every_corpus_plant_in_time_with_the_expected_verdicts() {
                 continue;
             }
         };
-        let any = report.results.iter().any(|d| d.status.is_certified());
+        let any = report.results.iter().any(|e| e.certifies_anything());
         if code != if any { 0 } else { 1 } {
             failures.push(format!("{stem}: exit {code} with certified = {any}"));
         }
@@ -85,7 +92,7 @@ fn compare_answers_every_corpus_plant_in_time_with_the_expected_verdicts() {
         for (method, verdict) in want {
             let verdict = verdict.as_str().unwrap();
             let (status, kind) = verdict.split_once('/').unwrap_or((verdict, ""));
-            let Some(d) = report.results.iter().find(|d| &d.method == method) else {
+            let Some(d) = report.entry(method).map(|e| &e.design) else {
                 failures.push(format!("{stem}: no result for {method}"));
                 continue;
             };

@@ -6,6 +6,10 @@
 //! light vertical lines — the projection onto ordinary time used in the figures of Ferrante et al. (2016,
 //! Fig. 1) and in HyEQ's `plotHybrid`. Non-finite values are rejected.
 
+mod windows;
+
+pub use windows::{WindowBar, plot_window_bars};
+
 use sporadic_linalg::InputError;
 use std::ops::Range;
 use std::path::Path;

@@ -36,13 +36,13 @@ pub mod window;
 pub use faer;
 pub use method::{
     BoxedError, MethodError, MethodOptions, ObserverMethod, SamplingScenario, Scenario, TimeLimit,
-    Trajectory, default_largest_window, largest_window_with,
+    Trajectory, default_largest_window, design_within, largest_window_with,
 };
 pub use outcome::{NotApplicable, Reason, Status};
 pub use plant::{Bounds, Lipschitz, Outputs, Plant};
 pub use report::{
-    COMPARE_SCHEMA, Check, CompareReport, DESIGN_SCHEMA, DesignReport, Gain, GainSchedule,
-    MAX_INTERVAL_SCHEMA, Margin, MaxIntervalReport, NamedMatrix, Probe, SearchEnd,
+    COMPARE_SCHEMA, Check, CompareEntry, CompareReport, DESIGN_SCHEMA, DesignReport, Gain,
+    GainSchedule, MAX_INTERVAL_SCHEMA, Margin, MaxIntervalReport, NamedMatrix, Probe, SearchEnd,
     SimulationReport,
 };
 pub use search::{
@@ -50,5 +50,6 @@ pub use search::{
     search_upper,
 };
 pub use sporadic_linalg::InputError;
+pub use sporadic_sdp::budget::{self, Budget};
 pub use stats::SolverStats;
 pub use window::{Sampling, SamplingWindow};

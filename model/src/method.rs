@@ -5,6 +5,7 @@ use crate::plant::Plant;
 use crate::report::{DesignReport, MaxIntervalReport, SimulationReport};
 use crate::search::{SearchError, Verdict, WindowSearchOptions, search_upper};
 use crate::window::Sampling;
+use sporadic_sdp::budget::{self, Budget};
 use std::time::{Duration, Instant};
 
 /// A boxed error with its chain of causes (a paper crate's typed error).
@@ -122,6 +123,26 @@ pub struct Trajectory {
     pub report: SimulationReport,
 }
 
+impl Trajectory {
+    /// The first time after which [`norm`](Self::norm) stays at or below `band` × its initial
+    /// value to the end of the run, if it does by the last sample point of the run (`None`
+    /// for an empty run, a zero or non-finite initial norm, or a run that ends outside the
+    /// band). Scale-free: the band is relative to the initial norm.
+    pub fn settling_time(&self, band: f64) -> Option<f64> {
+        let first = *self.norm.first()?;
+        if !(first.is_finite() && first > 0.0) {
+            return None;
+        }
+        let bound = band * first;
+        let outside = self.norm.iter().rposition(|&v| !(v <= bound));
+        match outside {
+            None => self.t.first().copied(),
+            Some(k) if k + 1 < self.norm.len() => Some(self.t[k + 1]),
+            Some(_) => None,
+        }
+    }
+}
+
 /// An observer design method of one paper.
 ///
 /// Every method answers, for a validated [`Plant`] and its [`Sampling`]: does it apply
@@ -176,6 +197,72 @@ pub trait ObserverMethod: Send + Sync {
             method: self.id(),
             why: "this method has no simulation".into(),
         })
+    }
+}
+
+/// [`ObserverMethod::design`] within [`MethodOptions::time_limit`]: every solve the design
+/// starts on this thread stops once the limit (or any enclosing [`sporadic_sdp::budget`]
+/// scope) runs out, and a design that ends uncertified after that reports
+/// [`Reason::BudgetExhausted`] instead of whatever the interrupted solve led it to say. A
+/// verdict decided before the budget ran out (not detectable, LMI infeasible, missing data,
+/// unsupported structure) is kept, and so is a design certified in time (its certificate was
+/// re-verified as usual).
+pub fn design_within(
+    method: &dyn ObserverMethod,
+    plant: &Plant,
+    sampling: &Sampling,
+    options: &MethodOptions,
+) -> Result<DesignReport, MethodError> {
+    let start = Instant::now();
+    let budget = Budget::for_duration(options.time_limit);
+    budget::within(budget, || {
+        let r = method.design(plant, sampling, options);
+        if !budget::exhausted() {
+            return r;
+        }
+        let decided = |d: &DesignReport| {
+            d.status.is_certified()
+                || matches!(
+                    d.reason,
+                    Some(
+                        Reason::Undetectable { .. }
+                            | Reason::InfeasibleLmi { .. }
+                            | Reason::MissingData { .. }
+                            | Reason::UnsupportedStructure { .. }
+                    )
+                )
+        };
+        match r {
+            Ok(d) if decided(&d) => Ok(d),
+            Ok(_) | Err(MethodError::Numerical { .. }) => {
+                let mut d = DesignReport::without_design(
+                    method,
+                    plant.name(),
+                    Some(sampling),
+                    Reason::BudgetExhausted {
+                        message: budget_words(&budget::current(), options.time_limit),
+                    },
+                );
+                d.seconds = start.elapsed().as_secs_f64();
+                Ok(d)
+            }
+            Err(e) => Err(e),
+        }
+    })
+}
+
+/// Which budget stopped a design or search.
+fn budget_words(budget: &Budget, limit: Option<Duration>) -> String {
+    if budget.is_cancelled() {
+        "cancelled before the design was decided".into()
+    } else {
+        match limit {
+            Some(l) => format!(
+                "the time limit of {:.2} s ran out before the design was decided",
+                l.as_secs_f64()
+            ),
+            None => "the enclosing time limit ran out before the design was decided".into(),
+        }
     }
 }
 
@@ -247,17 +334,21 @@ pub fn largest_window_with<M: ObserverMethod + ?Sized>(
         source: e,
     };
     let mut best: Option<(f64, DesignReport)> = None;
+    let out_of_time = || MethodError::Numerical {
+        method: method.id(),
+        source: Box::new(TimeLimit(options.time_limit)),
+    };
     let mut run = |t2: f64| -> Result<Verdict, MethodError> {
-        if let Some(limit) = options.time_limit
-            && start.elapsed() > limit
-        {
-            return Err(MethodError::Numerical {
-                method: method.id(),
-                source: Box::new(TimeLimit(limit)),
-            });
+        if budget::exhausted() {
+            return Err(out_of_time());
         }
         let s = sampling.with_t2(t2).map_err(|e| invalid(Box::new(e)))?;
-        let d = probe(&s)?;
+        let d = probe(&s);
+        // A probe cut short by the budget is no verdict on its window.
+        if budget::exhausted() && !d.as_ref().is_ok_and(|d| d.status.is_certified()) {
+            return Err(out_of_time());
+        }
+        let d = d?;
         let v = Verdict {
             certified: d.status.is_certified(),
             margin: d.margin.as_ref().map(|m| m.value),
@@ -275,7 +366,10 @@ pub fn largest_window_with<M: ObserverMethod + ?Sized>(
         }
         Ok(v)
     };
-    let search = match search_upper(t1, limit, search, &mut run) {
+    let searched = budget::within(Budget::for_duration(options.time_limit), || {
+        search_upper(t1, limit, search, &mut run)
+    });
+    let search = match searched {
         Ok(s) => s,
         Err(SearchError::Input(e)) => return Err(invalid(Box::new(e))),
         Err(SearchError::Probe(MethodError::Numerical { source, .. }))
@@ -321,7 +415,65 @@ pub fn largest_window_with<M: ObserverMethod + ?Sized>(
     Ok(report)
 }
 
-/// The wall-time budget ran out.
+/// The wall-time budget ran out (`None`: an enclosing budget, or a cancellation).
 #[derive(Debug, thiserror::Error)]
-#[error("time limit of {0:?} reached")]
-pub struct TimeLimit(pub Duration);
+pub struct TimeLimit(pub Option<Duration>);
+
+impl std::fmt::Display for TimeLimit {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.0 {
+            Some(l) => write!(f, "time limit of {:.2} s reached", l.as_secs_f64()),
+            None => f.write_str("the enclosing time budget ran out or the run was cancelled"),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn run(t: &[f64], norm: &[f64]) -> Trajectory {
+        Trajectory {
+            quantity: "error".into(),
+            t: t.to_vec(),
+            j: vec![0; t.len()],
+            signals: Vec::new(),
+            norm: norm.to_vec(),
+            report: SimulationReport {
+                setup: String::new(),
+                samples: 0,
+                initial_error: norm[0],
+                final_error: *norm.last().unwrap(),
+                result: String::new(),
+                settling_time: None,
+                figure: None,
+            },
+        }
+    }
+
+    #[test]
+    fn settling_time_is_the_last_entry_into_the_band_and_scale_free() {
+        let t = [0.0, 1.0, 2.0, 3.0, 4.0];
+        // Enters the 2% band at t = 2, leaves it at t = 3, re-enters at t = 4.
+        let norm = [1.0, 0.5, 0.01, 0.03, 0.015];
+        assert_eq!(run(&t, &norm).settling_time(0.02), Some(4.0));
+        let scaled: Vec<f64> = norm.iter().map(|v| 1e-7 * v).collect();
+        assert_eq!(run(&t, &scaled).settling_time(0.02), Some(4.0));
+        // Ends outside the band: not settled.
+        assert_eq!(
+            run(&t, &[1.0, 0.5, 0.01, 0.01, 0.3]).settling_time(0.02),
+            None
+        );
+        // A zero or non-finite start has no relative band.
+        assert_eq!(run(&t, &[0.0; 5]).settling_time(0.02), None);
+        assert_eq!(
+            run(&t, &[f64::NAN, 0.0, 0.0, 0.0, 0.0]).settling_time(0.02),
+            None
+        );
+        // A NaN later is outside every band.
+        assert_eq!(
+            run(&t, &[1.0, 0.0, f64::NAN, 0.0, 0.0]).settling_time(0.02),
+            Some(3.0)
+        );
+    }
+}

@@ -12,7 +12,10 @@
 //!   `reason`, `t1`, `limit`, `largest_certified_t2`, `first_failing_t2` (`null` when
 //!   certified up to `limit`), `search_end`, `probes`, `design` (the design report at the
 //!   largest certified window), `seconds`.
-//! * `sporadic.compare/1` ([`CompareReport`]): `plant`, `results` (design reports).
+//! * `sporadic.compare/2` ([`CompareReport`]): `plant`, `limit` (the largest `T2` searched),
+//!   `results` (one [`CompareEntry`] per method: `method`, `design` — the design report at the
+//!   plant file's own sampling — and `largest_window` — the max-interval report with the
+//!   file's `T1`, `null` when no search was run), `seconds`.
 
 use crate::outcome::{Reason, Status};
 use crate::window::{Sampling, SamplingWindow};
@@ -24,7 +27,7 @@ pub const DESIGN_SCHEMA: &str = "sporadic.design/1";
 /// `schema` of a [`MaxIntervalReport`].
 pub const MAX_INTERVAL_SCHEMA: &str = "sporadic.max-interval/1";
 /// `schema` of a [`CompareReport`].
-pub const COMPARE_SCHEMA: &str = "sporadic.compare/1";
+pub const COMPARE_SCHEMA: &str = "sporadic.compare/2";
 
 /// A matrix with its name in the paper and what it is.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -180,6 +183,11 @@ pub struct SimulationReport {
     pub final_error: f64,
     /// The main results in words.
     pub result: String,
+    /// The 2% settling time: the first time after which the norm stays within 2% of its
+    /// initial value to the end of the run (`None`: it did not settle within the horizon,
+    /// or was not computed). See [`crate::Trajectory::settling_time`].
+    #[serde(default)]
+    pub settling_time: Option<f64>,
     /// The SVG figure, if one was written.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub figure: Option<String>,
@@ -380,24 +388,66 @@ impl MaxIntervalReport {
     }
 }
 
-/// Every method on one plant: `sporadic.compare/1`.
+/// One method in a [`CompareReport`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CompareEntry {
+    /// The method id.
+    pub method: String,
+    /// The design at the plant file's own sampling.
+    pub design: DesignReport,
+    /// The largest certified `T2` with the file's `T1` (`None`: no search was run, because
+    /// the method does not apply or the comparison was asked without search).
+    pub largest_window: Option<MaxIntervalReport>,
+}
+
+impl CompareEntry {
+    /// The largest certified `T2` of the search, if one was run and certified anything.
+    pub fn largest_certified_t2(&self) -> Option<f64> {
+        self.largest_window
+            .as_ref()
+            .and_then(|r| r.largest_certified_t2)
+    }
+
+    /// Whether the file's sampling or some searched window was certified.
+    pub fn certifies_anything(&self) -> bool {
+        self.design.status.is_certified() || self.largest_certified_t2().is_some()
+    }
+}
+
+/// Every method on one plant: `sporadic.compare/2`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct CompareReport {
     /// Always [`COMPARE_SCHEMA`].
     pub schema: String,
     /// The plant's name.
     pub plant: String,
-    /// One design report per method, in registry order.
-    pub results: Vec<DesignReport>,
+    /// The largest `T2` searched (`None` when no search was run).
+    pub limit: Option<f64>,
+    /// One entry per method, in registry order.
+    pub results: Vec<CompareEntry>,
+    /// Wall time of the whole comparison, seconds.
+    pub seconds: f64,
 }
 
 impl CompareReport {
     /// The report of `results` for `plant`.
-    pub fn new(plant: impl Into<String>, results: Vec<DesignReport>) -> Self {
+    pub fn new(
+        plant: impl Into<String>,
+        limit: Option<f64>,
+        results: Vec<CompareEntry>,
+        seconds: f64,
+    ) -> Self {
         Self {
             schema: COMPARE_SCHEMA.into(),
             plant: plant.into(),
+            limit: limit.filter(|l| l.is_finite()),
             results,
+            seconds,
         }
+    }
+
+    /// The entry of `method`.
+    pub fn entry(&self, method: &str) -> Option<&CompareEntry> {
+        self.results.iter().find(|e| e.method == method)
     }
 }

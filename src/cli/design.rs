@@ -5,8 +5,9 @@ use super::{Failure, Outcome};
 use sporadic::methods;
 use sporadic::plant_file::PlantFile;
 use sporadic_model::{
-    DesignReport, MaxIntervalReport, MethodError, MethodOptions, NamedMatrix, ObserverMethod,
-    Probe, SamplingScenario, Scenario, Status, Trajectory,
+    CompareReport, DesignReport, MaxIntervalReport, MethodError, MethodOptions, NamedMatrix,
+    ObserverMethod, Probe, SamplingScenario, SamplingWindow, Scenario, SearchEnd, Status,
+    Trajectory,
 };
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
@@ -35,6 +36,120 @@ fn method_arg(id: &str) -> Result<String, String> {
     }
 }
 
+/// The wall-time budget of a command.
+#[derive(Debug, Clone, Copy, clap::Args)]
+pub struct TimeBudget {
+    /// Wall-time budget in seconds. Every solve stops once it runs out, and a design or search
+    /// not decided by then reports `budget_exhausted` (a search keeps the windows certified so
+    /// far). `compare` shares it among the methods.
+    #[arg(
+        long,
+        value_name = "SECONDS",
+        default_value_t = DEFAULT_TIME_LIMIT,
+        allow_negative_numbers = true
+    )]
+    pub time_limit: f64,
+    /// Run without a time budget.
+    #[arg(long, conflicts_with = "time_limit")]
+    pub no_time_limit: bool,
+}
+
+/// The default of `--time-limit`, seconds: every command answers within 30 s.
+pub const DEFAULT_TIME_LIMIT: f64 = 25.0;
+
+impl TimeBudget {
+    /// The method options with this budget.
+    fn options(self) -> Result<MethodOptions, Failure> {
+        let mut options = MethodOptions::default();
+        if !self.no_time_limit {
+            let s = self.time_limit;
+            if !(s.is_finite() && s > 0.0) {
+                return Err(Failure::Input(format!(
+                    "--time-limit must be a positive number of seconds, got {s}"
+                )));
+            }
+            options.time_limit = Some(std::time::Duration::from_secs_f64(s));
+        }
+        Ok(options)
+    }
+}
+
+/// How the sampling intervals of a simulation are drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ScenarioArg {
+    /// Uniformly at random in the window (each sensor's, for round-robin), with `--seed`.
+    Uniform,
+    /// Always the shortest interval T1.
+    PeriodicT1,
+    /// Always the longest interval T2.
+    PeriodicT2,
+}
+
+/// The simulation options of `sporadic design`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct SimulationArgs {
+    /// Simulate the certified observer and write an SVG figure of the estimation error
+    /// (interval width for rabehi2021) into this folder. Offered by ferrante2016,
+    /// sferlazza2021 and rabehi2021.
+    #[arg(long, value_name = "OUT_DIR")]
+    pub simulate: Option<PathBuf>,
+    /// Simulate and write the time series as CSV (columns t, j, norm, then one per signal).
+    #[arg(long, value_name = "FILE")]
+    pub csv: Option<PathBuf>,
+    /// Simulated time in seconds (default: the method's, a few dozen longest intervals).
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+    pub horizon: Option<f64>,
+    /// Initial estimation error x(0) - x_hat(0), comma-separated, one entry per state (for
+    /// rabehi2021 the half-width of the initial enclosure; default: all ones).
+    #[arg(
+        long,
+        value_name = "E1,E2,...",
+        value_delimiter = ',',
+        allow_negative_numbers = true
+    )]
+    pub initial_error: Option<Vec<f64>>,
+    /// How the sampling intervals are drawn.
+    #[arg(long, value_enum, default_value_t = ScenarioArg::Uniform)]
+    pub scenario: ScenarioArg,
+    /// Seed of the random sampling intervals of `--scenario uniform`.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+}
+
+impl SimulationArgs {
+    /// Whether a simulation was asked for.
+    fn wanted(&self) -> bool {
+        self.simulate.is_some() || self.csv.is_some()
+    }
+
+    /// The scenario, or why the options are invalid.
+    fn scenario(&self) -> Result<Scenario, Failure> {
+        if let Some(h) = self.horizon
+            && !(h.is_finite() && h > 0.0)
+        {
+            return Err(Failure::Input(format!(
+                "--horizon must be a positive finite time, got {h}"
+            )));
+        }
+        if let Some(e) = &self.initial_error
+            && let Some(bad) = e.iter().find(|v| !v.is_finite())
+        {
+            return Err(Failure::Input(format!(
+                "--initial-error entries must be finite, got {bad}"
+            )));
+        }
+        Ok(Scenario {
+            horizon: self.horizon,
+            initial_error: self.initial_error.clone(),
+            sampling: match self.scenario {
+                ScenarioArg::Uniform => SamplingScenario::Uniform { seed: self.seed },
+                ScenarioArg::PeriodicT1 => SamplingScenario::PeriodicT1,
+                ScenarioArg::PeriodicT2 => SamplingScenario::PeriodicT2,
+            },
+        })
+    }
+}
+
 /// Arguments of `sporadic design`.
 #[derive(Debug, clap::Args)]
 pub struct DesignArgs {
@@ -46,14 +161,10 @@ pub struct DesignArgs {
     pub method: String,
     #[command(flatten)]
     pub format: Format,
-    /// Also simulate the certified observer and write an SVG figure of the estimation error
-    /// (interval width for rabehi2021) into this folder. Offered by ferrante2016,
-    /// sferlazza2021 and rabehi2021.
-    #[arg(long, value_name = "OUT_DIR")]
-    pub simulate: Option<PathBuf>,
-    /// Seed of the random sampling intervals of `--simulate`.
-    #[arg(long, default_value_t = 1, requires = "simulate")]
-    pub seed: u64,
+    #[command(flatten)]
+    pub budget: TimeBudget,
+    #[command(flatten)]
+    pub simulation: SimulationArgs,
 }
 
 /// Arguments of `sporadic max-interval`.
@@ -65,12 +176,10 @@ pub struct MaxIntervalArgs {
     #[arg(long, value_parser = method_arg)]
     pub method: String,
     /// Largest upper end searched (default: 10 × the file's largest T2).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub limit: Option<f64>,
-    /// Wall-time budget of the search in seconds; when it runs out the search reports the
-    /// bracket found so far (reason `budget_exhausted`).
-    #[arg(long, value_name = "SECONDS")]
-    pub time_limit: Option<f64>,
+    #[command(flatten)]
+    pub budget: TimeBudget,
     #[command(flatten)]
     pub format: Format,
 }
@@ -80,9 +189,17 @@ pub struct MaxIntervalArgs {
 pub struct CompareArgs {
     /// The plant file (TOML).
     pub plant: PathBuf,
+    /// Largest upper end T2 searched for each method (default: 10 × the file's largest T2).
+    #[arg(long, allow_negative_numbers = true)]
+    pub limit: Option<f64>,
+    /// Only certify the file's own sampling; do not search the largest T2.
+    #[arg(long, conflicts_with = "limit")]
+    pub no_search: bool,
     /// Folder for the figure of the certified windows.
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
+    #[command(flatten)]
+    pub budget: TimeBudget,
     #[command(flatten)]
     pub format: Format,
 }
@@ -191,35 +308,72 @@ fn verdict(status: Status) -> Outcome {
 pub fn design(args: &DesignArgs) -> Result<Outcome, Failure> {
     let file = read(&args.plant)?;
     let method = lookup(&args.method)?;
-    let mut report = methods::design(&file, method.as_ref(), &MethodOptions::default())
-        .map_err(method_failure)?;
-    if let Some(dir) = &args.simulate
-        && report.status.is_certified()
-    {
-        let scenario = Scenario {
-            sampling: SamplingScenario::Uniform { seed: args.seed },
-            ..Scenario::default()
-        };
+    let sim = &args.simulation;
+    let scenario = sim.scenario()?;
+    let options = args.budget.options()?;
+    let mut report = methods::design(&file, method.as_ref(), &options).map_err(method_failure)?;
+    if sim.wanted() && report.status.is_certified() {
         let run =
             methods::simulate(&file, method.as_ref(), &report, &scenario).map_err(|e| match e {
                 MethodError::SimulationUnavailable { .. } => Failure::Input(e.chain()),
                 e => method_failure(e),
             })?;
-        let mut sim = run.report.clone();
-        sim.figure = Some(draw_trajectory(dir, &file.name, method.id(), &run)?);
-        report.simulation = Some(sim);
+        let mut summary = run.report.clone();
+        if let Some(dir) = &sim.simulate {
+            summary.figure = Some(draw_trajectory(dir, &file.name, method.id(), &run)?);
+        }
+        if let Some(path) = &sim.csv {
+            write_csv(path, &run)?;
+        }
+        report.simulation = Some(summary);
     }
     if !print_report(args.format, &report)? {
         print_design(&report);
         if let Some(s) = &report.simulation {
             println!("simulation: {}", s.setup);
             println!("simulation: {}", s.result);
+            match s.settling_time {
+                Some(t) => println!(
+                    "simulation: settled: the norm stays within {}% of its initial value from t = {} s",
+                    100.0 * methods::SETTLING_BAND,
+                    short(t)
+                ),
+                None => println!(
+                    "simulation: not settled: the norm is not within {}% of its initial value at the end of the run (raise --horizon)",
+                    100.0 * methods::SETTLING_BAND
+                ),
+            }
             if let Some(f) = &s.figure {
                 println!("figure: {f}");
+            }
+            if let Some(c) = &sim.csv {
+                println!("time series: {}", c.display());
             }
         }
     }
     Ok(verdict(report.status))
+}
+
+/// Writes the simulated time series as CSV: `t,j,norm,<signal>...`, one row per hybrid time.
+fn write_csv(path: &Path, run: &Trajectory) -> Result<(), Failure> {
+    let mut out = String::from("t,j,norm");
+    for (name, _) in &run.signals {
+        out.push(',');
+        out.push_str(&name.replace(',', ";"));
+    }
+    out.push('\n');
+    for (k, t) in run.t.iter().enumerate() {
+        out.push_str(&format!("{t:e},{},{:e}", run.j[k], run.norm[k]));
+        for (_, v) in &run.signals {
+            out.push_str(&format!(",{:e}", v[k]));
+        }
+        out.push('\n');
+    }
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| Failure::Input(format!("{}: {e}", dir.display())))?;
+    }
+    std::fs::write(path, out).map_err(|e| Failure::Input(format!("{}: {e}", path.display())))
 }
 
 /// Writes `<method>_error.svg` (or `_width.svg`): the norm of the simulated signal over
@@ -247,11 +401,11 @@ fn draw_trajectory(
 }
 
 /// Progress lines: overwritten in place on a terminal, one per line otherwise.
-fn progress_printer() -> impl FnMut(&Probe) {
+fn progress_printer() -> impl FnMut(&str, &Probe) {
     let tty = std::io::stderr().is_terminal();
-    move |p: &Probe| {
+    move |prefix: &str, p: &Probe| {
         let line = format!(
-            "T2 = {:.6}: {}",
+            "{prefix}T2 = {:.6}: {}",
             p.t2,
             if p.certified {
                 "certified"
@@ -267,16 +421,6 @@ fn progress_printer() -> impl FnMut(&Probe) {
         }
         let _ = err.flush();
     }
-}
-
-fn default_limit(file: &PlantFile) -> Option<f64> {
-    let t2 = file
-        .sensors
-        .iter()
-        .map(|s| s.window.t2())
-        .chain(file.window.map(|w| w.t2()))
-        .fold(0.0, f64::max);
-    (t2 > 0.0).then_some(10.0 * t2)
 }
 
 fn print_max_interval(r: &MaxIntervalReport) {
@@ -315,16 +459,8 @@ fn print_max_interval(r: &MaxIntervalReport) {
 pub fn max_interval(args: &MaxIntervalArgs) -> Result<Outcome, Failure> {
     let file = read(&args.plant)?;
     let method = lookup(&args.method)?;
-    let mut options = MethodOptions::default();
-    if let Some(s) = args.time_limit {
-        if !(s.is_finite() && s > 0.0) {
-            return Err(Failure::Input(format!(
-                "--time-limit must be a positive number of seconds, got {s}"
-            )));
-        }
-        options.time_limit = Some(std::time::Duration::from_secs_f64(s));
-    }
-    let limit = match (args.limit, default_limit(&file)) {
+    let options = args.budget.options()?;
+    let limit = match (args.limit, methods::default_limit(&file)) {
         (Some(l), _) if !(l.is_finite() && l > 0.0) => {
             return Err(Failure::Input(format!(
                 "--limit must be a positive finite number, got {l}"
@@ -335,7 +471,8 @@ pub fn max_interval(args: &MaxIntervalArgs) -> Result<Outcome, Failure> {
         // No sampling in the file: the method reports it as missing data.
         (None, None) => f64::NAN,
     };
-    let mut progress = progress_printer();
+    let mut printer = progress_printer();
+    let mut progress = |p: &Probe| printer("", p);
     let r = methods::max_interval(&file, method.as_ref(), limit, &options, &mut progress)
         .map_err(method_failure)?;
     if std::io::stderr().is_terminal() {
@@ -350,88 +487,165 @@ pub fn max_interval(args: &MaxIntervalArgs) -> Result<Outcome, Failure> {
 /// Runs `sporadic compare`.
 pub fn compare(args: &CompareArgs) -> Result<Outcome, Failure> {
     let file = read(&args.plant)?;
-    let report = methods::compare(&file, &MethodOptions::default()).map_err(method_failure)?;
-    let any = report.results.iter().any(|d| d.status.is_certified());
-    let mut bars: Vec<(String, f64, f64)> = Vec::new();
-    for d in report.results.iter().filter(|d| d.status.is_certified()) {
-        let ws = d.sampling_windows();
-        let many = ws.len() > 1;
-        bars.extend(ws.iter().enumerate().map(|(i, w)| {
-            let label = if many {
-                format!("{} sensor {}", d.method, i + 1)
-            } else {
-                d.method.clone()
-            };
-            (label, w.t1(), w.t2())
-        }));
-    }
-    let figure = if bars.is_empty() {
-        None
-    } else {
-        Some(draw_windows(&args.out, &file.name, &bars)?)
-    };
-    if print_report(args.format, &report)? {
-        return Ok(if any {
-            Outcome::Certified
-        } else {
-            Outcome::NothingCertified
-        });
-    }
-    println!("plant: {}", file.name);
-    println!(
-        "{:<14} {:<34} {:>12} {:>9}  note",
-        "method", "certified window", "margin", "time [s]"
-    );
-    for d in &report.results {
-        match (&d.reason, &d.margin) {
-            (None, m) => println!(
-                "{:<14} {:<34} {:>12} {:>9.3}  certified",
-                d.method,
-                windows_words(d),
-                m.as_ref()
-                    .map_or("-".into(), |m| format!("{:.4e}", m.value)),
-                d.seconds
-            ),
-            (Some(r), _) => println!(
-                "{:<14} {:<34} {:>12} {:>9}  {}: {}",
-                d.method,
-                "-",
-                "-",
-                "-",
-                d.status,
-                r.message()
-            ),
+    let options = args.budget.options()?;
+    let limit = match args.limit {
+        _ if args.no_search => None,
+        Some(l) if !(l.is_finite() && l > 0.0) => {
+            return Err(Failure::Input(format!(
+                "--limit must be a positive finite number, got {l}"
+            )));
         }
+        Some(l) => Some(l),
+        None => methods::default_limit(&file),
+    };
+    let mut printer = progress_printer();
+    let mut progress = |id: &str, p: &Probe| printer(&format!("{id}: "), p);
+    let report = methods::compare(&file, &options, limit, &mut progress).map_err(method_failure)?;
+    if std::io::stderr().is_terminal() && limit.is_some() {
+        eprintln!();
     }
-    if let Some(f) = figure {
-        println!("figure: {f}");
-    }
-    Ok(if any {
+    let outcome = if report.results.iter().any(|e| e.certifies_anything()) {
         Outcome::Certified
     } else {
         Outcome::NothingCertified
-    })
+    };
+    let figure = draw_windows(&args.out, &file, &report)?;
+    if print_report(args.format, &report)? {
+        return Ok(outcome);
+    }
+    print_compare(&file, &report);
+    println!("figure: {figure}");
+    Ok(outcome)
 }
 
-/// Writes `certified_windows.svg`: one horizontal segment per certified window.
-fn draw_windows(out: &Path, plant: &str, bars: &[(String, f64, f64)]) -> Result<String, Failure> {
+/// The file's windows in words, e.g. `[0.02, 0.05]` or `[0.1, 0.2] then [0.1, 0.3]`.
+fn file_windows(file: &PlantFile) -> Vec<SamplingWindow> {
+    file.window
+        .into_iter()
+        .chain(file.sensors.iter().map(|s| s.window))
+        .collect()
+}
+
+fn print_compare(file: &PlantFile, report: &CompareReport) {
+    println!("plant: {}", file.name);
+    let ws: Vec<String> = file_windows(file).iter().map(|w| w.to_string()).collect();
+    println!("file's sampling: {}", ws.join(", "));
+    if let Some(l) = report.limit {
+        println!(
+            "search: largest certified T2 <= {} with the file's T1",
+            short(l)
+        );
+    }
+    println!(
+        "{:<14} {:<15} {:>10} {:<26} {:>9}  note",
+        "method", "file's window", "margin", "largest certified T2", "time [s]"
+    );
+    for e in &report.results {
+        let d = &e.design;
+        let at_file = if d.status.is_certified() {
+            "certified".to_string()
+        } else {
+            d.status.to_string()
+        };
+        let margin = d
+            .margin
+            .as_ref()
+            .filter(|_| d.status.is_certified())
+            .map_or("-".into(), |m| format!("{:.3e}", m.value));
+        let largest = match &e.largest_window {
+            None => "-".to_string(),
+            Some(r) => match (r.largest_certified_t2, r.first_failing_t2) {
+                (Some(b), Some(f)) => format!("{} (fails {})", short(b), short(f)),
+                (Some(b), None) if r.search_end == Some(SearchEnd::BudgetExhausted) => {
+                    format!("{} (out of time)", short(b))
+                }
+                (Some(b), None) => format!("{} (= limit)", short(b)),
+                (None, _) => "none".to_string(),
+            },
+        };
+        let seconds = d.seconds + e.largest_window.as_ref().map_or(0.0, |r| r.seconds);
+        let note = match (
+            &d.reason,
+            e.largest_window.as_ref().and_then(|r| r.reason.as_ref()),
+        ) {
+            (Some(r), _) | (None, Some(r)) => format!("{}: {}", r.kind(), r.message()),
+            (None, None) => String::new(),
+        };
+        println!(
+            "{:<14} {:<15} {:>10} {:<26} {:>9.2}  {}",
+            e.method, at_file, margin, largest, seconds, note
+        );
+    }
+}
+
+/// Four significant digits, in plain decimals when readable and in exponent form otherwise.
+fn short(v: f64) -> String {
+    if v != 0.0 && !(1e-3..1e5).contains(&v.abs()) {
+        format!("{v:.3e}")
+    } else {
+        format!("{}", (v * 1e4).round() / 1e4)
+            .chars()
+            .take(10)
+            .collect()
+    }
+}
+
+/// Writes `certified_windows.svg`: per method (per sensor for round-robin) the largest
+/// certified window with the file's `T1` as a bar, the file's window shaded.
+fn draw_windows(out: &Path, file: &PlantFile, report: &CompareReport) -> Result<String, Failure> {
     std::fs::create_dir_all(out).map_err(|e| Failure::Input(format!("{}: {e}", out.display())))?;
     let path = out.join("certified_windows.svg");
-    let series_data: Vec<(String, [f64; 2], [f64; 2])> = bars
-        .iter()
-        .enumerate()
-        .map(|(k, (label, t1, t2))| (label.clone(), [*t1, *t2], [k as f64 + 1.0; 2]))
-        .collect();
-    let series: Vec<sporadic_figures::Series<'_>> = series_data
-        .iter()
-        .map(|(label, x, y)| sporadic_figures::Series { label, x, y })
-        .collect();
-    let spec = sporadic_figures::PlotSpec::new(
-        &format!("certified sampling windows: {plant}"),
+    let mut rows = Vec::new();
+    for e in &report.results {
+        // The widest certified design: the search's, else the file's own.
+        let best = e
+            .largest_window
+            .as_ref()
+            .and_then(|r| r.design.as_ref())
+            .or(Some(&e.design).filter(|d| d.status.is_certified()));
+        let reason = e
+            .design
+            .reason
+            .as_ref()
+            .map_or(String::new(), |r| r.kind().replace('_', " "));
+        match best {
+            Some(d) => {
+                let ws = d.sampling_windows();
+                let many = ws.len() > 1;
+                for (i, w) in ws.iter().enumerate() {
+                    rows.push(sporadic_figures::WindowBar {
+                        label: if many {
+                            format!("{} sensor {}", e.method, i + 1)
+                        } else {
+                            e.method.clone()
+                        },
+                        window: Some((w.t1(), w.t2())),
+                        note: format!("T2 = {}", short(w.t2())),
+                    });
+                }
+            }
+            None => rows.push(sporadic_figures::WindowBar {
+                label: e.method.clone(),
+                window: None,
+                note: format!("{}: {reason}", e.design.status),
+            }),
+        }
+    }
+    let ws = file_windows(file);
+    let marked = (!ws.is_empty()).then(|| {
+        (
+            ws.iter().map(|w| w.t1()).fold(f64::INFINITY, f64::min),
+            ws.iter().map(|w| w.t2()).fold(0.0, f64::max),
+        )
+    });
+    sporadic_figures::plot_window_bars(
+        &path,
+        &format!("certified sampling windows: {}", file.name),
         "sampling interval [s]",
-        "design (one row per certified window)",
-    );
-    sporadic_figures::plot_eigen_curves(&path, &spec, &series)
-        .map_err(|e| Failure::Run(format!("{}: {e}", path.display())))?;
+        &rows,
+        marked,
+        sporadic_figures::FigureStyle::default(),
+    )
+    .map_err(|e| Failure::Run(format!("{}: {e}", path.display())))?;
     Ok(path.display().to_string())
 }

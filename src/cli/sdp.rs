@@ -2,7 +2,7 @@
 //!
 //! Exit status of `sdp solve` ([`run`]): [`EXIT_SOLVED`] (0) when the status is optimal or
 //! almost optimal, [`EXIT_NOT_SOLVED`] (1) for any other status (infeasible, iteration limit,
-//! numerical trouble), [`EXIT_BAD_INPUT`] (2) for input that could not be used (unreadable or
+//! interrupted by `--time-limit`, numerical trouble), [`EXIT_BAD_INPUT`] (2) for input that could not be used (unreadable or
 //! malformed problem or solution file, a starting point that does not fit the problem, invalid
 //! options, an unwritable `--write-solution` path). `sdp bench` exits with 0 once the table is
 //! printed and with 2 on bad input.
@@ -28,7 +28,8 @@ pub const EXIT_BAD_INPUT: u8 = 2;
 const SOLVE_EXIT_HELP: &str = "Exit status:
   0  solved: status optimal, or almost optimal (stopped early with every DIMACS error
      within the reduced tolerance, --tol-reduced)
-  1  not solved: infeasible (SDPA primal or dual), iteration limit, numerical trouble
+  1  not solved: infeasible (SDPA primal or dual), iteration limit, interrupted
+     (--time-limit ran out), numerical trouble
   2  bad input: unreadable or malformed problem or solution file, a starting point that
      does not fit the problem, invalid options, an unwritable --write-solution path
 
@@ -102,6 +103,11 @@ struct SolveOptions {
     /// Worker threads: 1 = the calling thread only, 0 = automatic (default).
     #[arg(long, value_name = "N")]
     threads: Option<usize>,
+    /// Wall-time budget in seconds; when it runs out the solve stops with status
+    /// `interrupted` (or `almost optimal` if the point it has is accurate to the reduced
+    /// tolerance) and returns the best point found.
+    #[arg(long, value_name = "SECONDS")]
+    time_limit: Option<f64>,
 }
 
 impl SolveOptions {
@@ -116,6 +122,18 @@ impl SolveOptions {
         s.threads = self.threads.unwrap_or(s.threads);
         s
     }
+
+    /// The budget of `--time-limit`.
+    fn budget(&self) -> Result<sporadic_sdp::Budget, String> {
+        match self.time_limit {
+            Some(t) if !(t.is_finite() && t > 0.0) => Err(format!(
+                "--time-limit must be a positive number of seconds, got {t}"
+            )),
+            t => Ok(sporadic_sdp::Budget::for_duration(
+                t.map(std::time::Duration::from_secs_f64),
+            )),
+        }
+    }
 }
 
 /// Runs `sporadic sdp ...` and returns its exit code (see the [module documentation](self));
@@ -129,14 +147,18 @@ pub fn run(args: &Args) -> ExitCode {
             write_solution,
             initial_solution,
             options,
-        } => solve(
-            file,
-            *json,
-            *verbose,
-            options.settings(),
-            initial_solution.as_deref(),
-            write_solution.as_deref(),
-        ),
+        } => options.budget().and_then(|budget| {
+            sporadic_sdp::budget::within(budget, || {
+                solve(
+                    file,
+                    *json,
+                    *verbose,
+                    options.settings(),
+                    initial_solution.as_deref(),
+                    write_solution.as_deref(),
+                )
+            })
+        }),
         SdpCommand::Bench {
             dir,
             vs_csdp,

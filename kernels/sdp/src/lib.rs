@@ -2,6 +2,7 @@
 //! block-diagonal cone (PSD blocks plus one or more nonnegative "LP" blocks), an LMI modelling
 //! layer on top of it, SDPA sparse-format I/O, and CSDP-format solution files.
 
+pub mod budget;
 pub mod error;
 pub mod lmi;
 pub mod problem;
@@ -9,6 +10,7 @@ pub mod sdpa;
 pub mod solution_file;
 pub mod solver;
 
+pub use budget::Budget;
 pub use error::SdpError;
 pub use problem::{Block, BlockData, BlockKind, Problem, ProblemBuilder, SparseSym};
 pub use sdpa::{read_sdpa, read_sdpa_file, sdpa_objectives, write_sdpa};

@@ -157,13 +157,14 @@ pub fn sdpa_status_name(status: Status) -> &'static str {
         Status::PrimalInfeasible => "SDPA dual infeasible",
         Status::DualInfeasible => "SDPA primal infeasible",
         Status::MaxIterations => "iteration limit",
+        Status::Interrupted => "interrupted",
         Status::NumericalTrouble => "numerical trouble",
     }
 }
 
 /// The snake-case identifier of a status in the SDPA naming (used in JSON output): `optimal`,
 /// `almost_optimal`, `sdpa_dual_infeasible` ([`Status::PrimalInfeasible`]),
-/// `sdpa_primal_infeasible` ([`Status::DualInfeasible`]), `iteration_limit`,
+/// `sdpa_primal_infeasible` ([`Status::DualInfeasible`]), `iteration_limit`, `interrupted`,
 /// `numerical_trouble`.
 pub fn sdpa_status_id(status: Status) -> &'static str {
     match status {
@@ -172,6 +173,7 @@ pub fn sdpa_status_id(status: Status) -> &'static str {
         Status::PrimalInfeasible => "sdpa_dual_infeasible",
         Status::DualInfeasible => "sdpa_primal_infeasible",
         Status::MaxIterations => "iteration_limit",
+        Status::Interrupted => "interrupted",
         Status::NumericalTrouble => "numerical_trouble",
     }
 }

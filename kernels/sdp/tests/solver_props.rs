@@ -733,6 +733,29 @@ fn log_callback_sees_every_iteration() {
     assert!(last.rel_gap <= 1e-8 && last.primal_infeas <= 1e-8 && last.dual_infeas <= 1e-8);
 }
 
+/// A solve inside an exhausted budget scope stops at its first iteration with
+/// `Interrupted` (its start point is far from optimal), a raised cancellation flag likewise, and
+/// the same solve outside the scope is optimal.
+#[test]
+fn an_exhausted_budget_interrupts_the_solve() {
+    use sporadic_sdp::budget::{Budget, within};
+    let (p, _) = planted_optimum(11, false);
+    let sol = within(Budget::until(std::time::Instant::now()), || {
+        solve(&p, &Settings::default()).unwrap()
+    });
+    assert_eq!(sol.status, Status::Interrupted);
+    assert_eq!(sol.iterations, 0);
+    let flag = Arc::new(std::sync::atomic::AtomicBool::new(true));
+    let sol = within(Budget::unlimited().with_cancel(flag), || {
+        solve(&p, &Settings::default()).unwrap()
+    });
+    assert_eq!(sol.status, Status::Interrupted);
+    assert_eq!(
+        solve(&p, &Settings::default()).unwrap().status,
+        Status::Optimal
+    );
+}
+
 #[test]
 fn invalid_input_is_an_error() {
     let (p, _) = planted_optimum(5, false);

@@ -534,6 +534,7 @@ impl ObserverMethod for Ferrante2016 {
                     "{samples} samples, |ε| at the end = {final_error:.3e} ({:.3e} of |ε(0)|)",
                     final_error / initial_error
                 ),
+                settling_time: None,
                 figure: None,
             },
         })

@@ -580,6 +580,7 @@ impl ObserverMethod for Rabehi2021 {
                 initial_error: norm.first().copied().unwrap_or(f64::NAN),
                 final_error: norm.last().copied().unwrap_or(f64::NAN),
                 result,
+                settling_time: None,
                 figure: None,
             },
         })

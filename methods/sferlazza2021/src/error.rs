@@ -128,6 +128,12 @@ pub enum Error {
         /// The margin.
         mu: f64,
     },
+    /// The time budget of the enclosing [`sporadic_sdp::budget`] scope ran out.
+    #[error("the time budget ran out during {during}")]
+    Interrupted {
+        /// What was running.
+        during: &'static str,
+    },
     /// The validation grid would exceed the configured cap.
     #[error("sensor {sigma}: validation grid needs {points:.3e} points, above the cap {cap:.3e}")]
     GridTooLarge {

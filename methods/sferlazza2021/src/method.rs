@@ -150,7 +150,7 @@ fn verdict(e: Error) -> Result<Reason, MethodError> {
             Reason::SolverInconclusive { message }
         }
         Error::VerificationFailed { .. } => Reason::VerificationFailed { tau: None, message },
-        Error::NotConverged { .. } | Error::GridTooLarge { .. } => {
+        Error::NotConverged { .. } | Error::GridTooLarge { .. } | Error::Interrupted { .. } => {
             Reason::BudgetExhausted { message }
         }
         Error::Numerical(_) | Error::Lmi(_) => Reason::NumericalFailure { message },
@@ -415,6 +415,7 @@ impl ObserverMethod for Sferlazza2021 {
                      {worst_ratio:.4} (V = x̃ᵀΦ_σ(τ)x̃ of (30) with ρ = 0)",
                     run.jumps.len()
                 ),
+                settling_time: None,
                 figure: None,
             },
         })

@@ -749,7 +749,16 @@ impl XiFamily {
         let level_mu = self.level(mu)?;
         let stride = settings.sample_stride as u64;
         let global = SharedMin::new();
-        let work = |r: &Range<usize>| self.chunk(src, r.clone(), &level_mu, stride, &global);
+        // Worker threads do not see the caller's budget scope: each chunk checks a copy.
+        let budget = sporadic_sdp::budget::current();
+        let work = |r: &Range<usize>| {
+            if budget.is_exhausted() {
+                return Err(Error::Interrupted {
+                    during: "the validation (48) of the grid",
+                });
+            }
+            self.chunk(src, r.clone(), &level_mu, stride, &global)
+        };
         let res: Vec<ChunkResult> = if settings.parallel {
             chunks.par_iter().map(work).collect::<Result<_, _>>()?
         } else {

@@ -373,6 +373,9 @@ pub(crate) fn run(
         if at_limit {
             break Status::MaxIterations;
         }
+        if crate::budget::exhausted() {
+            break Status::Interrupted;
+        }
         if stalled {
             break Status::NumericalTrouble;
         }

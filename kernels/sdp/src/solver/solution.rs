@@ -25,9 +25,11 @@ use super::certificate::InfeasibilityCertificate;
 ///   `1 + |⟨C,X⟩| + |bᵀy|`; the signed gap error is taken in absolute value) are
 ///   `≤ tol_reduced` [1e-6], in the style of Clarabel's `AlmostSolved` and SDPA's `pdFEAS`;
 ///   [`Measures::dimacs_max`] is the accuracy it met. Otherwise it is
-///   [`Status::MaxIterations`] (limit reached) or [`Status::NumericalTrouble`] (anything else).
+///   [`Status::MaxIterations`] (limit reached), [`Status::Interrupted`] (the time budget of the
+///   enclosing [`crate::budget`] scope ran out, or the solve was cancelled) or
+///   [`Status::NumericalTrouble`] (anything else).
 ///
-/// So `NumericalTrouble` and `MaxIterations` never label a point whose DIMACS errors are all
+/// So `NumericalTrouble`, `MaxIterations` and `Interrupted` never label a point whose DIMACS errors are all
 /// within `tol_reduced`. The DIMACS errors are reported with every status.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Status {
@@ -45,6 +47,10 @@ pub enum Status {
     /// The iteration limit was reached at a point that is not [`Status::AlmostOptimal`]; the
     /// best point found is returned.
     MaxIterations,
+    /// The budget of the enclosing [`crate::budget`] scope ran out (deadline passed or
+    /// cancellation flag raised) at a point that is not [`Status::AlmostOptimal`]; the best
+    /// point found is returned.
+    Interrupted,
     /// Progress stopped (tiny steps, stalled gap or infeasibility, Schur system breakdown)
     /// at a point that is not [`Status::AlmostOptimal`]; the best point found is returned and
     /// its [`Measures`] tell how accurate it is.
@@ -82,14 +88,18 @@ impl Status {
         self == Status::DualInfeasible
     }
 
-    /// Neither solved nor infeasible: [`Status::MaxIterations`] or [`Status::NumericalTrouble`].
+    /// Neither solved nor infeasible: [`Status::MaxIterations`], [`Status::Interrupted`] or
+    /// [`Status::NumericalTrouble`].
     pub fn is_failure(self) -> bool {
-        matches!(self, Status::MaxIterations | Status::NumericalTrouble)
+        matches!(
+            self,
+            Status::MaxIterations | Status::Interrupted | Status::NumericalTrouble
+        )
     }
 
     /// A stable snake-case identifier in this crate's (P)/(D) naming: `optimal`,
     /// `almost_optimal`, `primal_infeasible`, `dual_infeasible`, `max_iterations`,
-    /// `numerical_trouble` (for SDPA files see [`crate::sdpa::sdpa_status_id`]).
+    /// `interrupted`, `numerical_trouble` (for SDPA files see [`crate::sdpa::sdpa_status_id`]).
     pub fn as_str(self) -> &'static str {
         match self {
             Status::Optimal => "optimal",
@@ -97,6 +107,7 @@ impl Status {
             Status::PrimalInfeasible => "primal_infeasible",
             Status::DualInfeasible => "dual_infeasible",
             Status::MaxIterations => "max_iterations",
+            Status::Interrupted => "interrupted",
             Status::NumericalTrouble => "numerical_trouble",
         }
     }
@@ -182,6 +193,7 @@ mod tests {
             PrimalInfeasible,
             DualInfeasible,
             MaxIterations,
+            Interrupted,
             NumericalTrouble,
         ] {
             let classes = [s.is_solved(), s.is_infeasible(), s.is_failure()];
