@@ -2,9 +2,9 @@
 //!
 //! Exit status of `sdp solve` ([`run`]): [`EXIT_SOLVED`] (0) when the status is optimal or
 //! almost optimal, [`EXIT_NOT_SOLVED`] (1) for any other status (infeasible, iteration limit,
-//! interrupted by `--time-limit`, numerical trouble), [`EXIT_BAD_INPUT`] (2) for input that could not be used (unreadable or
-//! malformed problem or solution file, a starting point that does not fit the problem, invalid
-//! options, an unwritable `--write-solution` path). `sdp bench` exits with 0 once the table is
+//! interrupted by `--time-limit`, numerical trouble), [`EXIT_BAD_INPUT`] (2) for input that
+//! could not be used (unreadable or malformed problem or solution file, a starting point that
+//! does not fit the problem, invalid options, an unwritable `--write-solution` path). `sdp bench` exits with 0 once the table is
 //! printed and with 2 on bad input.
 
 use sporadic_sdp::sdpa::{SdpaObjectives, sdpa_status_id, sdpa_status_name};
