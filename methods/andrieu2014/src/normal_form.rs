@@ -338,3 +338,38 @@ fn condition(m: MatRef<'_, f64>) -> Result<f64, Error> {
     let mn = sv.iter().copied().fold(f64::INFINITY, f64::min);
     Ok(if mn > 0.0 { mx / mn } else { f64::INFINITY })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use faer::mat;
+
+    #[test]
+    fn equilibration_removes_units_only() {
+        let (eq, raw) = equilibrated_condition(mat![[1.0, 0.0], [0.0, 1e10]].as_ref()).unwrap();
+        assert!((raw - 1e10).abs() < 1e-3 * 1e10);
+        // Powers of two leave each row/column maximum within [1/2, 2].
+        assert!(eq < 4.0, "{eq}");
+        // Nearly parallel columns: no diagonal scaling helps.
+        let (eq, _) = equilibrated_condition(mat![[1.0, 1.0], [1.0, 1.0 + 1e-6]].as_ref()).unwrap();
+        assert!(eq > 1e6, "{eq}");
+    }
+
+    #[test]
+    fn companion_coefficients_of_a_damped_oscillator() {
+        // ẍ = −4x − 0.4ẋ read in position: z = x, ż₂ = −4 z₁ − 0.4 z₂; in mm and km/s the same.
+        for (a, c) in [
+            (mat![[0.0, 1.0], [-4.0, -0.4]], mat![[1.0, 0.0]]),
+            (mat![[0.0, 1e6], [-4e-6, -0.4]], mat![[0.001, 0.0]]),
+        ] {
+            let plant = Plant::linear(a.as_ref(), None, c.as_ref()).unwrap();
+            let nf = NormalForm::new(&plant, 0).unwrap();
+            assert!((nf.coefficients()[0] + 4.0).abs() < 1e-12);
+            assert!((nf.coefficients()[1] + 0.4).abs() < 1e-12);
+            assert!((nf.frequency() - 2.0).abs() < 1e-12);
+            // c̃(ω) = max(4/ω², 0.4/ω).
+            assert!((nf.scaled_lipschitz(4.0) - 0.25).abs() < 1e-12);
+            assert!((nf.scaled_lipschitz(20.0) - 0.02).abs() < 1e-12);
+        }
+    }
+}
