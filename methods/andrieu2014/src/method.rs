@@ -465,7 +465,8 @@ impl Andrieu2014 {
             "guarantee (Theorem 2): x̂ → x for every initial condition, noise-free, asymptotically \
              (no rate is stated); disturbance and noise bounds of the plant file are not used. The \
              constants of the proof are very conservative (the paper says so): the range is what \
-             Theorem 2 and Lemma 1 guarantee, a run usually samples less often (see --simulate)"
+             Theorem 2 and Lemma 1 guarantee; in a run the intervals usually stay well above the \
+             guaranteed shortest one (see --simulate)"
                 .into(),
         );
         notes

@@ -209,6 +209,35 @@ fn triangular_lipschitz_plant_is_certified() {
     assert!(sim.is_err());
 }
 
+/// `lipschitz-saturated-motor.toml` (φ' ∈ [0, 2] on the speed, entering the speed's row):
+/// triangular in normal form, certified; the whole vector field times k (A → kA, G → kG) gives
+/// the range divided by k.
+#[test]
+fn triangular_lipschitz_plant_scales_with_time() {
+    let plant = |k: f64| {
+        let a = mat![[0.0, 1.0, 0.0], [0.0, -0.2, 1.0], [0.0, -1.0, -3.0]];
+        let a = Mat::from_fn(3, 3, |i, j| k * a[(i, j)]);
+        Plant::linear(a.as_ref(), None, mat![[1.0, 0.0, 0.0]].as_ref())
+            .unwrap()
+            .with_lipschitz(
+                Lipschitz::new(
+                    mat![[0.0], [-k], [0.0]].as_ref(),
+                    mat![[0.0, 1.0, 0.0]].as_ref(),
+                    mat![[0.0]].as_ref(),
+                    mat![[2.0]].as_ref(),
+                )
+                .unwrap(),
+            )
+            .unwrap()
+    };
+    let (l, u) = certified_range(&design_of(&plant(1.0), &window(0.01, 0.2)));
+    let (lk, uk) = certified_range(&design_of(&plant(10.0), &window(0.001, 0.02)));
+    assert!(
+        rel(l / 10.0, lk) < 1e-6 && rel(u / 10.0, uk) < 1e-6,
+        "{l} {u} / {lk} {uk}"
+    );
+}
+
 /// A nonlinearity in the first row depending on x2 (= ẏ): not triangular, not applicable with
 /// the structure needed.
 #[test]
