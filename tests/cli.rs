@@ -618,7 +618,7 @@ fn max_interval_rabehi_stays_below_the_necessary_limit() {
 fn inapplicable_methods_fail_cleanly_with_the_reason() {
     let o = sporadic(&[
         "design",
-        &example("ferrante2016-example2.toml"),
+        &example("sferlazza2021-suspension.toml"),
         "--method",
         "andrieu2014",
     ]);

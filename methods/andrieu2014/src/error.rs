@@ -66,6 +66,52 @@ pub enum Error {
         /// Time of the evaluation.
         t: f64,
     },
+    /// The pair `(A, c)` of a plant file read through one output row `c` is not observable, so the
+    /// normal form (1) does not exist for it ([`crate::normal_form`]): the observability matrix is
+    /// singular to working precision (equilibrated condition number at or above `1/(n ε)`).
+    #[error(
+        "output {output} does not observe the state: its observability matrix is singular to working \
+         precision (equilibrated condition number {condition:.3e})"
+    )]
+    NotObservable {
+        /// The output row (1-based).
+        output: usize,
+        /// Equilibrated condition number of the observability matrix (`+∞` when exactly singular).
+        condition: f64,
+    },
+    /// The transformation to the normal form (1) through one output row is too ill-conditioned to
+    /// be computed reliably ([`crate::normal_form::CONDITION_LIMIT`]): the plant is nearly
+    /// unobservable from that output.
+    #[error(
+        "output {output}: the transformation to observability normal form has condition number \
+         {condition:.3e} (after equilibration) above the limit {limit:.3e} = 1/sqrt(eps): nearly \
+         unobservable from this output"
+    )]
+    IllConditioned {
+        /// The output row (1-based).
+        output: usize,
+        /// Equilibrated condition number of the observability matrix.
+        condition: f64,
+        /// The limit it exceeds.
+        limit: f64,
+    },
+    /// The nonlinearity `Gφ(Hx)` is not lower-triangular in the normal-form coordinates `z = Ox`,
+    /// as (1) requires: component `row` of `OGφ(HO⁻¹z)` depends on `z_column`, `column > row`.
+    #[error(
+        "the nonlinearity is not triangular in observability normal form: component {row} of \
+         O G phi(H O^-1 z) depends on z_{column} (through phi_{nonlinearity} and its argument \
+         {argument}); (1) needs f_j to depend on z_1..z_j only"
+    )]
+    NotTriangular {
+        /// Row `j` of `f` (1-based).
+        row: usize,
+        /// Coordinate `z_i` it depends on, `i > j` (1-based).
+        column: usize,
+        /// The component of `φ` (1-based).
+        nonlinearity: usize,
+        /// The component of `Hx` (1-based).
+        argument: usize,
+    },
     /// A numerical step of this crate could not produce its result: the Lemma 1 root could not be
     /// bracketed, or the Cholesky factor of `P` / the eigenvalues of `A + KC` could not be computed.
     #[error("no convergence: {what}")]

@@ -11,6 +11,10 @@
 //! * [`lemma1`]: the a-posteriori bound of Lemma 1 on `L`;
 //! * [`certificate`]: the Lyapunov decrease of the proof of Theorem 2 along a run;
 //! * [`bioreactor`]: the Contois example of Section 4 with its misprints corrected;
+//! * [`normal_form`]: a plant file's plant (linear, or with a triangular Lipschitz nonlinearity)
+//!   in the observability normal form (1) through one output ([`NormalForm`]);
+//! * [`plant_design`]: Theorem 2's observer for such a plant, with the range of inter-sample
+//!   intervals its rule (7) guarantees ([`PlantDesign`]); [`simulation`]: its closed loop;
 //! * [`method`]: the [`sporadic_model::ObserverMethod`] contract ([`Andrieu2014`]);
 //! * [`pendulum`]: a globally Lipschitz pendulum in normal form, used to check Theorem 2's
 //!   constants on a system where every bound is known in closed form.
@@ -50,9 +54,12 @@ pub mod design;
 mod error;
 pub mod lemma1;
 pub mod method;
+pub mod normal_form;
 pub mod observer;
 mod pencil;
 pub mod pendulum;
+pub mod plant_design;
+pub mod simulation;
 pub mod system;
 
 pub use certificate::{LyapunovStep, lyapunov_steps};
@@ -61,5 +68,7 @@ pub use design::{Design, binomial_gain, geometric_weights, q_matrix};
 pub use error::Error;
 pub use lemma1::{Lemma1Bound, lemma1_bound};
 pub use method::Andrieu2014;
+pub use normal_form::NormalForm;
 pub use observer::{Jump, Tuning, gain_jump, high_gain, jump, sampling_function};
+pub use plant_design::PlantDesign;
 pub use system::{NormalFormPlant, Plant, TriangularSystem};
