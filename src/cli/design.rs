@@ -542,7 +542,15 @@ fn print_compare(file: &PlantFile, report: &CompareReport) {
     );
     for e in &report.results {
         let d = &e.design;
-        let at_file = if d.status.is_certified() {
+        // A method that picks its own sampling instants certifies no window of arbitrary
+        // sampling: its search does not apply.
+        let own_rule = e
+            .largest_window
+            .as_ref()
+            .is_some_and(|r| r.status.is_not_applicable());
+        let at_file = if d.status.is_certified() && own_rule {
+            "own rule".to_string()
+        } else if d.status.is_certified() {
             "certified".to_string()
         } else {
             d.status.to_string()
@@ -554,6 +562,7 @@ fn print_compare(file: &PlantFile, report: &CompareReport) {
             .map_or("-".into(), |m| format!("{:.3e}", m.value));
         let largest = match &e.largest_window {
             None => "-".to_string(),
+            Some(_) if own_rule => "-".to_string(),
             Some(r) => match (r.largest_certified_t2, r.first_failing_t2) {
                 (Some(b), Some(f)) => format!("{} (fails {})", short(b), short(f)),
                 (Some(b), None) if r.search_end == Some(SearchEnd::BudgetExhausted) => {
@@ -568,6 +577,10 @@ fn print_compare(file: &PlantFile, report: &CompareReport) {
             &d.reason,
             e.largest_window.as_ref().and_then(|r| r.reason.as_ref()),
         ) {
+            (None, _) if own_rule => format!(
+                "its own sampling rule takes intervals in {}",
+                windows_words(d)
+            ),
             (Some(r), _) | (None, Some(r)) => format!("{}: {}", r.kind(), r.message()),
             (None, None) => String::new(),
         };
@@ -612,6 +625,10 @@ fn draw_windows(out: &Path, file: &PlantFile, report: &CompareReport) -> Result<
             Some(d) => {
                 let ws = d.sampling_windows();
                 let many = ws.len() > 1;
+                let own_rule = e
+                    .largest_window
+                    .as_ref()
+                    .is_some_and(|r| r.status.is_not_applicable());
                 for (i, w) in ws.iter().enumerate() {
                     rows.push(sporadic_figures::WindowBar {
                         label: if many {
@@ -620,7 +637,11 @@ fn draw_windows(out: &Path, file: &PlantFile, report: &CompareReport) -> Result<
                             e.method.clone()
                         },
                         window: Some((w.t1(), w.t2())),
-                        note: format!("T2 = {}", short(w.t2())),
+                        note: if own_rule {
+                            format!("its rule's intervals, T2 = {}", short(w.t2()))
+                        } else {
+                            format!("T2 = {}", short(w.t2()))
+                        },
                     });
                 }
             }

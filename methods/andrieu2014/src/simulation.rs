@@ -172,6 +172,7 @@ pub fn simulate_linear(
                 d.shortest,
                 d.longest
             ),
+            settling_time: None,
             figure: None,
         },
     })
