@@ -334,6 +334,8 @@ pub fn largest_window_with<M: ObserverMethod + ?Sized>(
         source: e,
     };
     let mut best: Option<(f64, DesignReport)> = None;
+    // Every probe made, for a search the budget cuts short (the search's own list is lost).
+    let mut made = Vec::new();
     let out_of_time = || MethodError::Numerical {
         method: method.id(),
         source: Box::new(TimeLimit(options.time_limit)),
@@ -354,13 +356,15 @@ pub fn largest_window_with<M: ObserverMethod + ?Sized>(
             margin: d.margin.as_ref().map(|m| m.value),
             reason: d.reason.clone(),
         };
-        progress(&crate::report::Probe {
+        let probe = crate::report::Probe {
             t1,
             t2,
             certified: v.certified,
             margin: v.margin,
             reason: v.reason.clone(),
-        });
+        };
+        progress(&probe);
+        made.push(probe);
         if v.certified && best.as_ref().is_none_or(|(b, _)| *b < t2) {
             best = Some((t2, d));
         }
@@ -386,6 +390,7 @@ pub fn largest_window_with<M: ObserverMethod + ?Sized>(
                 Status::NotCertified
             };
             report.design = best.map(|(_, d)| d);
+            report.probes = made;
             report.seconds = start.elapsed().as_secs_f64();
             return Ok(report);
         }

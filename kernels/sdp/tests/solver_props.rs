@@ -745,6 +745,15 @@ fn an_exhausted_budget_interrupts_the_solve() {
     });
     assert_eq!(sol.status, Status::Interrupted);
     assert_eq!(sol.iterations, 0);
+    // Also when the iteration runs on a worker of a thread pool (threads = 2).
+    let two = Settings {
+        threads: 2,
+        ..Settings::default()
+    };
+    let sol = within(Budget::until(std::time::Instant::now()), || {
+        solve(&p, &two).unwrap()
+    });
+    assert_eq!(sol.status, Status::Interrupted);
     let flag = Arc::new(std::sync::atomic::AtomicBool::new(true));
     let sol = within(Budget::unlimited().with_cancel(flag), || {
         solve(&p, &Settings::default()).unwrap()

@@ -262,7 +262,14 @@ impl Solver {
             pool,
             workspace,
         } = self;
-        let mut run = || ipm::run(analysis, &vals, problem, settings, workspace, start);
+        // The iteration may run on a pool worker, which does not see this thread's budget
+        // scope: it is carried over.
+        let budget = crate::budget::current();
+        let mut run = || {
+            crate::budget::within(budget.clone(), || {
+                ipm::run(analysis, &vals, problem, settings, workspace, start)
+            })
+        };
         Ok(match (pool, analysis.exec) {
             (_, Exec::Sequential) => run(),
             (Some(p), Exec::Parallel) => p.install(run),
