@@ -42,7 +42,7 @@ pub(crate) fn check_symmetric(s: MatRef<'_, f64>, what: &str) -> Result<usize, L
     }
     if worst > SYMMETRY_TOLERANCE * scale {
         return Err(LinalgError::InvalidArgument(format!(
-            "{what} must be symmetric: max|s_ij − s_ji| = {worst:e} exceeds {SYMMETRY_TOLERANCE:e}·max|s_ij| = {:e}",
+            "{what} must be symmetric: max|s_ij − s_ji| = {worst:.3e} exceeds {SYMMETRY_TOLERANCE:.3e}·max|s_ij| = {:.3e}",
             SYMMETRY_TOLERANCE * scale
         )));
     }

@@ -183,7 +183,7 @@ fn threshold_verdict(r: &LmiResult, threshold: f64, condition: Condition) -> Ver
         return Verdict::certified(Some(r.margin));
     }
     let message = format!(
-        "{}: optimal margin t* = {:e} of LMIs (20) is not above the threshold {threshold:e}; {}",
+        "{}: optimal margin t* = {:.3e} of LMIs (20) is not above the threshold {threshold:.3e}; {}",
         condition.name(),
         r.margin,
         r.stats.reason

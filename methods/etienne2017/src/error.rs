@@ -57,7 +57,7 @@ pub enum Error {
     /// block of (20), the τ-grid check of (19b)/(19c), and the contraction of `z'P1z` across
     /// `(I − K(τ)C)e^{R_p τ}`) failed; the design is not returned as valid.
     #[error(
-        "independent verification failed: {what} = {value:e} (rounding tolerance {tolerance:e}) at τ = {tau} (vertex {vertex:?})"
+        "independent verification failed: {what} = {value:.3e} (rounding tolerance {tolerance:.3e}) at τ = {tau} (vertex {vertex:?})"
     )]
     VerificationFailed {
         /// Which check failed.

@@ -24,7 +24,7 @@ pub enum Error {
     },
     /// Assumption 4 fails: `Ā` is (numerically) singular, so the equilibrium `ξ_ueq = −Ā⁻¹Ξ̄` of
     /// the comparison system (11) does not exist.
-    #[error("assumption A4 fails: A-bar is singular (reciprocal condition estimate {rcond:e})")]
+    #[error("assumption A4 fails: A-bar is singular (reciprocal condition estimate {rcond:.3e})")]
     SingularABar {
         /// Smallest/largest singular value of `Ā`.
         rcond: f64,

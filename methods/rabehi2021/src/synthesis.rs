@@ -267,7 +267,7 @@ impl std::fmt::Display for NotCertified {
                 steps,
             } => write!(
                 f,
-                "(44) not certified: best max_i lambda_max(Psi_i) = {best_t:e} (+ remainder {remainder_effect:e}) after {steps} LMI steps (stalled)"
+                "(44) not certified: best max_i lambda_max(Psi_i) = {best_t:.3e} (+ remainder {remainder_effect:.3e}) after {steps} LMI steps (stalled)"
             ),
             NotCertified::BudgetExhausted {
                 best_t,
@@ -275,11 +275,11 @@ impl std::fmt::Display for NotCertified {
                 limit,
             } => write!(
                 f,
-                "(44) not certified: best max_i lambda_max(Psi_i) = {best_t:e} after {steps} LMI steps ({limit} reached while still decreasing)"
+                "(44) not certified: best max_i lambda_max(Psi_i) = {best_t:.3e} after {steps} LMI steps ({limit} reached while still decreasing)"
             ),
             NotCertified::VerificationFailed { best_t, detail, .. } => write!(
                 f,
-                "(44) holds at the vertices (max lambda_max = {best_t:e}) but Theorem 1 fails for Gamma(L) (Remark 6): {detail}"
+                "(44) holds at the vertices (max lambda_max = {best_t:.3e}) but Theorem 1 fails for Gamma(L) (Remark 6): {detail}"
             ),
         }
     }
@@ -925,7 +925,7 @@ impl Run<'_> {
                 tau: a.filter(|a| !a.grid.certified).map(|a| a.grid.at),
                 detail: a.map_or("not run".into(), |a| {
                     format!(
-                        "polytope {} (vertex margin {:e}), grid bound {:e}",
+                        "polytope {} (vertex margin {:.3e}), grid bound {:.3e}",
                         a.polytope_certified, a.vertex_margin, a.grid.bound
                     )
                 }),

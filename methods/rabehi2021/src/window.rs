@@ -393,7 +393,7 @@ pub fn largest_tau_max_for_gain(
                 Verdict::failed(Reason::VerificationFailed {
                     tau: (!a.grid.certified).then_some(a.grid.at),
                     message: format!(
-                        "Theorem 1 not certified for the gain: polytope {} (vertex margin {:e}, remainder effect {:e}), grid bound {:e}",
+                        "Theorem 1 not certified for the gain: polytope {} (vertex margin {:.3e}, remainder effect {:.3e}), grid bound {:.3e}",
                         a.polytope_certified, a.vertex_margin, a.remainder_effect, a.grid.bound
                     ),
                 })

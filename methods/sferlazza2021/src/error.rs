@@ -99,7 +99,7 @@ pub enum Error {
     },
     /// A design returned by the SDP failed its independent a-posteriori check (e.g. `ρ(J_1) ≥ 1` or
     /// `λ_min(Ξ_σ(T_σ)) ≤ 0` with freshly computed exponentials).
-    #[error("a-posteriori verification failed: {what} = {value:e}")]
+    #[error("a-posteriori verification failed: {what} = {value:.3e}")]
     VerificationFailed {
         /// The quantity checked.
         what: String,

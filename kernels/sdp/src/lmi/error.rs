@@ -61,7 +61,7 @@ pub enum ModelError {
     /// A matrix inequality was posed on an expression that is not symmetric.
     #[error(
         "constraint `{constraint}` is not symmetric: {part} differs from its transpose by \
-         {asymmetry:e} at entry ({row},{col}) (largest entry magnitude {scale:e})"
+         {asymmetry:.3e} at entry ({row},{col}) (largest entry magnitude {scale:.3e})"
     )]
     NonSymmetric {
         /// Name of the constraint.
