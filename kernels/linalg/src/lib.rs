@@ -13,6 +13,7 @@
 //! Every fallible function returns [`LinalgError`] ([`golden_section`]: the objective's own error
 //! type, which wraps [`InputError`]); bad input (wrong shape, empty, NaN/Inf) never panics.
 
+pub mod balance;
 mod check;
 mod detectability;
 mod error;

@@ -7,6 +7,9 @@
 
 use std::time::Instant;
 
+use faer::Mat;
+use sporadic_linalg::balance::{balance_a, balance_c, balancing_scales, unbalance_gain};
+
 use sporadic_model::{
     Check, DesignReport, Gain, Margin, MaxIntervalReport, MethodError, MethodOptions, NamedMatrix,
     NotApplicable, ObserverMethod, Outputs, Plant as ModelPlant, Probe, Reason, Sampling,
@@ -132,6 +135,36 @@ fn plant_of(plant: &ModelPlant) -> Result<(Plant, Bounds), MethodError> {
     let bounds = Bounds::new(d.iter().map(|x| -x).collect(), d, v).map_err(invalid)?;
     bounds.check_against(&p).map_err(invalid)?;
     Ok((p, bounds))
+}
+
+/// The plant in the balanced coordinates `x_b = D⁻¹x` (`D = diag(scales)`, powers of 2):
+/// `(D⁻¹AD, D⁻¹B, CD)`. The interval observer is equivariant under a positive diagonal change of
+/// coordinates (it keeps the order `x̲ ≤ x ≤ x̄`), so a design there is one for the plant; the
+/// Taylor polytope of `e^(Āμ)` and the normalisations of the BMI (44), which are not invariant,
+/// then see the same matrix whatever units the user chose (issue 22).
+fn balanced_plant(p: &Plant, scales: &[f64]) -> Result<Plant, MethodError> {
+    let b = p.b();
+    let b = Mat::from_fn(b.nrows(), b.ncols(), |i, j| b[(i, j)] / scales[i]);
+    Plant::new(
+        balance_a(p.a(), scales).as_ref(),
+        b.as_ref(),
+        balance_c(p.c(), scales).as_ref(),
+    )
+    .map_err(invalid)
+}
+
+/// The gain and the split of a design made in balanced coordinates, in the plant's:
+/// `L = D·L_b` and `G_i = D·G_ib·D⁻¹` (so `I + LC = D(I + L_bC_b)D⁻¹`).
+fn unbalanced_design(mut d: Design, scales: &[f64]) -> Design {
+    let back = |g: &Mat<f64>| {
+        Mat::from_fn(g.nrows(), g.ncols(), |i, j| {
+            g[(i, j)] * scales[i] / scales[j]
+        })
+    };
+    d.l = unbalance_gain(d.l.as_ref(), scales);
+    d.g1 = back(&d.g1);
+    d.g2 = back(&d.g2);
+    d
 }
 
 /// A vector rounded to 4 decimals, in words.
@@ -371,9 +404,25 @@ impl ObserverMethod for Rabehi2021 {
         self.synthesis.validate().map_err(invalid)?;
         let (p, bounds) = plant_of(plant)?;
         let window = sampling.windows()[0];
-        let mut report = match synthesise(&p, &window, &self.synthesis) {
+        let scales = balancing_scales(p.a());
+        let balanced = balanced_plant(&p, &scales)?;
+        let mut report = match synthesise(&balanced, &window, &self.synthesis) {
             Ok(d) => match &d.status {
-                DesignStatus::Certified => self.report(plant, sampling, &p, &bounds, &window, &d),
+                DesignStatus::Certified => {
+                    let d = unbalanced_design(d, &scales);
+                    let mut r = self.report(plant, sampling, &p, &bounds, &window, &d);
+                    if scales.iter().any(|&x| x != 1.0) {
+                        r.notes.push(format!(
+                            "designed in the balanced coordinates x_b = D⁻¹x with D = diag{} \
+                             (powers of 2, LAPACK gebal scaling of A; exact): L and G1, G2 are \
+                             in the plant's coordinates (L = D·L_b, G_i = D·G_ib·D⁻¹); P, F and \
+                             P_19 and the margin are those of the balanced plant, whose interval \
+                             error is D⁻¹ times the plant's",
+                            vector_words(&scales)
+                        ));
+                    }
+                    r
+                }
                 DesignStatus::NotCertified(why) => {
                     let mut r = DesignReport::without_design(
                         self,
@@ -413,6 +462,7 @@ impl ObserverMethod for Rabehi2021 {
         let t1 = sampling.t1();
         let cap = if self.applies(plant, sampling).is_ok() && limit.is_finite() && limit > t1 {
             let (p, _) = plant_of(plant)?;
+            let p = balanced_plant(&p, &balancing_scales(p.a()))?;
             match necessary_limit(&p, t1, limit, Some(NECESSARY_SCAN_STEPS)) {
                 Ok(c) => c,
                 Err(e) => {

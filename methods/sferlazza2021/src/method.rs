@@ -29,10 +29,11 @@ use sporadic_model::{
 use crate::design::{Design, DesignOptions, design};
 use crate::error::{Error, check_at_least};
 use crate::gain::GainSchedule;
-use crate::normalise::{balanced_plant, balancing_scales, unscale_k, unscale_p};
+use crate::normalise::balanced_plant;
 use crate::plant::{RoundRobinPlant, window_grid};
 use crate::simulation::{SimulationOptions, simulate_error};
 use crate::validation::{GridPolicy, XiFamily};
+use sporadic_linalg::balance::{balancing_scales, unbalance_form, unbalance_gain};
 
 const ID: &str = "sferlazza2021";
 
@@ -446,7 +447,11 @@ impl Sferlazza2021 {
             let taus = window_grid(sensor.window(), self.schedule_points)?;
             let ks = taus
                 .iter()
-                .map(|&t| d.gains().gain(s, t).map(|k| unscale_k(k.as_ref(), scales)))
+                .map(|&t| {
+                    d.gains()
+                        .gain(s, t)
+                        .map(|k| unbalance_gain(k.as_ref(), scales))
+                })
                 .collect::<Result<Vec<_>, _>>()?;
             let fam = XiFamily::new(rr, &d.p, s)?;
             for &t in &taus {
@@ -482,7 +487,7 @@ impl Sferlazza2021 {
             };
             report.certificate.push(NamedMatrix::new(
                 format!("P_{}", s + 1),
-                unscale_p(p.as_ref(), scales).as_ref(),
+                unbalance_form(p.as_ref(), scales).as_ref(),
                 format!(
                     "Lyapunov matrix of sensor {} in (44), solution of (47): I ⪯ P_σ ⪯ p*·I with \
                      p* = {}{coordinates}; V = e^(−ρτ) x̃ᵀ e^(−Aᵀτ) P_σ e^(−Aτ) x̃ is (30)",

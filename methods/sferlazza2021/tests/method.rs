@@ -2,8 +2,9 @@
 //! design entry point, typed verdicts, invalid input, the window search and the simulation.
 
 use faer::mat;
+use sporadic_linalg::balance::{balancing_scales, unbalance_form, unbalance_gain};
 use sporadic_sferlazza2021::example::{QuarterCar, WINDOWS};
-use sporadic_sferlazza2021::normalise::{balanced_plant, balancing_scales, unscale_k, unscale_p};
+use sporadic_sferlazza2021::normalise::balanced_plant;
 use sporadic_sferlazza2021::{
     DesignOptions, GridPolicy, MethodError, MethodOptions, ObserverMethod, Plant, Sampling,
     SamplingScenario, SamplingWindow, Scenario, Sferlazza2021, design,
@@ -76,14 +77,14 @@ fn trait_design_equals_the_crate_design() {
         assert_eq!(sch.tau[0], WINDOWS[s].0);
         assert_eq!(*sch.tau.last().unwrap(), WINDOWS[s].1);
         for (t, k) in sch.tau.iter().zip(&sch.samples) {
-            let ours = unscale_k(d.gains().gain(s, *t).unwrap().as_ref(), &scales);
+            let ours = unbalance_gain(d.gains().gain(s, *t).unwrap().as_ref(), &scales);
             assert_eq!(k.len(), 4);
             for (i, row) in k.iter().enumerate() {
                 assert_eq!(row, &vec![ours[(i, 0)]], "K_{}({t})", s + 1);
             }
         }
         let p = r.certificate[s].to_mat();
-        assert_eq!(p, unscale_p(d.p[s].as_ref(), &scales), "P_{}", s + 1);
+        assert_eq!(p, unbalance_form(d.p[s].as_ref(), &scales), "P_{}", s + 1);
     }
     let minima = d.grid_minima(&m.design.validation).unwrap();
     let margin = d.normalised_margin(&minima).unwrap();

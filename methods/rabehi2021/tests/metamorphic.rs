@@ -1,0 +1,108 @@
+//! Issue 22: the verdict and the largest certified window of the interval observer of Rabehi et
+//! al. (2021) do not depend on the user's units. For `ẋ = Ax + d`, `y = Cx + v` with
+//! `|d| ≤ d̄`, `|v| ≤ v̄`:
+//! * time scaling `t → t/k` gives `(kA, kd̄)` and the window `[T1, T2]/k`: the largest certified
+//!   `T2` times `k` is unchanged;
+//! * a change of units `x = Dz` with `D` positive diagonal gives `(D⁻¹AD, CD, D⁻¹d̄)`: the same
+//!   largest `T2` (interval observers depend on the coordinates, so only positive diagonal maps,
+//!   which keep the order of vectors, are required to leave the answer unchanged);
+//! * output scaling `(C, v̄) → (cC, cv̄)`: the same largest `T2`;
+//! * window inclusion: a certified window certifies its sub-windows.
+//!
+//! 1% is the issue's tolerance; the search resolves `T2` to 0.4%.
+
+use faer::{Mat, mat};
+use sporadic_model::{Bounds, MethodOptions, ObserverMethod, Plant, Sampling, SamplingWindow};
+use sporadic_rabehi2021::Rabehi2021;
+
+/// The mass-spring-damper of the paper's §V (`m_s = k_s = c_s = 1`, `C = [2 0]`,
+/// `|d_i| ≤ 1`, `|v| ≤ 0.4`).
+struct Data {
+    a: Mat<f64>,
+    c: Mat<f64>,
+    d: Vec<f64>,
+    v: Vec<f64>,
+}
+
+fn example() -> Data {
+    Data {
+        a: mat![[0.0, 1.0], [-1.0, -1.0]],
+        c: mat![[2.0, 0.0]],
+        d: vec![1.0, 1.0],
+        v: vec![0.4],
+    }
+}
+
+fn plant(x: &Data) -> Plant {
+    Plant::linear(x.a.as_ref(), None, x.c.as_ref())
+        .unwrap()
+        .with_bounds(Bounds::new(x.d.clone(), x.v.clone()).unwrap())
+        .unwrap()
+}
+
+fn largest(x: &Data, t1: f64, limit: f64) -> f64 {
+    let s = Sampling::Synchronous(SamplingWindow::new(t1, t1).unwrap());
+    let r = Rabehi2021::default()
+        .largest_window(&plant(x), &s, limit, &MethodOptions::default(), &mut |_| {})
+        .unwrap();
+    r.largest_certified_t2.expect("certified")
+}
+
+fn close(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 0.01 * a.abs().max(b.abs())
+}
+
+#[test]
+fn time_scaling_scales_the_largest_window() {
+    let base = largest(&example(), 0.04, 3.0);
+    let k = 10.0;
+    let x = example();
+    let scaled = Data {
+        a: &x.a * faer::Scale(k),
+        d: x.d.iter().map(|v| k * v).collect(),
+        ..x
+    };
+    let s = largest(&scaled, 0.04 / k, 3.0 / k);
+    assert!(close(base, k * s), "{base} vs {}", k * s);
+}
+
+#[test]
+fn units_and_output_scaling_keep_the_largest_window() {
+    let base = largest(&example(), 0.04, 3.0);
+    // Position in millimetres, velocity in km/s.
+    let dg = [1e-3, 1e3];
+    let x = example();
+    let units = Data {
+        a: Mat::from_fn(2, 2, |i, j| x.a[(i, j)] * dg[j] / dg[i]),
+        c: Mat::from_fn(1, 2, |i, j| x.c[(i, j)] * dg[j]),
+        d: x.d.iter().zip(dg).map(|(v, s)| v / s).collect(),
+        v: x.v.clone(),
+    };
+    let s = largest(&units, 0.04, 3.0);
+    assert!(close(base, s), "units: {base} vs {s}");
+    let c = 250.0;
+    let out = Data {
+        c: &x.c * faer::Scale(c),
+        v: x.v.iter().map(|v| c * v).collect(),
+        ..example()
+    };
+    let s = largest(&out, 0.04, 3.0);
+    assert!(close(base, s), "output scaling: {base} vs {s}");
+}
+
+#[test]
+fn a_certified_window_certifies_its_sub_windows() {
+    let x = example();
+    let t2 = largest(&x, 0.04, 3.0);
+    for (a, b) in [(0.04, 0.5 * t2), (0.5 * t2, t2), (0.3 * t2, 0.31 * t2)] {
+        let s = Sampling::Synchronous(SamplingWindow::new(a, b).unwrap());
+        let r = Rabehi2021::default()
+            .design(&plant(&x), &s, &MethodOptions::default())
+            .unwrap();
+        assert!(
+            r.status.is_certified(),
+            "[{a}, {b}] ⊂ [0.04, {t2}]: {:?}",
+            r.reason
+        );
+    }
+}
