@@ -6,9 +6,9 @@
 //! (12) and of the Schur property of `e^{Av}(I − LM)` ([`crate::verify()`]). A design is returned only
 //! when all of these succeed; every failure is a typed [`Error`].
 //!
-//! The precheck and the LMI are solved on normal forms of the problem ([`crate::normalise`]:
-//! time unit `T2`, Gramian coordinates, then power-of-two diagonal scalings, then the data as
-//! given) and the certificate is mapped back. A solver point whose margin is positive but below
+//! The precheck is made on the Gramian normal form of the problem ([`crate::normalise`]), the
+//! LMI on the data as given, then on the normal forms (time unit `T2` with Gramian coordinates,
+//! then with power-of-two diagonal scalings), the first certificate being mapped back. A solver point whose margin is positive but below
 //! the solver's verification threshold (which is relative to the margin problem's normalisation
 //! `‖P‖₂ ≤ 1`, hence to the coordinates) is accepted when every vertex LMI of (41) is negative
 //! definite by more than rounding and the embedding's reconstruction error can explain
@@ -236,24 +236,24 @@ pub(crate) fn design_cached(
     options.validate()?;
     let forms = normalise::scalings(plant, window);
     let detectability = detectability_in(forms.first(), plant, window, &options.detectability)?;
-    // The normal forms of `crate::normalise` in turn: the Gramian form is the same for every
-    // change of units or coordinates of the user's data, so its verdict is too; the diagonal
-    // form for every change of units; then the problem as given (the paper's construction).
+    // The problem as given (the paper's construction), then the normal forms of
+    // `crate::normalise`: the Gramian form is the same for every change of units or coordinates
+    // of the user's data, the diagonal form for every change of units. The verdict (certified
+    // when any of them is) does not depend on the order, only which certificate is returned.
     let context = (start, &detectability);
-    let mut first_error = None;
-    for scaling in &forms {
-        match attempt(plant, window, options, cache, scaling, context) {
-            Err(e) if e.reason().is_some() => {
-                first_error.get_or_insert(e);
-            }
-            other => return other,
-        }
-    }
     let given = normalise::Scaling::identity(plant.n(), plant.q());
-    match attempt(plant, window, options, cache, &given, context) {
-        Err(e) if e.reason().is_some() => Err(first_error.unwrap_or(e)),
-        other => other,
+    let mut result = attempt(plant, window, options, cache, &given, context);
+    for scaling in &forms {
+        result = match result {
+            // Any failure of a normal form (even a numerical one that is no verdict) leaves
+            // the verdict of the problem as given.
+            Err(e) if e.reason().is_some() => {
+                attempt(plant, window, options, cache, scaling, context).map_err(|_| e)
+            }
+            done => return done,
+        };
     }
+    result
 }
 
 /// Whether LMI (41) holds at the solver's point `(P, F, J)` at every vertex by more than what
