@@ -6,6 +6,14 @@
 //! (12) and of the Schur property of `e^{Av}(I − LM)` ([`crate::verify()`]). A design is returned only
 //! when all of these succeed; every failure is a typed [`Error`].
 //!
+//! The precheck is made on the Gramian normal form of the problem ([`crate::normalise`]), the
+//! LMI on the data as given, then on the normal forms (time unit `T2` with Gramian coordinates,
+//! then with power-of-two diagonal scalings), the first certificate being mapped back. A solver point whose margin is positive but below
+//! the solver's verification threshold (which is relative to the margin problem's normalisation
+//! `‖P‖₂ ≤ 1`, hence to the coordinates) is accepted when every vertex LMI of (41) is negative
+//! definite by more than rounding and the embedding's reconstruction error can explain
+//! (`strictly_negative`); the grid check of (12) on the user's data is made in every case.
+//!
 //! **Analysis** ([`analyse`]): the same LMI with `J = FL` for a given `L` (linear in `P`, `F`), i.e.
 //! (36) at the vertices; certifies e.g. the gain published for Example 2.
 //! [`min_trace_certificate`] solves the same LMI for the certificate with the smallest `tr P`
@@ -15,7 +23,7 @@ use sporadic_linalg::InputError;
 use std::time::{Duration, Instant};
 
 use faer::{Mat, MatRef};
-use sporadic_embed::{Embedding, EmbeddingMethod, ResidueOptions, embed_split};
+use sporadic_embed::{EmbedError, Embedding, EmbeddingMethod, ResidueOptions, embed_split};
 use sporadic_sdp::lmi::{FeasibilityOptions, Outcome};
 
 use crate::detectability::{DetectabilityOptions, DetectabilityReport, check_detectability};
@@ -177,8 +185,8 @@ fn solve_on(
     let vertices = embedding.vertices();
     let delta = embedding.remainder_bound();
     let lmi = match cache.take() {
-        Some((cached, mut lmi)) if cached == *plant && lmi.fits(vertices.len(), delta) => {
-            lmi.set_vertices(vertices, delta)?;
+        Some(mut lmi) if lmi.fits(plant, vertices.len(), delta) => {
+            lmi.set_data(plant, vertices, delta)?;
             lmi
         }
         _ => Lmi41::new(
@@ -190,12 +198,12 @@ fn solve_on(
             Objective::Margin(&options.lmi),
         )?,
     };
-    cache.insert((plant.clone(), lmi)).1.solve()
+    cache.insert(lmi).solve()
 }
 
-/// A compiled LMI (41) kept across the probes of a window search, with the (normalised) plant
-/// it was built for.
-pub(crate) type LmiCache = Option<(Plant, Lmi41)>;
+/// A compiled LMI (41) kept across the probes of a window search (re-used with new vertices
+/// and a new output matrix while the orders and the vertex count match).
+pub(crate) type LmiCache = Option<Lmi41>;
 
 fn certificate_of(r: &LmiResult) -> Certificate {
     Certificate {
@@ -226,38 +234,116 @@ pub(crate) fn design_cached(
 ) -> Result<Design, Error> {
     let start = Instant::now();
     options.validate()?;
-    let detectability = check_detectability(plant, window, &options.detectability)?;
-    // The problem as given first (the paper's construction, unchanged on well-scaled data);
-    // when that is no certificate, the normalised problem (exact power-of-two scalings of
-    // time, states and outputs, see `crate::normalise`).
-    let first = attempt(
-        plant,
-        window,
-        options,
-        cache,
-        &identity_scaling(plant),
-        (start, &detectability),
-    );
-    let scaling = normalise::scaling(plant, window);
-    match first {
-        Err(e) if e.reason().is_some() && !scaling.is_identity() => attempt(
-            plant,
-            window,
-            options,
-            cache,
-            &scaling,
-            (start, &detectability),
-        )
-        .map_err(|_| e),
-        other => other,
+    let forms = normalise::scalings(plant, window);
+    let detectability = detectability_in(forms.first(), plant, window, &options.detectability)?;
+    // The problem as given (the paper's construction), then the normal forms of
+    // `crate::normalise`: the Gramian form is the same for every change of units or coordinates
+    // of the user's data, the diagonal form for every change of units. The verdict (certified
+    // when any of them is) does not depend on the order, only which certificate is returned.
+    let context = (start, &detectability);
+    let given = normalise::Scaling::identity(plant.n(), plant.q());
+    let mut result = attempt(plant, window, options, cache, &given, context);
+    for scaling in &forms {
+        result = match result {
+            // Any failure of a normal form (even a numerical one that is no verdict) leaves
+            // the verdict of the problem as given.
+            Err(e) if e.reason().is_some() => {
+                attempt(plant, window, options, cache, scaling, context).map_err(|_| e)
+            }
+            done => return done,
+        };
     }
+    result
 }
 
-fn identity_scaling(plant: &Plant) -> normalise::Scaling {
-    normalise::Scaling {
-        time: 1.0,
-        state: vec![1.0; plant.n()],
-        output: vec![1.0; plant.q()],
+/// Whether LMI (41) holds at the solver's point `(P, F, J)` at every vertex by more than what
+/// rounding and the embedding's own error can explain: `λmax(Φ_i) < −τ` with
+/// `τ = 2‖P‖₂·max(ε_rec, 64u)·max_i‖X_i‖_F + 64u·3n·s` (`ε_rec` the relative reconstruction
+/// error of the residue expansion, `u` the unit roundoff, `s` the largest block norm of `Φ_i`).
+/// A backward-stable eigenvalue computation is within `O(u)‖Φ_i‖` of the exact one, and the true
+/// `e^{Av}` is within `ε_rec‖e^{Av}‖_F` of the hull, which moves `Φ` by at most `‖P‖₂` times that
+/// in its `(3,1)` block: so this is Corollary 1's strict LMI, decided without the solver's
+/// verification threshold (which is relative to the normalisation `‖P‖₂ ≤ 1` of the margin
+/// problem and so depends on the coordinates). Only for exact embeddings (no remainder).
+fn strictly_negative(plant: &Plant, embedding: &Embedding, r: &LmiResult) -> bool {
+    if embedding.remainder_bound() != 0.0 {
+        return false;
+    }
+    let rec = match embedding.method() {
+        sporadic_embed::Method::Residue {
+            reconstruction_error,
+            projector_sum_error,
+            ..
+        } => reconstruction_error.max(*projector_sum_error),
+        sporadic_embed::Method::Taylor { .. } => return false,
+    };
+    let (n, u) = (plant.n(), f64::EPSILON);
+    let (p, f, j) = (r.p.as_ref(), r.f.as_ref(), r.j.as_ref());
+    let coupling = f - j * plant.c();
+    let norm2 = |m: MatRef<'_, f64>| m.singular_values().map_or(f64::INFINITY, |s| s[0]);
+    let (np, nf, nc) = (norm2(p), norm2(f), norm2(coupling.as_ref()));
+    let xmax = embedding
+        .vertices()
+        .iter()
+        .map(|x| x.norm_l2())
+        .fold(0.0, f64::max);
+    let scale = np.max(2.0 * nf).max(nc).max(np * xmax);
+    let tau = 2.0 * np * rec.max(64.0 * u) * xmax + 64.0 * u * (3 * n) as f64 * scale;
+    if !tau.is_finite() {
+        return false;
+    }
+    embedding.vertices().iter().all(|x| {
+        let px = p * x;
+        let phi = Mat::from_fn(3 * n, 3 * n, |i, k| {
+            let (bi, bk, ii, kk) = (i / n, k / n, i % n, k % n);
+            match (bi, bk) {
+                (0, 0) => -(f[(ii, kk)] + f[(kk, ii)]),
+                (0, 1) => coupling[(ii, kk)],
+                (1, 0) => coupling[(kk, ii)],
+                (0, 2) => px[(kk, ii)],
+                (2, 0) => px[(ii, kk)],
+                (1, 1) | (2, 2) => -0.5 * (p[(ii, kk)] + p[(kk, ii)]),
+                _ => 0.0,
+            }
+        });
+        sporadic_linalg::max_eigenvalue(phi.as_ref()).is_ok_and(|l| l < -tau)
+    })
+}
+
+/// The Remark 3 precheck on the problem in the normal form `scaling` (its rank decisions are
+/// then the same for every change of units or coordinates of the user's data), with the times
+/// of the report and of the error in the user's unit; on the data as given without one.
+fn detectability_in(
+    scaling: Option<&normalise::Scaling>,
+    plant: &Plant,
+    window: &SamplingWindow,
+    options: &DetectabilityOptions,
+) -> Result<DetectabilityReport, Error> {
+    let Some((np, nw, k)) =
+        scaling.and_then(|s| Some((s.plant(plant)?, s.window(window)?, s.time)))
+    else {
+        return check_detectability(plant, window, options);
+    };
+    match check_detectability(&np, &nw, options) {
+        Ok(mut r) => {
+            r.aliasing_instants.iter_mut().for_each(|v| *v *= k);
+            r.min_margin_at *= k;
+            Ok(r)
+        }
+        Err(Error::NotDetectable {
+            v,
+            mu_re,
+            mu_im,
+            modulus,
+            margin,
+        }) => Err(Error::NotDetectable {
+            v: v * k,
+            mu_re,
+            mu_im,
+            modulus,
+            margin,
+        }),
+        Err(e) => Err(e),
     }
 }
 
@@ -270,12 +356,34 @@ fn attempt(
     scaling: &normalise::Scaling,
     (start, detectability): (Instant, &DetectabilityReport),
 ) -> Result<Design, Error> {
-    let (np, nw) = match (scaling.plant(plant), scaling.window(window)) {
-        (Some(p), Some(w)) => (p, w),
-        _ => (plant.clone(), *window),
+    let given = normalise::Scaling::identity(plant.n(), plant.q());
+    let (np, nw, scaling) = match (scaling.plant(plant), scaling.window(window)) {
+        (Some(p), Some(w)) => (p, w, scaling),
+        // Not representable (overflow): the problem as given.
+        _ => (plant.clone(), *window, &given),
     };
-    let embedding = embed_split(np.a(), nw.t1(), nw.t2(), options.pieces, &options.embedding)?;
+    // An overflow inside the embedding's bounds (e.g. the residue tail bound `e^{(λ̄+‖N‖)v}`,
+    // whose `‖N‖` depends on the coordinates) is a numerical failure of this form of the
+    // problem, not bad input: the next form is tried.
+    let embedding = match embed_split(np.a(), nw.t1(), nw.t2(), options.pieces, &options.embedding)
+    {
+        Err(EmbedError::Input(InputError::NonFinite { what })) if !scaling.is_identity() => {
+            return Err(Error::Embed(EmbedError::Numerical(format!(
+                "overflow in the embedding of e^(Av) of the normalised problem: {what}"
+            ))));
+        }
+        other => other?,
+    };
+    if !embedding.remainder_bound().powi(2).is_finite() {
+        return Err(Error::Embed(EmbedError::Numerical(format!(
+            "the remainder bound of the embedding of e^(Av) is {}",
+            embedding.remainder_bound()
+        ))));
+    }
     let mut r = solve_on(&np, &embedding, GainTerm::Free, options, cache)?;
+    if !r.feasible && r.margin.is_some_and(|t| t > 0.0) && strictly_negative(&np, &embedding, &r) {
+        r.feasible = true;
+    }
     if !r.feasible {
         return Err(match r.stats.outcome {
             Outcome::Inconclusive => Error::Inconclusive {
@@ -288,7 +396,7 @@ fn attempt(
         });
     }
     let l = scaling.gain_back(gain_from(r.f.as_ref(), r.j.as_ref())?.as_ref());
-    r.p = scaling.congruence_back(r.p.as_ref());
+    r.p = scaling.symmetric_congruence_back(r.p.as_ref());
     r.f = scaling.congruence_back(r.f.as_ref());
     r.j = scaling.multiplier_gain_back(r.j.as_ref());
     let verification = verify(plant, window, l.as_ref(), r.p.as_ref(), &options.verify)?;

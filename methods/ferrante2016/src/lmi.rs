@@ -131,6 +131,9 @@ pub(crate) struct Lmi41 {
     compiled: Compiled,
     vertices: Vec<Param>,
     delta: Option<Param>,
+    /// The output matrix `C` as a parameter (free gain only), with the plant's order.
+    output: Option<Param>,
+    order: usize,
     p: Var,
     f: Var,
     gain: GainValue,
@@ -156,15 +159,16 @@ impl Lmi41 {
         let mut m = Model::new();
         let p = m.symmetric("P", n);
         let f = m.full("F", n, n);
-        let (gain, coupling) = match gain {
+        let (gain, coupling, output) = match gain {
             GainTerm::Free => {
                 let j = m.full("J", n, plant.q());
-                let coupling = &f - &j * plant.c().to_owned();
-                (GainValue::Variable(j), coupling)
+                let c = m.param("C", plant.c())?;
+                let coupling = &f - &j * &c;
+                (GainValue::Variable(j), coupling, Some(c))
             }
             GainTerm::Fixed(l) => {
                 let coupling = &f * plant.reset_matrix(l.as_ref())?;
-                (GainValue::Fixed(l), coupling)
+                (GainValue::Fixed(l), coupling, None)
             }
         };
         let robust = delta > 0.0;
@@ -216,6 +220,8 @@ impl Lmi41 {
             compiled,
             vertices: params,
             delta: delta_param,
+            output,
+            order: n,
             p,
             f,
             gain,
@@ -229,20 +235,41 @@ impl Lmi41 {
         })
     }
 
-    /// Whether a vertex set of this size and remainder can reuse this instance.
-    pub fn fits(&self, count: usize, delta: f64) -> bool {
-        self.vertices.len() == count && (delta > 0.0) == self.delta.is_some()
+    /// Whether a design (free gain) for `plant` with a vertex set of this size and remainder can
+    /// reuse this instance.
+    pub fn fits(&self, plant: &Plant, count: usize, delta: f64) -> bool {
+        self.output.is_some()
+            && self.order == plant.n()
+            && self.gain_columns() == Some(plant.q())
+            && self.vertices.len() == count
+            && (delta > 0.0) == self.delta.is_some()
     }
 
-    /// Replaces the vertices (and remainder) without rebuilding the model.
-    pub fn set_vertices(&mut self, vertices: &[Mat<f64>], delta: f64) -> Result<(), Error> {
-        if !self.fits(vertices.len(), delta) {
+    /// Number of outputs of the free gain `J` (`None` for a fixed gain).
+    fn gain_columns(&self) -> Option<usize> {
+        match &self.gain {
+            GainValue::Variable(j) => Some(j.shape().cols),
+            GainValue::Fixed(_) => None,
+        }
+    }
+
+    /// Replaces the output matrix, the vertices and the remainder without rebuilding the model.
+    pub fn set_data(
+        &mut self,
+        plant: &Plant,
+        vertices: &[Mat<f64>],
+        delta: f64,
+    ) -> Result<(), Error> {
+        if !self.fits(plant, vertices.len(), delta) {
             return Err(InputError::mismatch(
                 "vertex count of a re-solved LMI (41)",
                 self.vertices.len(),
                 vertices.len(),
             )
             .into());
+        }
+        if let Some(c) = &self.output {
+            self.compiled.set_param(c, plant.c())?;
         }
         for (param, x) in self.vertices.iter().zip(vertices) {
             self.compiled.set_param(param, x.as_ref())?;

@@ -15,6 +15,7 @@ use sporadic_sim::{Periodic, SamplingRule, SimOptions, UniformRandom};
 use crate::design::{Design, DesignOptions, design};
 use crate::error::Error;
 use crate::lmi::LmiForm;
+use crate::normalise::Coordinates;
 use crate::simulation::simulate_error;
 use crate::system::Plant;
 use crate::window::probe;
@@ -129,16 +130,34 @@ impl Ferrante2016 {
                     .into(),
             );
         }
-        if !d.scaling.is_identity() {
-            r.notes.push(format!(
-                "LMI (41) solved on the normalised problem: time unit {:e} s (exact power of \
-                 two), state scaling x' = Dx with D = diag{}, output scaling y' = Sy with S = \
-                 diag{} (powers of two); L, P, F, J mapped back (L = D^-1 L' S, P = D'P'D, \
-                 F = D'F'D, J = D'J'S) and (12) re-verified on the user's data",
+        match d.scaling.coordinates {
+            Coordinates::Given => {}
+            Coordinates::Gramian => r.notes.push(format!(
+                "LMI (41) solved on the normalised problem: time unit T2 = {:e} s, state \
+                 coordinates x' = Tx in which the observability Gramian over one window length \
+                 is the identity, output scaling y' = Sy with S = diag{}; L, P, F, J mapped back \
+                 (L = T^-1 L' S, P = T'P'T, F = T'F'T, J = T'J'S) and (12) re-verified on the \
+                 user's data",
                 d.scaling.time,
-                vector_words(&d.scaling.state),
                 vector_words(&d.scaling.output),
-            ));
+            )),
+            Coordinates::Diagonal => r.notes.push(format!(
+                "LMI (41) solved on the normalised problem: time unit T2 = {:e} s, state scaling \
+                 x' = Dx with D = diag{} (powers of two), output scaling y' = Sy with S = diag{}; \
+                 L, P, F, J mapped back (L = D^-1 L' S, P = D'P'D, F = D'F'D, J = D'J'S) and (12) \
+                 re-verified on the user's data",
+                d.scaling.time,
+                vector_words(
+                    &d.scaling
+                        .state
+                        .diagonal()
+                        .column_vector()
+                        .iter()
+                        .copied()
+                        .collect::<Vec<_>>()
+                ),
+                vector_words(&d.scaling.output),
+            )),
         }
         r.notes.push(
             "L is not unique: any gain satisfying (12) solves Problem 1; this one maximises the \

@@ -44,14 +44,15 @@ fn design_is_feasible_and_verified() {
 
 #[test]
 fn embedding_contains_the_exponential_curve() {
-    // Reduced sample: e^{Av} ∈ co{X_i} for random v ∈ [0.2, 3].
+    // Reduced sample: e^{Av} ∈ co{X_i} for random v ∈ [0.2, 3] (the embedding is of the
+    // normalised problem, whose time unit is `d.scaling.time`).
     let ex = example2().unwrap();
     let d = design(&ex.plant, &ex.window, &DesignOptions::default()).unwrap();
     let mut rng = SimRng::new(5);
     for _ in 0..200 {
         let v = rng.uniform(0.2, 3.0);
         assert!(
-            d.embedding.contains(v).unwrap(),
+            d.embedding.contains(v / d.scaling.time).unwrap(),
             "e^(Av) outside the polytope at v = {v}"
         );
     }

@@ -126,3 +126,76 @@ fn infeasibility_message_has_no_option_debug() {
     let text = format!("{:?}", r.reason);
     assert!(!text.contains("margin Some("), "{text}");
 }
+
+/// three-mass-chain.toml (`[0.02, 0.3]`): not certified, and that is the conservatism of the
+/// residue box of §4.1, not a scaling defect. LMI (41) imposed only at 60 exact `e^{Av}` of
+/// the window (a necessary condition, solved here independently of the design code) is feasible
+/// with a comfortable margin, and its `(L, P)` passes the grid check of (12); but for three
+/// lightly damped modes the box of `(cos, sin)` coefficients has corners whose modal blocks have
+/// modulus above one by about `(ωT2)²/2`, far more than the contraction available at `v = T1`,
+/// and LMI (41) at the box's 64 vertices is infeasible even for that gain.
+#[test]
+fn three_mass_chain_fails_by_the_conservatism_of_the_residue_box() {
+    use sporadic_ferrante2016::sporadic_sdp::lmi::{Expr, Model};
+    use sporadic_ferrante2016::{
+        DesignOptions, FeasibilityOptions, Outcome, Plant, VerifyOptions, analyse, verify,
+    };
+    let a = mat![
+        [0.0, 1.0, 0.0, 0.0, 0.0, 0.0],
+        [-2.0, -0.1, 1.0, 0.0, 0.0, 0.0],
+        [0.0, 0.0, 0.0, 1.0, 0.0, 0.0],
+        [1.0, 0.0, -2.0, -0.1, 1.0, 0.0],
+        [0.0, 0.0, 0.0, 0.0, 0.0, 1.0],
+        [0.0, 0.0, 1.0, 0.0, -1.0, -0.1]
+    ];
+    let c = mat![[1.0, 0.0, 0.0, 0.0, 0.0, 0.0]];
+    let (t1, t2) = (0.02, 0.3);
+    assert_eq!(
+        design(&plant(a.clone(), c.clone()), t1, t2)
+            .reason
+            .map(|r| r.kind()),
+        Some(
+            Reason::InfeasibleLmi {
+                message: String::new()
+            }
+            .kind()
+        )
+    );
+    // (41) at 60 exact exponentials of the window.
+    let p = Plant::new(a.as_ref(), c.as_ref()).unwrap();
+    let n = 6;
+    let mut m = Model::new();
+    let pv = m.symmetric("P", n);
+    let f = m.full("F", n, n);
+    let j = m.full("J", n, 1);
+    let coupling = &f - &j * c.clone();
+    for i in 0..60 {
+        let v = t1 + (t2 - t1) * f64::from(i) / 59.0;
+        let x = sporadic_ferrante2016::sporadic_embed::residue_embedding(a.as_ref(), v, v)
+            .unwrap()
+            .into_vertices()
+            .remove(0);
+        let phi = Expr::sym_blocks(&[
+            vec![Some(-f.expr().he()), None, None],
+            vec![Some(coupling.t()), Some(-&pv), None],
+            vec![Some(&pv * x), None, Some(-&pv)],
+        ]);
+        m.constrain(phi.lt(0.0).named(format!("Phi at v_{i}")))
+            .unwrap();
+    }
+    let sol = m.feasibility(&FeasibilityOptions::default()).unwrap();
+    assert_eq!(sol.outcome, Outcome::Feasible);
+    assert!(sol.margin.unwrap() > 1e-4);
+    let (pm, fm, jm) = (
+        sol.value(&pv).unwrap(),
+        sol.value(&f).unwrap(),
+        sol.value(&j).unwrap(),
+    );
+    let l = faer::linalg::solvers::Solve::solve(&fm.full_piv_lu(), &jm);
+    let w = SamplingWindow::new(t1, t2).unwrap();
+    let v = verify(&p, &w, l.as_ref(), pm.as_ref(), &VerifyOptions::default()).unwrap();
+    assert!(v.passed() && v.relative_max_eigenvalue < -1e-3, "{v:?}");
+    let box_lmi = analyse(&p, &w, l.as_ref(), &DesignOptions::default()).unwrap();
+    assert!(!box_lmi.certified);
+    assert_eq!(box_lmi.embedding.vertex_count(), 64);
+}

@@ -144,9 +144,13 @@ fn an_aliasing_interval_in_the_window_is_undetectable_at_that_interval() {
 
 #[test]
 fn a_window_far_too_long_for_an_unstable_plant_is_not_certified() {
-    // Eigenvalues 1 and −2, position measured: (41) has no solution on [0.1, 8].
+    // Eigenvalues 1 and 2, position measured: on [0.1, 8] no gain makes e^(Av)(I − LC) Schur
+    // (its determinant e^(3v)(1 − CL) needs CL ≈ 1, its trace e^v + e^(2v) − C e^(Av) L then
+    // needs C R_1 L ≈ 1 and C R_2 L ≈ 1 for the residues R_1 + R_2 = I, so CL ≈ 2). (The plant
+    // with eigenvalues 1 and −2 that this test used is certifiable: L = (1, 1/2) cancels the
+    // unstable mode, e^(Av)(I − LC) has eigenvalues 0 and e^(−2v).)
     let plant = ModelPlant::linear(
-        mat![[0.0, 1.0], [2.0, -1.0]].as_ref(),
+        mat![[0.0, 1.0], [-2.0, 3.0]].as_ref(),
         None,
         mat![[1.0, 0.0]].as_ref(),
     )
