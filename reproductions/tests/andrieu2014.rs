@@ -13,6 +13,7 @@ fn reproduce_checks_claims_and_writes_figures() {
     let dir = std::env::temp_dir().join(format!("sporadic_andrieu2014_{}", std::process::id()));
     let rep = reproduce(&dir).unwrap();
     common::check_claim_records("andrieu2014", &rep);
+    common::check_figure_texts(&rep);
     println!("{}", rep.table("andrieu2014"));
     // The paper's misprints, and only they, differ.
     let expected_differs = [

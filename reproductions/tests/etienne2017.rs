@@ -13,6 +13,7 @@ fn every_claim_matches_and_figures_are_written() {
     let dir = std::env::temp_dir().join(format!("etienne2017-reproduce-{}", std::process::id()));
     let rep = reproduce(&dir).unwrap();
     common::check_claim_records("etienne2017", &rep);
+    common::check_figure_texts(&rep);
     let table = rep.table("etienne2017");
     for c in &rep.claims {
         let expected = if c.reference.is_none() {

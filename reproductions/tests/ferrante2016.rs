@@ -11,6 +11,7 @@ fn reproduction_matches_the_paper() {
     let dir = std::env::temp_dir().join(format!("ferrante2016-test-{}", std::process::id()));
     let r = reproduce(&dir).unwrap();
     common::check_claim_records("ferrante2016", &r);
+    common::check_figure_texts(&r);
     for c in &r.claims {
         if let Value::Number(v) = c.ours {
             assert!(v.is_finite(), "{c:?}");

@@ -11,6 +11,7 @@ fn reproduction_claims_and_figures() {
     let dir = std::env::temp_dir().join(format!("rabehi2021-reproduce-{}", std::process::id()));
     let rep = reproduce(&dir).unwrap();
     common::check_claim_records("rabehi2021", &rep);
+    common::check_figure_texts(&rep);
     let get = |id: &str| rep.get(id).unwrap_or_else(|| panic!("missing claim {id}"));
     // Only the paper's "no gain for c_s = 0.3" differs: ours is certified there.
     for c in &rep.claims {

@@ -24,6 +24,7 @@ fn suspension_example() {
     let dir = std::env::temp_dir().join(format!("sferlazza2021_repro_{}", std::process::id()));
     let r = reproduce(&dir).unwrap();
     common::check_claim_records("sferlazza2021", &r);
+    common::check_figure_texts(&r);
     println!("{}", r.table("sferlazza2021"));
     // Every independent reference value that does not depend on the non-unique optimiser P* is
     // matched: detectability, the unique p* of (47), the random-τ check of the final design, the

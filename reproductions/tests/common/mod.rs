@@ -115,3 +115,40 @@ pub fn check_claim_records(paper: &str, r: &Reproduction) {
         );
     }
 }
+
+/// A text a reader would distrust in a figure: a run of 9 or more digits (float noise such as
+/// `9.999999999999999e-5`) or a negative zero (`-0`, `-0.0`).
+fn untrustworthy(label: &str) -> bool {
+    let mut run = 0;
+    for ch in label.chars() {
+        run = if ch.is_ascii_digit() { run + 1 } else { 0 };
+        if run >= 9 {
+            return true;
+        }
+    }
+    label
+        .trim()
+        .strip_prefix('-')
+        .is_some_and(|rest| !rest.is_empty() && rest.chars().all(|c| c == '0' || c == '.'))
+}
+
+/// Scans the text of every `<text>` element of every figure of `r`.
+pub fn check_figure_texts(r: &Reproduction) {
+    assert!(untrustworthy("9.999999999999999e-5") && untrustworthy("-0.0"));
+    assert!(!untrustworthy("-0.5") && !untrustworthy("1e-5"));
+    for f in &r.figures {
+        let svg = std::fs::read_to_string(f).unwrap();
+        let mut texts = 0;
+        for chunk in svg.split("<text").skip(1) {
+            let body = chunk.split_once('>').map_or("", |(_, b)| b);
+            let content = body.split("</text>").next().unwrap_or("");
+            texts += 1;
+            assert!(
+                !untrustworthy(content),
+                "{}: label {content:?}",
+                f.display()
+            );
+        }
+        assert!(texts > 3, "{}: no labels", f.display());
+    }
+}
