@@ -65,7 +65,7 @@ fn suspension_example() {
         assert_eq!(ours(&r, &format!("final.grid_failures_sigma{s}")), 0.0);
     }
     assert!(ours(&r, "step1.growth_bound") >= ours(&r, "step1.max_norm_expm"));
-    // Check 13: termination in a few iterations (paper and spec: 3).
+    // Termination in a few iterations (paper and the independent run: 3).
     let it = ours(&r, "iterations");
     assert!((1.0..=6.0).contains(&it), "{it} iterations");
     assert_eq!(
@@ -81,7 +81,7 @@ fn suspension_example() {
         let m = ours(&r, &format!("iter{k}.min_lambda_xi"));
         assert_eq!(m > 0.01, k == it as usize, "iteration {k}: min λ = {m}");
     }
-    // Check 15: the final p* lies between the first and the dense-grid value.
+    // The final p* lies between the first and the dense-grid value.
     assert!(ours(&r, "final.p_star") <= ours(&r, "dense.p_star") * (1.0 + 1e-6));
     assert!(ours(&r, "final.p_star") >= ours(&r, "iter1.p_star"));
     // The paper's τ̄ and (52) differ, with an explanation.
@@ -94,7 +94,7 @@ fn suspension_example() {
     let c = r.get("eq52.is_a_solution").unwrap();
     assert_eq!(c.status, ClaimStatus::Differs);
     assert!(c.note.contains("printed matrices are wrong") && c.note.contains("passes"));
-    // Theorem 3 certificate and the simulations (checks 16–19).
+    // Theorem 3 certificate and the simulations.
     assert!(ours(&r, "jitter_free.rho_J1") < 1.0);
     for s in 1..=2 {
         assert!(ours(&r, &format!("thm3.min_lambda_M_sigma{s}")) > 0.0);
