@@ -40,11 +40,14 @@ fn every_claim_matches_and_figures_are_written() {
         "cor2.max_tau_bar(tau_low=0.01)",
         "thm3.max_tau_bar(tau_low=0.01)",
         "remark6.max_h",
+        "cor2.[0.01,0.2].F'_trace",
+        "thm3.[0.01,0.3].F'_trace",
+        "cor2.[0.01,0.3].F'_feasible",
         "sim.paper_K0K1.tau=0.3.|z(4)|",
     ] {
         assert!(rep.get(id).is_some(), "missing claim {id}");
     }
-    assert_eq!(rep.tally(), [37, 2, 0, 4], "{table}");
+    assert_eq!(rep.tally(), [40, 2, 0, 4], "{table}");
     for id in [
         "cor2.certified_tau_bar(tau_low=0.01)",
         "thm3.certified_tau_bar(tau_low=0.01)",
