@@ -102,8 +102,13 @@ pub enum Source {
     },
     /// Implied by the paper (e.g. a closed form of its example): the derivation.
     Derived(String),
-    /// From an independent computation (not printed in the paper): how it was obtained.
-    Independent(String),
+    /// From an independent computation (not printed in the paper).
+    Independent {
+        /// The number as that computation records it (e.g. `"0.95882"`); `None` for a verdict.
+        text: Option<String>,
+        /// How it was obtained.
+        how: String,
+    },
     /// No reference: a value of ours reported for the reader.
     None,
 }
@@ -114,7 +119,7 @@ impl Source {
         match self {
             Source::Paper { .. } => "paper",
             Source::Derived(_) => "derived",
-            Source::Independent(_) => "independent",
+            Source::Independent { .. } => "independent",
             Source::None => "none",
         }
     }
@@ -123,7 +128,7 @@ impl Source {
     pub fn detail(&self) -> &str {
         match self {
             Source::Paper { location, .. } => location,
-            Source::Derived(s) | Source::Independent(s) => s,
+            Source::Derived(s) | Source::Independent { how: s, .. } => s,
             Source::None => "",
         }
     }
@@ -311,7 +316,11 @@ impl Claim {
     /// A number from an independent computation, as that computation records it (`text`), and
     /// how it was obtained.
     pub fn independent(claim: impl Into<String>, text: &str, how: impl Into<String>) -> Reference {
-        Reference::printed(claim.into(), Source::Independent(how.into()), text)
+        let source = Source::Independent {
+            text: Some(text.to_owned()),
+            how: how.into(),
+        };
+        Reference::printed(claim.into(), source, text)
     }
 
     /// A verdict of an independent computation, and how it was obtained.
@@ -322,7 +331,10 @@ impl Claim {
     ) -> Reference {
         Reference {
             claim: claim.into(),
-            source: Source::Independent(how.into()),
+            source: Source::Independent {
+                text: None,
+                how: how.into(),
+            },
             reference: Value::Bool(verdict),
             tolerance: None,
             tolerance_reason: None,
@@ -395,7 +407,8 @@ impl Claim {
 
     /// The claim as one JSON object, tagged with the paper id: `paper`, `claim`, `source`
     /// (`paper`, `derived`, `independent` or `none`) with its detail (`paper_text` and `where`
-    /// for `paper`, `derivation` for `derived`, `how` for `independent`), `reference`, `ours`,
+    /// for `paper`, `derivation` for `derived`, `reference_text` and `how` for `independent`),
+    /// `reference`, `ours`,
     /// `rule`, `tolerance`, `tolerance_reason`, `status`, `note`.
     pub fn to_json(&self, paper: &str) -> serde_json::Value {
         let mut j = serde_json::json!({
@@ -416,7 +429,10 @@ impl Claim {
                 j["where"] = serde_json::json!(location);
             }
             Source::Derived(d) => j["derivation"] = serde_json::json!(d),
-            Source::Independent(h) => j["how"] = serde_json::json!(h),
+            Source::Independent { text, how } => {
+                j["reference_text"] = serde_json::json!(text);
+                j["how"] = serde_json::json!(how);
+            }
             Source::None => {}
         }
         j
@@ -462,7 +478,8 @@ impl Reproduction {
         );
         for c in &self.claims {
             let reference = match (&c.source, c.reference) {
-                (Source::Paper { text: Some(t), .. }, _) => t.clone(),
+                (Source::Paper { text: Some(t), .. }, _)
+                | (Source::Independent { text: Some(t), .. }, _) => t.clone(),
                 (_, Some(r)) => r.to_string(),
                 (_, None) => "-".into(),
             };

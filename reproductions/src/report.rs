@@ -86,7 +86,8 @@ fn section(s: &Section<'_>, out_dir: &Path) -> String {
     );
     for c in &r.claims {
         let reference = match (&c.source, c.reference) {
-            (Source::Paper { text: Some(t), .. }, _) => t.clone(),
+            (Source::Paper { text: Some(t), .. }, _)
+            | (Source::Independent { text: Some(t), .. }, _) => t.clone(),
             (_, Some(v)) => v.to_string(),
             (_, None) => String::new(),
         };

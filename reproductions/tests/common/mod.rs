@@ -71,6 +71,7 @@ pub fn check_claim_records(paper: &str, r: &Reproduction) {
             assert!(j["ours"].is_boolean(), "{ctx}");
             assert!(j["tolerance"].is_null(), "{ctx}");
             assert!(j.get("paper_text").is_none_or(Value::is_null), "{ctx}");
+            assert!(j.get("reference_text").is_none_or(Value::is_null), "{ctx}");
             continue;
         }
         if source == "none" {
@@ -85,6 +86,14 @@ pub fn check_claim_records(paper: &str, r: &Reproduction) {
         // stated.
         if source == "paper" {
             let text = j["paper_text"].as_str().expect("paper_text");
+            assert_eq!(text.parse::<f64>().unwrap(), reference, "{ctx}");
+            assert!(
+                tolerance <= half_unit(text) * (1.0 + 1e-12) || non_empty(&j, "tolerance_reason"),
+                "{ctx}"
+            );
+        }
+        if source == "independent" {
+            let text = j["reference_text"].as_str().expect("reference_text");
             assert_eq!(text.parse::<f64>().unwrap(), reference, "{ctx}");
             assert!(
                 tolerance <= half_unit(text) * (1.0 + 1e-12) || non_empty(&j, "tolerance_reason"),
