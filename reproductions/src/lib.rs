@@ -1,9 +1,11 @@
 //! Reproductions of the examples of the five papers implemented by `sporadic`.
 //!
 //! Each paper has one module whose `reproduce(out_dir)` recomputes the paper's examples with
-//! the paper's method crate, checks every claim against its reference (a number the paper prints,
-//! a value the paper implies, or an independent computation: [`Source`]), and writes the paper's
-//! figures as SVG files; [`report`] renders the results as one HTML page. The method crates
+//! the paper's method crate into one record of values (writing the paper's figures as SVG files),
+//! then checks its claim table against that record: every claim names its reference (a number the
+//! paper prints, a value the paper implies, or an independent computation: [`Source`]) and is
+//! compared under the tolerance policy of [`claim`]; [`report`] renders the results as one HTML
+//! page. The method crates
 //! themselves carry no reproduction code: a user who links `sporadic-ferrante2016` gets the
 //! method, not this report machinery.
 //!
