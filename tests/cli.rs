@@ -750,6 +750,108 @@ fn reproduce_json_lists_the_figures_written() {
         );
     }
     assert!(lines.iter().all(|v| v["paper"] == "andrieu2014"));
+    // Every claim record says where its reference comes from.
+    for v in lines.iter().filter(|v| v.get("claim").is_some()) {
+        let source = v["source"].as_str().unwrap_or_else(|| panic!("{v}"));
+        assert!(
+            ["paper", "derived", "independent", "none"].contains(&source),
+            "{v}"
+        );
+    }
+    // The report a person reads: every figure inline, every claim listed.
+    let index = std::fs::read_to_string(out.join("index.html")).unwrap();
+    for v in &lines {
+        if let Some(f) = v.get("figure").and_then(|f| f.as_str()) {
+            let name = Path::new(f).file_name().unwrap().to_string_lossy();
+            assert!(
+                index.contains(&format!("<img src=\"andrieu2014/{name}\"")),
+                "{name}"
+            );
+        }
+        if let Some(c) = v.get("claim").and_then(|c| c.as_str()) {
+            assert!(index.contains(&format!("<td>{c}</td>")), "{c}");
+        }
+    }
+}
+
+/// `reproduce all` writes `index.html`, and headless Chromium renders it from disk: one section per
+/// paper, every figure of every paper as an image, a non-empty screenshot. Run by `.ci/run` when
+/// Chromium is installed (`apt-get install chromium`); it prints why it is skipped otherwise.
+#[test]
+#[ignore = "needs headless Chromium; run by .ci/run when `chromium` is installed"]
+fn reproduce_all_index_renders_in_headless_chromium() {
+    let Some(chromium) = ["chromium", "chromium-browser"].into_iter().find(|c| {
+        Command::new(c)
+            .arg("--version")
+            .output()
+            .is_ok_and(|o| o.status.success())
+    }) else {
+        eprintln!("skipped: no chromium on PATH (Debian: apt-get install chromium)");
+        return;
+    };
+    let out = scratch("reproduce-all-html");
+    let o = sporadic(&[
+        "reproduce",
+        "all",
+        "--json",
+        "--out",
+        &out.display().to_string(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let figures: Vec<String> = stdout(&o)
+        .lines()
+        .filter_map(|l| {
+            let v: serde_json::Value = serde_json::from_str(l).unwrap();
+            v.get("figure").and_then(|f| f.as_str()).map(str::to_owned)
+        })
+        .collect();
+    let index = out.join("index.html").canonicalize().unwrap();
+    let url = format!("file://{}", index.display());
+    let headless = |extra: &[&str]| -> Output {
+        Command::new(chromium)
+            .args([
+                "--headless",
+                "--no-sandbox",
+                "--disable-gpu",
+                "--allow-file-access-from-files",
+            ])
+            .args(extra)
+            .arg(&url)
+            .output()
+            .unwrap()
+    };
+    let dom = headless(&["--dump-dom"]);
+    assert!(dom.status.success(), "{}", stderr(&dom));
+    let dom = stdout(&dom);
+    assert_eq!(dom.matches("<section class=\"paper\"").count(), 5, "{dom}");
+    assert_eq!(dom.matches("<img ").count(), figures.len());
+    for f in &figures {
+        let rel = Path::new(f).strip_prefix(&out).unwrap();
+        let src = rel.to_string_lossy().replace('\\', "/");
+        assert!(dom.contains(&format!("src=\"{src}\"")), "{src}");
+        assert!(out.join(rel).is_file(), "{src}");
+    }
+    for paper in [
+        "ferrante2016",
+        "sferlazza2021",
+        "andrieu2014",
+        "etienne2017",
+        "rabehi2021",
+    ] {
+        assert!(dom.contains(&format!("id=\"{paper}\"")), "{paper}");
+    }
+    let png = out.join("index.png");
+    let shot = headless(&[
+        &format!("--screenshot={}", png.display()),
+        "--window-size=1400,3000",
+    ]);
+    assert!(shot.status.success(), "{}", stderr(&shot));
+    let bytes = std::fs::read(&png).unwrap();
+    assert!(
+        bytes.starts_with(b"\x89PNG") && bytes.len() > 20_000,
+        "{} bytes",
+        bytes.len()
+    );
 }
 
 /// Every shipped plant file: `compare --json` parses into the compare report, with one design

@@ -235,6 +235,70 @@ fn data_range(values: impl Iterator<Item = f64>, log: bool) -> Range<f64> {
     lo - pad..hi + pad
 }
 
+/// The longest tick label the vertical axis leaves room for (in characters) without running into
+/// the axis title; [`tick_label`] and [`log_tick_label`] stay within it.
+const Y_LABEL_CHARS: u32 = 8;
+
+/// A tick label of a linear axis spanning `span`: at most four significant digits, no float
+/// noise (`0.30000000000000004`), no `-0`, scientific notation (`2.5e-4`) for very small or
+/// large magnitudes.
+fn tick_label(v: f64, span: f64) -> String {
+    if !v.is_finite() {
+        return String::new();
+    }
+    // Values within round-off of zero (relative to the axis span) are zero.
+    if v == 0.0 || v.abs() <= 1e-9 * span.abs() {
+        return "0".into();
+    }
+    // Round to 4 significant digits; `+ 0.0` turns −0.0 into 0.0.
+    let rounded: f64 = format!("{v:.3e}").parse::<f64>().unwrap_or(v) + 0.0;
+    let a = rounded.abs();
+    if (1e-3..1e5).contains(&a) {
+        format!("{rounded}")
+    } else {
+        scientific(rounded)
+    }
+}
+
+/// A tick label of a logarithmic axis: powers of ten as `1e-5` (plain decimals from `0.001` to
+/// `10000`), other values with at most three significant digits.
+fn log_tick_label(v: f64) -> String {
+    if !(v.is_finite() && v > 0.0) {
+        return String::new();
+    }
+    let e = v.log10().round();
+    if (v / 10f64.powf(e) - 1.0).abs() < 1e-6 {
+        let e = e as i32;
+        return if (-3..=4).contains(&e) {
+            format!("{}", 10f64.powi(e))
+        } else {
+            format!("1e{e}")
+        };
+    }
+    let rounded: f64 = format!("{v:.2e}").parse::<f64>().unwrap_or(v);
+    if (1e-3..1e5).contains(&rounded) {
+        format!("{rounded}")
+    } else {
+        scientific(rounded)
+    }
+}
+
+/// `2.5e-4` rather than Rust's `2.5e-4` with trailing zeros or `2.500e-4`.
+fn scientific(v: f64) -> String {
+    let s = format!("{v:.3e}");
+    match s.split_once('e') {
+        Some((m, e)) => {
+            let m = if m.contains('.') {
+                m.trim_end_matches('0').trim_end_matches('.')
+            } else {
+                m
+            };
+            format!("{m}e{e}")
+        }
+        None => s,
+    }
+}
+
 fn render(path: &Path, style: FigureStyle, panels: &[Panel<'_>]) -> Result<(), FigureError> {
     let root = SVGBackend::new(path, (style.width, style.height)).into_drawing_area();
     root.fill(&WHITE).map_err(plot_err)?;
@@ -280,15 +344,31 @@ where
     let font = style.font_size;
     let small = (font * 3 / 4).max(8);
     let (x0, x1) = (xr.start, xr.end);
+    let x_step = (x1 - x0).abs();
     let mut chart = ChartBuilder::on(area)
         .caption(&panel.title, ("sans-serif", font))
         .margin(12)
-        .x_label_area_size(2 * small + 10)
-        .y_label_area_size(4 * small + 10)
+        .x_label_area_size(2 * small + 14)
+        .y_label_area_size(Y_LABEL_CHARS * small * 3 / 5 + 2 * small + 10)
         .build_cartesian_2d(xr, y_spec)
         .map_err(plot_err)?;
+    let y_span = {
+        let r = chart.y_range();
+        (r.end - r.start).abs()
+    };
+    let log_y = panel.spec.log_y;
+    let x_fmt = |v: &f64| tick_label(*v, x_step);
+    let y_fmt = move |v: &f64| {
+        if log_y {
+            log_tick_label(*v)
+        } else {
+            tick_label(*v, y_span)
+        }
+    };
     chart
         .configure_mesh()
+        .x_label_formatter(&x_fmt)
+        .y_label_formatter(&y_fmt)
         .x_desc(panel.x_label.as_str())
         .y_desc(panel.spec.y_label.as_str())
         .label_style(("sans-serif", small))
@@ -296,7 +376,7 @@ where
         .light_line_style(WHITE.mix(0.0))
         .draw()
         .map_err(plot_err)?;
-    let y_span = {
+    let y_ends = {
         let r = chart.y_range();
         (r.start, r.end)
     };
@@ -307,7 +387,7 @@ where
                 panel
                     .vlines
                     .iter()
-                    .map(|&t| PathElement::new(vec![(t, y_span.0), (t, y_span.1)], JUMP_MARK)),
+                    .map(|&t| PathElement::new(vec![(t, y_ends.0), (t, y_ends.1)], JUMP_MARK)),
             )
             .map_err(plot_err)?;
     }
@@ -542,4 +622,35 @@ pub fn plot_hybrid_time(
         ..spec.style
     };
     render(path.as_ref(), style, &[lp, rp])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{log_tick_label, tick_label};
+
+    #[test]
+    fn tick_labels_are_short_and_never_negative_zero() {
+        assert_eq!(tick_label(-0.0, 1.0), "0");
+        assert_eq!(tick_label(-1e-17, 1.0), "0");
+        assert_eq!(tick_label(0.30000000000000004, 1.0), "0.3");
+        assert_eq!(tick_label(-0.5, 1.0), "-0.5");
+        assert_eq!(tick_label(2.5e-4, 1e-3), "2.5e-4");
+        assert_eq!(tick_label(123456.0, 1e6), "1.235e5");
+        // Float noise of 1e-4 and 1e-5 as plotters computes them.
+        assert_eq!(log_tick_label(9.999999999999999e-5), "1e-4");
+        assert_eq!(log_tick_label(9.999999999999999e-6), "1e-5");
+        assert_eq!(log_tick_label(0.01), "0.01");
+        assert_eq!(log_tick_label(1000.0), "1000");
+        assert_eq!(log_tick_label(2e-7), "2e-7");
+        for v in [1e-12, 3.3e-9, 0.07, 5.0, 1e4, 2e6] {
+            assert!(
+                log_tick_label(v).len() <= super::Y_LABEL_CHARS as usize,
+                "{v}"
+            );
+            assert!(
+                tick_label(-v, v).len() <= super::Y_LABEL_CHARS as usize,
+                "{v}"
+            );
+        }
+    }
 }

@@ -173,3 +173,74 @@ fn figure_inputs_are_validated() {
     assert!(plot_components(&missing, &spec, &[0.0, 1.0], &[0, 0], &[("a", &[1.0, 2.0])]).is_err());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The text of every `<text>` element of an SVG file.
+fn svg_texts(path: &std::path::Path) -> Vec<String> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let doc = roxmltree::Document::parse(&text).expect("well-formed XML");
+    doc.descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .map(|n| n.descendants().filter_map(|c| c.text()).collect::<String>())
+        .collect()
+}
+
+/// A tick label a reader would distrust: a run of 9 or more digits (float noise such as
+/// `9.999999999999999e-5`) or a negative zero (`-0`, `-0.0`).
+fn untrustworthy(label: &str) -> bool {
+    let mut run = 0;
+    for ch in label.chars() {
+        run = if ch.is_ascii_digit() { run + 1 } else { 0 };
+        if run >= 9 {
+            return true;
+        }
+    }
+    let t = label.trim();
+    t.strip_prefix('-')
+        .is_some_and(|rest| !rest.is_empty() && rest.chars().all(|c| c == '0' || c == '.'))
+}
+
+#[test]
+fn tick_labels_are_readable_on_log_and_linear_axes() {
+    let dir = out_dir("ticks");
+    // Log axis over many decades (the ferrante2016 Fig. 2 case) and a linear axis whose range
+    // straddles zero (the etienne2017 Fig. 1 case).
+    let t: Vec<f64> = (0..=600).map(|i| f64::from(i) * 0.1).collect();
+    let j: Vec<usize> = (0..t.len()).map(|i| i / 20).collect();
+    let decay: Vec<f64> = t.iter().map(|&t| (-0.6 * t).exp()).collect();
+    let wave: Vec<f64> = t
+        .iter()
+        .map(|&t| 0.3 * (t).sin() * (-0.1 * t).exp())
+        .collect();
+    let log = dir.join("log.svg");
+    plot_hybrid_time(
+        &log,
+        &PlotSpec::new("log", "t", "squared error").log_y(),
+        &t,
+        &j,
+        &[("e", &decay)],
+    )
+    .unwrap();
+    let lin = dir.join("lin.svg");
+    plot_components(
+        &lin,
+        &PlotSpec::new("lin", "t", "z"),
+        &t,
+        &j,
+        &[("z", &wave)],
+    )
+    .unwrap();
+    for path in [&log, &lin] {
+        let texts = svg_texts(path);
+        assert!(texts.len() > 8, "{texts:?}");
+        for label in &texts {
+            assert!(!untrustworthy(label), "{}: {label:?}", path.display());
+        }
+    }
+    assert!(
+        svg_texts(&log).iter().any(|l| l.contains("1e-")),
+        "powers of ten"
+    );
+    assert!(untrustworthy("9.999999999999999e-5") && untrustworthy("-0.0") && untrustworthy("-0"));
+    assert!(!untrustworthy("-0.5") && !untrustworthy("1e-5"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -1,14 +1,18 @@
 //! Reproductions of the examples of the five papers implemented by `sporadic`.
 //!
 //! Each paper has one module whose `reproduce(out_dir)` recomputes the paper's examples with
-//! the paper's method crate, checks every claim against the number the paper prints (or a
-//! documented correction of it), and writes the paper's figures as SVG files. The method crates
+//! the paper's method crate into one record of values (writing the paper's figures as SVG files),
+//! then checks its claim table against that record: every claim names its reference (a number the
+//! paper prints, a value the paper implies, or an independent computation: [`Source`]) and is
+//! compared under the tolerance policy of [`claim`]; [`report`] renders the results as one HTML
+//! page. The method crates
 //! themselves carry no reproduction code: a user who links `sporadic-ferrante2016` gets the
 //! method, not this report machinery.
 //!
 //! [`PAPERS`] lists the reproductions in seed order; `sporadic reproduce` runs them.
 
 pub mod claim;
+pub mod report;
 
 pub mod andrieu2014;
 pub mod etienne2017;
@@ -16,7 +20,7 @@ pub mod ferrante2016;
 pub mod rabehi2021;
 pub mod sferlazza2021;
 
-pub use claim::{Claim, ClaimStatus, Reproduction};
+pub use claim::{Claim, ClaimStatus, Reproduction, Rule, Source, Value};
 
 use std::path::Path;
 

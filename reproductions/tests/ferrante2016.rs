@@ -1,16 +1,22 @@
-//! The reproduction report: every number the paper prints (and every reference value of spec 000
+//! The reproduction report: every number the paper prints (and every independent reference value
 //! that does not depend on a non-unique certificate) is matched, every figure is written.
 
-use sporadic_reproductions::claim::ClaimStatus;
+mod common;
+
+use sporadic_reproductions::claim::{ClaimStatus, Value};
 use sporadic_reproductions::ferrante2016::reproduce;
 
 #[test]
 fn reproduction_matches_the_paper() {
     let dir = std::env::temp_dir().join(format!("ferrante2016-test-{}", std::process::id()));
     let r = reproduce(&dir).unwrap();
+    common::check_claim_records("ferrante2016", &r);
+    common::check_figure_texts(&r);
     for c in &r.claims {
-        assert!(c.ours.is_finite(), "{c:?}");
-        match (c.paper_value, c.status) {
+        if let Value::Number(v) = c.ours {
+            assert!(v.is_finite(), "{c:?}");
+        }
+        match (c.reference, c.status) {
             (None, status) => assert_eq!(status, ClaimStatus::NotInPaper, "{c:?}"),
             (Some(_), ClaimStatus::Match) => {}
             // The min tr P constants need the SDP optimum to solver precision: they may differ
@@ -19,7 +25,7 @@ fn reproduction_matches_the_paper() {
             (Some(_), ClaimStatus::Differs) if c.claim.starts_with("ex2.min_trace.") => {
                 assert!(
                     c.note.contains("stopped before optimality")
-                        && c.note.contains("the spec's value is the right one"),
+                        && c.note.contains("the reference value is the right one"),
                     "{c:?}"
                 );
             }
@@ -46,17 +52,19 @@ fn reproduction_matches_the_paper() {
         "ex2.paper_L.certified",
         "ex2.paper_L.max_spectral_radius",
         "ex2.sim.slowest_ratio_100_jumps",
-        "ex2.window.largest_T2",
+        "ex1.thm2.rate",
+        "ex1.sim.noisy.iss_bound_holds",
     ] {
         assert_eq!(get(id).status, ClaimStatus::Match, "{:?}", get(id));
     }
-    assert_eq!(get("ex1.lmi.certified_L=0.6").ours, 0.0);
-    assert!(get("ex2.design.max_eig_12").ours < 0.0);
-    assert!(get("ex2.design.max_spectral_radius").ours < 1.0);
-    assert!(get("ex2.sim.uniform_worst_ratio_100_jumps").ours < 1e-12);
-    assert!(get("ex2.sim.paper_L.error_sq_ratio").ours < 1e-3);
-    assert!(get("ex2.sim.our_L.error_sq_ratio").ours < 1e-3);
-    let t1 = get("ex2.window.smallest_T1").ours;
+    assert_eq!(get("ex1.lmi.certified_L=0.6").ours, Value::Bool(false));
+    assert_eq!(get("ex2.window.largest_T2").status, ClaimStatus::NotInPaper);
+    assert!(get("ex2.design.max_eig_12").ours_f64() < 0.0);
+    assert!(get("ex2.design.max_spectral_radius").ours_f64() < 1.0);
+    assert!(get("ex2.sim.uniform_worst_ratio_100_jumps").ours_f64() < 1e-12);
+    assert!(get("ex2.sim.paper_L.error_sq_ratio").ours_f64() < 1e-3);
+    assert!(get("ex2.sim.our_L.error_sq_ratio").ours_f64() < 1e-3);
+    let t1 = get("ex2.window.smallest_T1").ours_f64();
     assert!(0.03 < t1 && t1 < 0.1, "smallest T1 = {t1}");
     assert_eq!(r.figures.len(), 2);
     for f in &r.figures {
@@ -69,6 +77,7 @@ fn reproduction_matches_the_paper() {
     // Machine-readable output of `sporadic reproduce ferrante2016 --json`.
     let json = get("ex1.beta").to_json("ferrante2016");
     assert_eq!(json["status"], "match");
-    assert_eq!(json["paper_value"], 0.4698);
+    assert_eq!(json["paper_text"], "0.4698");
+    assert_eq!(json["source"], "paper");
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -2,8 +2,10 @@
 
 use super::{Failure, Outcome};
 use sporadic::methods;
-use sporadic_reproductions::{PAPERS, Paper};
+use sporadic_reproductions::report::{Section, index_html};
+use sporadic_reproductions::{PAPERS, Paper, Reproduction};
 use std::path::PathBuf;
+use std::time::{Duration, Instant};
 
 /// Arguments of `sporadic reproduce`.
 #[derive(Debug, clap::Args)]
@@ -14,7 +16,7 @@ pub struct Args {
     /// written, instead of the human table.
     #[arg(long)]
     pub json: bool,
-    /// Folder for the figures (one sub-folder per paper).
+    /// Folder for the figures (one sub-folder per paper) and the report `index.html`.
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
 }
@@ -28,8 +30,9 @@ fn papers() -> Vec<&'static Paper> {
         .collect()
 }
 
-/// Runs the requested reproductions; fails if any reproduction fails to run (a claim that
-/// differs from the paper is reported, not an error).
+/// Runs the requested reproductions and writes `index.html` (claims, figures, notes, timing) into
+/// the output folder; fails if any reproduction fails to run (a claim that differs from the paper
+/// is reported, not an error).
 pub fn run(args: &Args) -> Result<Outcome, Failure> {
     let selected: Vec<&Paper> = papers()
         .into_iter()
@@ -44,10 +47,13 @@ pub fn run(args: &Args) -> Result<Outcome, Failure> {
         )));
     }
     let mut summary = Vec::new();
+    let mut done: Vec<(&Paper, Reproduction, Duration)> = Vec::new();
     for paper in selected {
         let (id, title) = (paper.id, paper.title);
         let dir = args.out.join(id);
+        let start = Instant::now();
         let reproduction = (paper.run)(&dir).map_err(|e| Failure::Run(format!("{id}: {e}")))?;
+        let elapsed = start.elapsed();
         if args.json {
             for claim in &reproduction.claims {
                 println!("{}", claim.to_json(id));
@@ -62,7 +68,20 @@ pub fn run(args: &Args) -> Result<Outcome, Failure> {
             println!("{}", reproduction.table(&format!("{id} ({title})")));
         }
         summary.push((id, reproduction.tally()));
+        done.push((paper, reproduction, elapsed));
     }
+    let sections: Vec<Section<'_>> = done
+        .iter()
+        .map(|(p, r, elapsed)| Section {
+            id: p.id,
+            title: p.title,
+            reproduction: r,
+            elapsed: *elapsed,
+        })
+        .collect();
+    let index = args.out.join("index.html");
+    std::fs::write(&index, index_html(&sections, &args.out))
+        .map_err(|e| Failure::Run(format!("{}: {e}", index.display())))?;
     if !args.json {
         println!(
             "{:<14} {:>6} {:>8} {:>6} {:>13}",
