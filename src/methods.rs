@@ -156,7 +156,8 @@ pub fn default_limit(file: &PlantFile) -> Option<f64> {
 }
 
 /// Every registered method on the plant file: the design at the file's own sampling and,
-/// when `limit` is given, the largest certified `T2 ≤ limit` with the file's `T1`.
+/// when `limit` is given, the largest certified `T2 ≤ limit` with the file's `T1` (not for a
+/// method that picks its own sampling instants).
 ///
 /// [`MethodOptions::time_limit`] is the budget of the whole comparison. The designs run first,
 /// each with an equal share of what is left when its turn comes; then the searches of the
@@ -182,7 +183,8 @@ pub fn compare(
     }
     let searched: Vec<bool> = designs
         .iter()
-        .map(|d| limit.is_some() && !d.status.is_not_applicable())
+        .zip(&methods)
+        .map(|(d, m)| limit.is_some() && !d.status.is_not_applicable() && !m.chooses_its_sampling())
         .collect();
     let mut searches_left = searched.iter().filter(|&&s| s).count();
     let mut results = Vec::with_capacity(methods.len());
@@ -198,6 +200,7 @@ pub fn compare(
         };
         results.push(CompareEntry {
             method: m.id().to_string(),
+            chooses_its_sampling: m.chooses_its_sampling(),
             design,
             largest_window,
         });

@@ -159,6 +159,12 @@ pub trait ObserverMethod: Send + Sync {
     fn summary(&self) -> &'static str;
     /// The observer's equations (flow and jump) and the sign convention of its gains.
     fn observer(&self) -> &'static str;
+    /// Whether the observer picks its own sampling instants: its design certifies the
+    /// intervals its rule produces (reported as the design's window), not a window of
+    /// arbitrary sampling sequences, so a window search does not apply.
+    fn chooses_its_sampling(&self) -> bool {
+        false
+    }
     /// Whether the method covers this plant and sampling.
     fn applies(&self, plant: &Plant, sampling: &Sampling) -> Result<(), NotApplicable>;
     /// Designs and re-verifies an observer for every sampling sequence of `sampling`.

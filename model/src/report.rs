@@ -13,7 +13,8 @@
 //!   certified up to `limit`), `search_end`, `probes`, `design` (the design report at the
 //!   largest certified window), `seconds`.
 //! * `sporadic.compare/2` ([`CompareReport`]): `plant`, `limit` (the largest `T2` searched),
-//!   `results` (one [`CompareEntry`] per method: `method`, `design` — the design report at the
+//!   `results` (one [`CompareEntry`] per method: `method`, `chooses_its_sampling`, `design` —
+//!   the design report at the
 //!   plant file's own sampling — and `largest_window` — the max-interval report with the
 //!   file's `T1`, `null` when no search was run), `seconds`.
 
@@ -393,6 +394,11 @@ impl MaxIntervalReport {
 pub struct CompareEntry {
     /// The method id.
     pub method: String,
+    /// Whether the method picks its own sampling instants
+    /// ([`crate::ObserverMethod::chooses_its_sampling`]): its design's window is the range of
+    /// intervals its rule produces, and no window search is run.
+    #[serde(default)]
+    pub chooses_its_sampling: bool,
     /// The design at the plant file's own sampling.
     pub design: DesignReport,
     /// The largest certified `T2` with the file's `T1` (`None`: no search was run, because

@@ -76,13 +76,19 @@ impl From<SamplingWindow> for [f64; 2] {
 impl std::fmt::Display for SamplingWindow {
     /// `[T1, T2]` with the ends at 6 significant digits.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "[{}, {}]", short(self.t1), short(self.t2))
+        write!(f, "[{}, {}]", significant(self.t1), significant(self.t2))
     }
 }
 
-/// A number rounded to 6 significant digits, printed in its shortest form.
-pub(crate) fn short(x: f64) -> String {
-    format!("{}", format!("{x:.5e}").parse::<f64>().unwrap_or(x))
+/// `x` rounded to 6 significant digits and printed in its shortest form: plain decimals in
+/// `[1e-4, 1e6)`, exponent form outside (`1e300`, not 301 digits).
+pub fn significant(x: f64) -> String {
+    let r = format!("{x:.5e}").parse::<f64>().unwrap_or(x);
+    if r != 0.0 && r.is_finite() && !(1e-4..1e6).contains(&r.abs()) {
+        format!("{r:e}")
+    } else {
+        format!("{r}")
+    }
 }
 
 /// The sampling of a plant's outputs: one window for all outputs, or round-robin sensors each
@@ -146,6 +152,17 @@ impl Sampling {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn significant_numbers_are_short() {
+        assert_eq!(significant(0.253029), "0.253029");
+        assert_eq!(significant(3.1234567), "3.12346");
+        assert_eq!(significant(1e300), "1e300");
+        assert_eq!(significant(-1.23456789e-300), "-1.23457e-300");
+        assert_eq!(significant(0.0), "0");
+        assert_eq!(significant(f64::INFINITY), "inf");
+        assert!(significant(12345678.9).len() < 12);
+    }
 
     #[test]
     fn windows_are_validated() {

@@ -7,7 +7,7 @@ use sporadic::plant_file::PlantFile;
 use sporadic_model::{
     CompareReport, DesignReport, MaxIntervalReport, MethodError, MethodOptions, NamedMatrix,
     ObserverMethod, Probe, SamplingScenario, SamplingWindow, Scenario, SearchEnd, Status,
-    Trajectory,
+    Trajectory, significant,
 };
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
@@ -336,7 +336,7 @@ pub fn design(args: &DesignArgs) -> Result<Outcome, Failure> {
                 Some(t) => println!(
                     "simulation: settled: the norm stays within {}% of its initial value from t = {} s",
                     100.0 * methods::SETTLING_BAND,
-                    short(t)
+                    significant(t)
                 ),
                 None => println!(
                     "simulation: not settled: the norm is not within {}% of its initial value at the end of the run (raise --horizon)",
@@ -533,7 +533,7 @@ fn print_compare(file: &PlantFile, report: &CompareReport) {
     if let Some(l) = report.limit {
         println!(
             "search: largest certified T2 <= {} with the file's T1",
-            short(l)
+            significant(l)
         );
     }
     println!(
@@ -544,10 +544,7 @@ fn print_compare(file: &PlantFile, report: &CompareReport) {
         let d = &e.design;
         // A method that picks its own sampling instants certifies no window of arbitrary
         // sampling: its search does not apply.
-        let own_rule = e
-            .largest_window
-            .as_ref()
-            .is_some_and(|r| r.status.is_not_applicable());
+        let own_rule = e.chooses_its_sampling;
         let at_file = if d.status.is_certified() && own_rule {
             "own rule".to_string()
         } else if d.status.is_certified() {
@@ -564,11 +561,11 @@ fn print_compare(file: &PlantFile, report: &CompareReport) {
             None => "-".to_string(),
             Some(_) if own_rule => "-".to_string(),
             Some(r) => match (r.largest_certified_t2, r.first_failing_t2) {
-                (Some(b), Some(f)) => format!("{} (fails {})", short(b), short(f)),
+                (Some(b), Some(f)) => format!("{} (fails {})", significant(b), significant(f)),
                 (Some(b), None) if r.search_end == Some(SearchEnd::BudgetExhausted) => {
-                    format!("{} (out of time)", short(b))
+                    format!("{} (out of time)", significant(b))
                 }
-                (Some(b), None) => format!("{} (= limit)", short(b)),
+                (Some(b), None) => format!("{} (= limit)", significant(b)),
                 (None, _) => "none".to_string(),
             },
         };
@@ -588,18 +585,6 @@ fn print_compare(file: &PlantFile, report: &CompareReport) {
             "{:<14} {:<15} {:>10} {:<26} {:>9.2}  {}",
             e.method, at_file, margin, largest, seconds, note
         );
-    }
-}
-
-/// Four significant digits, in plain decimals when readable and in exponent form otherwise.
-fn short(v: f64) -> String {
-    if v != 0.0 && !(1e-3..1e5).contains(&v.abs()) {
-        format!("{v:.3e}")
-    } else {
-        format!("{}", (v * 1e4).round() / 1e4)
-            .chars()
-            .take(10)
-            .collect()
     }
 }
 
@@ -625,10 +610,7 @@ fn draw_windows(out: &Path, file: &PlantFile, report: &CompareReport) -> Result<
             Some(d) => {
                 let ws = d.sampling_windows();
                 let many = ws.len() > 1;
-                let own_rule = e
-                    .largest_window
-                    .as_ref()
-                    .is_some_and(|r| r.status.is_not_applicable());
+                let own_rule = e.chooses_its_sampling;
                 for (i, w) in ws.iter().enumerate() {
                     rows.push(sporadic_figures::WindowBar {
                         label: if many {
@@ -638,9 +620,9 @@ fn draw_windows(out: &Path, file: &PlantFile, report: &CompareReport) -> Result<
                         },
                         window: Some((w.t1(), w.t2())),
                         note: if own_rule {
-                            format!("its rule's intervals, T2 = {}", short(w.t2()))
+                            format!("its rule's intervals, T2 = {}", significant(w.t2()))
                         } else {
-                            format!("T2 = {}", short(w.t2()))
+                            format!("T2 = {}", significant(w.t2()))
                         },
                     });
                 }

@@ -66,6 +66,11 @@ impl ObserverMethod for Andrieu2014 {
          then L ← (1 − a1 alpha) L⁻ + a1 alpha, M ← 1 (6c-d)"
     }
 
+    /// The rule (7) picks every sampling instant.
+    fn chooses_its_sampling(&self) -> bool {
+        true
+    }
+
     fn applies(&self, plant: &Plant, sampling: &Sampling) -> Result<(), NotApplicable> {
         let (Sampling::Synchronous(_), Some(c)) = (sampling, plant.c()) else {
             return Err(NotApplicable::unsupported(

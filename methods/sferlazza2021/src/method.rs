@@ -23,7 +23,7 @@ use sporadic_linalg::{InputError, LinalgError};
 use sporadic_model::{
     Check, DesignReport, Gain, Margin, MethodError, MethodOptions, NamedMatrix, NotApplicable,
     ObserverMethod, Outputs, Plant, Reason, Sampling, SamplingScenario, SamplingWindow, Scenario,
-    SimulationReport, Trajectory,
+    SimulationReport, Trajectory, significant,
 };
 
 use crate::design::{Design, DesignOptions, design};
@@ -179,11 +179,6 @@ fn invalid_input(e: impl std::error::Error + Send + Sync + 'static) -> MethodErr
     }
 }
 
-/// `x` to 6 significant digits.
-fn short(x: f64) -> String {
-    format!("{}", format!("{x:.5e}").parse::<f64>().unwrap_or(x))
-}
-
 impl ObserverMethod for Sferlazza2021 {
     fn id(&self) -> &'static str {
         ID
@@ -272,9 +267,9 @@ impl ObserverMethod for Sferlazza2021 {
                          stable mode with Re λ = {} and T_M = {}, so ‖e^(−A T_M)‖ ≥ e^{} > 1.8e308 \
                          (the formulation of (44) cannot represent such a fast mode over such a \
                          long interval)",
-                        short(-alpha),
-                        short(rr.t_max()),
-                        short(alpha * rr.t_max())
+                        significant(-alpha),
+                        significant(rr.t_max()),
+                        significant(alpha * rr.t_max())
                     ),
                 },
             );
@@ -405,8 +400,8 @@ impl ObserverMethod for Sferlazza2021 {
                 setup: format!(
                     "error system (53) without noise, x̃(0) = {x0:?} (|x̃(0)| = {}), sensors in \
                      round-robin order, {rule}, horizon {} s",
-                    short(initial),
-                    short(horizon)
+                    significant(initial),
+                    significant(horizon)
                 ),
                 samples: run.jumps.len(),
                 initial_error: initial,
@@ -492,7 +487,7 @@ impl Sferlazza2021 {
                     "Lyapunov matrix of sensor {} in (44), solution of (47): I ⪯ P_σ ⪯ p*·I with \
                      p* = {}{coordinates}; V = e^(−ρτ) x̃ᵀ e^(−Aᵀτ) P_σ e^(−Aτ) x̃ is (30)",
                     s + 1,
-                    short(d.p_star)
+                    significant(d.p_star)
                 ),
             ));
         }
@@ -535,8 +530,8 @@ impl Sferlazza2021 {
         report.checks.push(Check {
             what: format!(
                 "Step 1: ‖e^(−Aτ)‖₂ ≤ γe^(βτ) with β = {}, γ = {} (enters the grid spacing (49))",
-                short(b.bound.beta),
-                short(b.bound.gamma)
+                significant(b.bound.beta),
+                significant(b.bound.gamma)
             ),
             how: if b.lyapunov_margin.is_nan() {
                 "β, γ given in the options (not checked)".into()
@@ -549,14 +544,14 @@ impl Sferlazza2021 {
         let policy = match self.design.grid {
             GridPolicy::Paper => "spacing 2δ* of (49)".to_string(),
             GridPolicy::Rigorous => "the rigorous Lipschitz spacing".to_string(),
-            GridPolicy::Spacing(h) => format!("spacing at most {}", short(h)),
+            GridPolicy::Spacing(h) => format!("spacing at most {}", significant(h)),
         };
         for g in &minima {
             report.checks.push(Check {
                 what: format!(
                     "(48): λ_min(Ξ_{}(τ)) > μ = {} on the window {} of sensor {}",
                     g.sigma + 1,
-                    short(mu),
+                    significant(mu),
                     rr.sensor(g.sigma)?.window(),
                     g.sigma + 1
                 ),
@@ -565,8 +560,8 @@ impl Sferlazza2021 {
                      re-anchoring, Schur complement + Cholesky at each point, exact λ_min at every \
                      point at or below the minimum; value: min λ_min (at τ = {})",
                     g.grid.points,
-                    short(g.grid.spacing),
-                    short(g.argmin_tau)
+                    significant(g.grid.spacing),
+                    significant(g.argmin_tau)
                 ),
                 value: Some(g.min_eigenvalue),
                 passed: g.min_eigenvalue > mu,
@@ -587,7 +582,7 @@ impl Sferlazza2021 {
                 spot.len(),
                 self.schedule_points,
                 worst.0 + 1,
-                short(worst.1)
+                significant(worst.1)
             ),
             value: Some(worst.2),
             passed: worst.2 > 0.0,
@@ -599,26 +594,26 @@ impl Sferlazza2021 {
             });
         }
         // Notes.
-        let added: Vec<String> =
-            d.log
-                .iter()
-                .flat_map(|r| {
-                    r.added.iter().enumerate().filter_map(move |(s, t)| {
-                        t.map(|t| format!("σ = {}: τ̄ = {}", s + 1, short(t)))
-                    })
+        let added: Vec<String> = d
+            .log
+            .iter()
+            .flat_map(|r| {
+                r.added.iter().enumerate().filter_map(move |(s, t)| {
+                    t.map(|t| format!("σ = {}: τ̄ = {}", s + 1, significant(t)))
                 })
-                .collect();
+            })
+            .collect();
         report.notes.push(format!(
             "iterative refinement (§5.3) passed validation after {} synthesis SDP(s) (47) with μ = \
              {}; points τ̄ of (50) added: {}; final p* = {}",
             d.iterations(),
-            short(mu),
+            significant(mu),
             if added.is_empty() {
                 "none".to_string()
             } else {
                 added.join(", ")
             },
-            short(d.p_star)
+            significant(d.p_star)
         ));
         if balanced {
             report.notes.push(format!(
