@@ -1258,3 +1258,71 @@ fn simulation_flags_steer_the_run_and_write_the_time_series() {
         assert_eq!(code(&o), 2, "{bad:?}: {}", stdout(&o));
     }
 }
+
+/// `--scenario worst-case`: the greedy adversary of ferrante2016 picks every interval in the
+/// window [0.2, 3] to maximise the certificate's εᵀPε just after the next sample (a per-sample
+/// worst case: per unit of time it may decay faster than random sampling, since short intervals
+/// sample more often); every interval it picks lies in the window and the certified error still
+/// contracts. Methods without an adversary say so (exit 2).
+#[test]
+fn worst_case_scenario_is_adversarial_and_honest() {
+    let csv = scratch("wc.csv");
+    let o = sporadic(&[
+        "design",
+        &example("ferrante2016-example2.toml"),
+        "--method",
+        "ferrante2016",
+        "--csv",
+        &csv.display().to_string(),
+        "--scenario",
+        "worst-case",
+        "--horizon",
+        "60",
+        "--json",
+    ]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let d: DesignReport = serde_json::from_str(stdout(&o).trim()).unwrap();
+    let worst = d.simulation.unwrap();
+    assert!(worst.setup.contains("worst case"), "{}", worst.setup);
+    assert!(worst.final_error < 1e-3 * worst.initial_error, "{worst:?}");
+    // The sample instants from the CSV: the times where j increments.
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let rows: Vec<(f64, usize)> = text
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let mut f = l.split(',');
+            (
+                f.next().unwrap().parse().unwrap(),
+                f.next().unwrap().parse().unwrap(),
+            )
+        })
+        .collect();
+    let instants: Vec<f64> = rows
+        .windows(2)
+        .filter(|w| w[1].1 == w[0].1 + 1)
+        .map(|w| w[1].0)
+        .collect();
+    assert_eq!(instants.len(), worst.samples);
+    let mut last = 0.0;
+    for t in instants {
+        assert!(
+            (0.2 - 1e-9..=3.0 + 1e-9).contains(&(t - last)),
+            "interval {} outside [0.2, 3]",
+            t - last
+        );
+        last = t;
+    }
+    let o = sporadic(&[
+        "design",
+        &example("sferlazza2021-suspension.toml"),
+        "--method",
+        "sferlazza2021",
+        "--csv",
+        &scratch("wc-rr.csv").display().to_string(),
+        "--scenario",
+        "worst-case",
+    ]);
+    assert_eq!(code(&o), 2, "{}", stdout(&o));
+    assert!(stderr(&o).contains("worst-case"), "{}", stderr(&o));
+}

@@ -82,6 +82,10 @@ pub enum SamplingScenario {
     PeriodicT1,
     /// Always the longest interval `T2`.
     PeriodicT2,
+    /// The worst case the method's certificate can see: each interval chosen in the window,
+    /// greedily, to maximise the Lyapunov function of the certificate just after the next
+    /// sample (a method without such an adversary reports the simulation unavailable).
+    WorstCase,
 }
 
 /// A simulation request.

@@ -83,6 +83,9 @@ pub enum ScenarioArg {
     PeriodicT1,
     /// Always the longest interval T2.
     PeriodicT2,
+    /// The worst case the certificate sees: each interval chosen in the window to maximise
+    /// its Lyapunov function just after the next sample (greedy adversary; ferrante2016).
+    WorstCase,
 }
 
 /// The simulation options of `sporadic design`.
@@ -145,6 +148,7 @@ impl SimulationArgs {
                 ScenarioArg::Uniform => SamplingScenario::Uniform { seed: self.seed },
                 ScenarioArg::PeriodicT1 => SamplingScenario::PeriodicT1,
                 ScenarioArg::PeriodicT2 => SamplingScenario::PeriodicT2,
+                ScenarioArg::WorstCase => SamplingScenario::WorstCase,
             },
         })
     }

@@ -4,13 +4,18 @@
 
 use std::time::Instant;
 
+use faer::Mat;
+
 use sporadic_model::{
     Check, DesignReport, Gain, Margin, MaxIntervalReport, MethodError, MethodOptions, NamedMatrix,
     NotApplicable, ObserverMethod, Outputs, Plant as ModelPlant, Probe, Reason, Sampling,
     SamplingScenario, SamplingWindow, Scenario, SimulationReport, Trajectory, largest_window_with,
 };
 use sporadic_sdp::lmi::Normalisation;
-use sporadic_sim::{Periodic, SamplingRule, SimOptions, UniformRandom};
+use sporadic_sim::{Adversarial, JumpMap, Periodic, SamplingRule, SimOptions, UniformRandom};
+
+/// Candidate intervals of the worst-case sampling scenario's greedy adversary.
+const WORST_CASE_GRID: usize = 64;
 
 use crate::design::{Design, DesignOptions, design};
 use crate::error::Error;
@@ -513,6 +518,37 @@ impl ObserverMethod for Ferrante2016 {
                 Box::new(Periodic::new(window.t2()).map_err(sim_err)?),
                 format!("periodic, every interval T2 = {}", window.t2()),
             ),
+            SamplingScenario::WorstCase => {
+                let cert = design
+                    .certificate
+                    .iter()
+                    .find(|m| m.name == "P")
+                    .ok_or_else(|| unavailable("the report has no certificate P".into()))?
+                    .to_mat();
+                let jump = Mat::<f64>::identity(n, n) - &l * p.c();
+                let v = Box::new(move |e: &[f64]| {
+                    let e = faer::ColRef::from_slice(e);
+                    (e.transpose() * &cert * e).abs()
+                });
+                (
+                    Box::new(
+                        Adversarial::new(
+                            p.a(),
+                            JumpMap::Matrix(jump),
+                            v,
+                            window.t1(),
+                            window.t2(),
+                            WORST_CASE_GRID,
+                        )
+                        .map_err(sim_err)?,
+                    ),
+                    format!(
+                        "worst case: each interval of a {WORST_CASE_GRID}-point grid of {window} \
+                         chosen to maximise ε⁺ᵀPε⁺ just after the next sample (greedy per-sample \
+                         adversary, P the certificate)"
+                    ),
+                )
+            }
         };
         let arc = simulate_error(
             &p,

@@ -541,6 +541,15 @@ impl ObserverMethod for Rabehi2021 {
         let (t1, t2) = (window.t1(), window.t2());
         let horizon = scenario.horizon.unwrap_or(40.0 * t2);
         let (sampling, seed, words) = match scenario.sampling {
+            SamplingScenario::WorstCase => {
+                return Err(MethodError::SimulationUnavailable {
+                    method: ID,
+                    why: "no worst-case sampling for the interval observer (the width's worst \
+                          case is stated in the design report's guaranteed bound); use uniform \
+                          or periodic sampling"
+                        .into(),
+                });
+            }
             SamplingScenario::Uniform { seed } => (
                 window,
                 seed,

@@ -337,13 +337,22 @@ impl ObserverMethod for Sferlazza2021 {
             })
             .collect::<Result<_, _>>()?;
         let windows: Vec<SamplingWindow> = rr.sensors().iter().map(|s| s.window()).collect();
+        if scenario.sampling == SamplingScenario::WorstCase {
+            return Err(unavailable(
+                "no worst-case sampling for the round-robin observer: its Lyapunov function \
+                 switches with the sensor; use uniform or periodic sampling"
+                    .into(),
+            ));
+        }
         let (rule, seed) = match scenario.sampling {
             SamplingScenario::Uniform { seed } => (
                 format!("intervals uniform in each sensor's window (seed {seed})"),
                 seed,
             ),
             SamplingScenario::PeriodicT1 => ("every interval T_mσ".to_string(), 1),
-            SamplingScenario::PeriodicT2 => ("every interval T_Mσ".to_string(), 1),
+            SamplingScenario::PeriodicT2 | SamplingScenario::WorstCase => {
+                ("every interval T_Mσ".to_string(), 1)
+            }
         };
         let fixed = |t: fn(&SamplingWindow) -> f64| -> Result<Vec<SamplingWindow>, MethodError> {
             windows
@@ -357,7 +366,7 @@ impl ObserverMethod for Sferlazza2021 {
             SamplingScenario::PeriodicT1 => rr
                 .with_windows(&fixed(SamplingWindow::t1)?)
                 .map_err(invalid_input)?,
-            SamplingScenario::PeriodicT2 => rr
+            SamplingScenario::PeriodicT2 | SamplingScenario::WorstCase => rr
                 .with_windows(&fixed(SamplingWindow::t2)?)
                 .map_err(invalid_input)?,
         };
