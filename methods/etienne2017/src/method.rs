@@ -6,6 +6,11 @@
 
 use std::time::Instant;
 
+use faer::{Mat, MatRef};
+use sporadic_linalg::balance::{
+    balance_a, balance_c, balancing_scales, unbalance_form, unbalance_gain,
+};
+
 use sporadic_model::{
     Bracketing, Check, DesignReport, Gain, Margin, MaxIntervalReport, MethodError, MethodOptions,
     NamedMatrix, NotApplicable, ObserverMethod, Outputs, Plant as ModelPlant, Probe, Reason,
@@ -106,23 +111,40 @@ fn with_message(reason: Reason, message: String) -> Reason {
     }
 }
 
-/// The crate's plant (1)–(2) of a model plant the method applies to.
-fn plant_of(plant: &ModelPlant) -> Result<Plant, Error> {
+/// The crate's plant (1)–(2) of a model plant the method applies to, in the balanced
+/// coordinates `x_b = D⁻¹x` (`D` the powers-of-2 `gebal` scaling of `A`, returned): `D⁻¹AD`,
+/// `D⁻¹B`, `CD`, `D⁻¹G`, `HD`, the same Jacobian bounds. The LMIs (20) are solved there, so their
+/// normalisation and margin do not depend on the user's units (issue 22); [`Etienne2017::report`]
+/// maps gains and certificates back exactly. A plant that is already balanced is unchanged.
+fn plant_of(plant: &ModelPlant) -> Result<(Plant, Vec<f64>), Error> {
     let (Some(lip), Some(c)) = (plant.lipschitz(), plant.c()) else {
         return Err(sporadic_linalg::InputError::empty(
             "etienne2017 needs a Lipschitz nonlinearity and one output matrix C",
         )
         .into());
     };
-    Plant::new(
-        plant.a(),
-        plant.b(),
-        c,
-        lip.g(),
-        lip.h(),
+    // Balanced with the coupling the nonlinearity adds (|A| + |G||H|): a plant whose A alone is
+    // reducible (e.g. a chain closed only through φ) is balanced as a whole.
+    let (g, h) = (lip.g(), lip.h());
+    let coupled = Mat::from_fn(plant.n(), plant.n(), |i, j| {
+        plant.a()[(i, j)].abs()
+            + (0..g.ncols())
+                .map(|k| g[(i, k)].abs() * h[(k, j)].abs())
+                .sum::<f64>()
+    });
+    let d = balancing_scales(coupled.as_ref());
+    let rows_down =
+        |m: MatRef<'_, f64>| Mat::from_fn(m.nrows(), m.ncols(), |i, j| m[(i, j)] / d[i]);
+    let p = Plant::new(
+        balance_a(plant.a(), &d).as_ref(),
+        rows_down(plant.b()).as_ref(),
+        balance_c(c, &d).as_ref(),
+        rows_down(lip.g()).as_ref(),
+        balance_c(lip.h(), &d).as_ref(),
         lip.jacobian_lower(),
         lip.jacobian_upper(),
-    )
+    )?;
+    Ok((p, d))
 }
 
 /// The window of a single-rate sampling (rejected by `applies` otherwise).
@@ -188,15 +210,23 @@ impl Etienne2017 {
     }
 
     /// The report of a verified design.
+    #[allow(clippy::too_many_arguments)]
     fn report(
         &self,
         plant: &ModelPlant,
         sampling: &Sampling,
         vertices: usize,
         d: &Design,
+        scales: &[f64],
         notes: Vec<String>,
         seconds: f64,
     ) -> DesignReport {
+        // Back to the plant's coordinates x = D x_b: K = D K_b, P = D⁻¹ P_b D⁻¹, L = P K =
+        // D⁻¹ L_b.
+        let gain = |k: MatRef<'_, f64>| unbalance_gain(k, scales);
+        let form = |p: MatRef<'_, f64>| unbalance_form(p, scales);
+        let rows_down =
+            |m: MatRef<'_, f64>| Mat::from_fn(m.nrows(), m.ncols(), |i, j| m[(i, j)] / scales[i]);
         let mut r = DesignReport::certified(self, plant.name(), sampling);
         let w = *d.gain.window();
         let condition = d.lmi.condition;
@@ -206,7 +236,7 @@ impl Etienne2017 {
         if d.gain.is_constant() {
             r.gains.push(Gain::constant(
                 "K",
-                d.gain.k1(),
+                gain(d.gain.k1()).as_ref(),
                 format!(
                     "{jump}; here K does not depend on τ: K = P1⁻¹L ({})",
                     condition.name()
@@ -229,37 +259,37 @@ impl Etienne2017 {
                 "K(τ) = K0 + (τ − T1)/(T2 − T1)·(K1 − K0) for τ in [T1, T2], with K0 = P1⁻¹L0 = \
                  K(T1) and K1 = P1⁻¹L1 = K(T2) (Theorem 3, gain recovery of Remark 6)",
                 tau,
-                |t| d.gain.at(t),
+                |t| gain(d.gain.at(t).as_ref()),
             ));
         }
         let cert = &d.lmi.certificate;
         r.certificate.push(NamedMatrix::new(
             "P1",
-            cert.p1.as_ref(),
+            form(cert.p1.as_ref()).as_ref(),
             "P(0) = P1 of the Lyapunov matrix P(τ) = (1 − τ/T2)P1 + (τ/T2)P2 of Theorem 3 \
              (V = z'P(τ)z, τ the time since the last sample): z'P1z decreases from sample to \
              sample",
         ));
         r.certificate.push(NamedMatrix::new(
             "P2",
-            cert.p2.as_ref(),
+            form(cert.p2.as_ref()).as_ref(),
             "P(T2) = P2 of the Lyapunov matrix of Theorem 3",
         ));
         if d.gain.is_constant() {
             r.certificate.push(NamedMatrix::new(
                 "L",
-                cert.l1.as_ref(),
+                rows_down(cert.l1.as_ref()).as_ref(),
                 "L = P1·K, the decision variable of (20c)/(20d) (L0 = L1 = L)",
             ));
         } else {
             r.certificate.push(NamedMatrix::new(
                 "L0",
-                cert.l0.as_ref(),
+                rows_down(cert.l0.as_ref()).as_ref(),
                 "L0 = P1·K0, the decision variable of (20c)",
             ));
             r.certificate.push(NamedMatrix::new(
                 "L1",
-                cert.l1.as_ref(),
+                rows_down(cert.l1.as_ref()).as_ref(),
                 "L1 = P1·K1, the decision variable of (20d)",
             ));
         }
@@ -282,6 +312,15 @@ impl Etienne2017 {
             d.lmi.stats.decision_scalars,
         ));
         r.notes.extend(notes);
+        if scales.iter().any(|&x| x != 1.0) {
+            r.notes.push(format!(
+                "designed in the balanced coordinates x_b = D⁻¹x with D = diag{:?} (powers of 2, \
+                 LAPACK gebal scaling of A; exact): K and P1, P2, L are in the plant's \
+                 coordinates (K = D·K_b, P = D⁻¹P_bD⁻¹, L = D⁻¹L_b); the margin and the checks \
+                 are those of the balanced plant",
+                scales
+            ));
+        }
         r.notes.push(
             "B and u do not enter the error dynamics (4): the design holds for every input".into(),
         );
@@ -499,7 +538,7 @@ impl ObserverMethod for Etienne2017 {
         }
         let window = window_of(sampling)?;
         self.design.validate().map_err(invalid)?;
-        let p = match plant_of(plant) {
+        let (p, scales) = match plant_of(plant) {
             Ok(p) => p,
             Err(e) => return verdict_of(e).map(failed),
         };
@@ -522,6 +561,7 @@ impl ObserverMethod for Etienne2017 {
                     sampling,
                     p.vertices().len(),
                     &design,
+                    &scales,
                     notes,
                     start.elapsed().as_secs_f64(),
                 ))
@@ -557,7 +597,7 @@ impl ObserverMethod for Etienne2017 {
         let start = Instant::now();
         let window = window_of(sampling)?;
         self.design.validate().map_err(invalid)?;
-        let p = match plant_of(plant) {
+        let (p, scales) = match plant_of(plant) {
             Ok(p) => p,
             Err(e) => {
                 let reason = verdict_of(e)?;
@@ -626,7 +666,7 @@ impl ObserverMethod for Etienne2017 {
             Ok(match result {
                 Ok(d) => {
                     let seconds = probe_start.elapsed().as_secs_f64();
-                    self.report(plant, s, vertices, &d, vec![note.clone()], seconds)
+                    self.report(plant, s, vertices, &d, &scales, vec![note.clone()], seconds)
                 }
                 Err(e) => DesignReport::without_design(self, plant.name(), Some(s), verdict_of(e)?),
             })

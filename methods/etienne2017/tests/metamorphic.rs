@@ -144,8 +144,24 @@ fn a_certified_window_certifies_its_sub_windows() {
     }
 }
 
+/// Found by the property below on the code before the design moved to balanced coordinates:
+/// units `D = diag(8.332, 0.1524)` gave 0.3652 against 0.3714 (1.7%).
+#[test]
+fn a_change_of_units_keeps_the_largest_window() {
+    let d = pendulum();
+    let base = largest(&d, 0.05, 5.0).unwrap();
+    let units = mat![[8.33202294606219, 0.0], [0.0, 0.15244238550923062]];
+    let s = largest(&similar(&d, units.as_ref()), 0.05, 5.0).unwrap();
+    assert!(close(base, s), "{base} vs {s}");
+}
+
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 6, ..ProptestConfig::default() })]
+    // A fixed seed: the same transformations on every run.
+    #![proptest_config(ProptestConfig {
+        cases: 6,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(22),
+        ..ProptestConfig::default()
+    })]
 
     /// Well-conditioned random `T = I + U(−0.4, 0.4)` (condition number below 10), and a
     /// diagonal unit change spanning three decades.
