@@ -114,8 +114,9 @@ def compare(plant: PlantLike, limit: Optional[float] = None, *, search: bool = T
 @dataclass
 class Simulation:
     """A simulated observer: ``t`` (N,), ``j`` (N,) jump counters, ``jumps`` (indices where a
-    sample is taken), ``error`` (k, N) the simulated ``signals`` (the estimation error
-    ``x − x̂`` per state, or the interval width for rabehi2021; names in ``signal_names``),
+    sample is taken), ``error`` (k, N) the simulated signals: the method's estimation error
+    (``quantity`` says which: ``x − x̂``, or that of its error coordinates; the interval width for
+    rabehi2021), one row per name in ``signal_names``; the core does not return ``x`` and ``x̂``),
     ``norm`` (N,), the design ``report`` and the simulation ``summary`` dict."""
 
     quantity: str

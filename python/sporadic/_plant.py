@@ -6,7 +6,6 @@ reader (the one the CLI uses), so errors name the offending field as ``sporadic 
 
 from __future__ import annotations
 
-import json
 import math
 import os
 from typing import Any, Dict, List, Optional, Sequence, Tuple
@@ -58,6 +57,19 @@ def _as_vector(field: str, v: Any) -> np.ndarray:
     return a
 
 
+def _toml_string(text: str) -> str:
+    """A TOML basic string (escapes quotes, backslashes and control characters)."""
+    out = []
+    for ch in text:
+        if ch in '"\\':
+            out.append("\\" + ch)
+        elif ord(ch) < 0x20 or ord(ch) == 0x7F:
+            out.append(f"\\u{ord(ch):04X}")
+        else:
+            out.append(ch)
+    return '"' + "".join(out) + '"'
+
+
 def _rows(a: np.ndarray) -> str:
     return "[" + ", ".join("[" + ", ".join(_num(v) for v in row) + "]" for row in a) + "]"
 
@@ -91,7 +103,7 @@ class Plant:
         bounds: Optional[Dict[str, Any]] = None,
         name: str = "plant",
     ):
-        lines = [f"name = {json.dumps(str(name))}", "", "[plant]", f"A = {_rows(_as_matrix('plant.A', A))}"]
+        lines = [f"name = {_toml_string(str(name))}", "", "[plant]", f"A = {_rows(_as_matrix('plant.A', A))}"]
         if B is not None:
             b = _as_matrix("plant.B", B)
             if b.size:  # an n×0 B (python-control without inputs) is no input

@@ -147,3 +147,14 @@ def test_simulate_periodic_scenarios_and_not_certified():
 def test_prove_is_not_implemented_yet():
     with pytest.raises(NotImplementedError, match="issue 24"):
         sporadic.design(ROOT / "examples" / "dc-motor-jitter.toml", prove=True)
+
+
+def test_the_example_script_runs(tmp_path):
+    import subprocess
+    import sys
+
+    script = ROOT / "python" / "examples" / "design_observer.py"
+    out = subprocess.run([sys.executable, str(script)], cwd=tmp_path, capture_output=True, text=True,
+                         timeout=600, env={**os.environ, "MPLBACKEND": "Agg"})
+    assert out.returncode == 0, out.stderr
+    assert "ferrante2016   certified" in out.stdout and "samples;" in out.stdout

@@ -206,3 +206,22 @@ def test_ctrl_c_interrupts_a_long_call():
     finally:
         timer.cancel()
     assert time.perf_counter() - start < 5.0
+
+
+def test_any_name_round_trips():
+    name = 'a "quoted" \\ name\nwith a tab\t, DEL \x7f and 😀'
+    p = sporadic.Plant([[0.0, 1.0], [-1.0, 0.0]], None, [[1.0, 0.0]], window=W, name=name)
+    assert p.name == name
+    assert sporadic.design(p).plant == name
+
+
+def test_non_finite_and_huge_values_are_plant_errors_not_crashes():
+    for bad in (np.inf, -np.inf, np.nan):
+        with pytest.raises(sporadic.PlantError):
+            sporadic.Plant([[0.0, 1.0], [-1.0, bad]], None, [[1.0, 0.0]], window=W)
+    with pytest.raises(sporadic.PlantError):
+        sporadic.Plant([[0.0, 1.0], [-1.0, 0.0]], None, [[1.0, 0.0]], window=(0.0, np.inf))
+    # a huge oscillation: the method rejects the window as invalid input (CLI exit 2), typed
+    with pytest.raises(sporadic.InvalidInputError, match="invalid input") as e:
+        sporadic.design(sporadic.Plant([[0.0, 1e300], [-1e300, 0.0]], None, [[1.0, 0.0]], window=W))
+    assert e.value.kind == "invalid_input"
