@@ -144,6 +144,24 @@ fn a_certified_window_certifies_its_sub_windows() {
     }
 }
 
+/// The flexible-joint robot with its states in odd units (`x = Dz`, `D` spanning five decades):
+/// before the design moved to balanced coordinates nothing was certified (LMIs (20) not strictly
+/// feasible even at T1), against 0.3416 in SI units.
+#[test]
+fn odd_units_of_the_flexible_joint_keep_the_largest_window() {
+    let d = flexible_joint();
+    let base = largest(&d, 0.01, 1.0).unwrap();
+    let units = Mat::from_fn(4, 4, |i, j| {
+        if i == j {
+            [1e-3, 1e2, 3e-2, 10.0][i]
+        } else {
+            0.0
+        }
+    });
+    let s = largest(&similar(&d, units.as_ref()), 0.01, 1.0).expect("certified in odd units");
+    assert!(close(base, s), "{base} vs {s}");
+}
+
 /// Found by the property below on the code before the design moved to balanced coordinates:
 /// units `D = diag(8.332, 0.1524)` gave 0.3652 against 0.3714 (1.7%).
 #[test]
