@@ -58,16 +58,20 @@ pub fn plot_window_bars(
         .margin(12)
         .x_label_area_size(2 * small + 10)
         .y_label_area_size(longest * small * 6 / 10 + 16)
-        .build_cartesian_2d(0.0..x_max, (0..n).into_segmented())
+        .build_cartesian_2d(0.0..x_max, (0..n - 1).into_segmented())
         .map_err(plot_err)?;
     let labels: Vec<&str> = rows.iter().rev().map(|r| r.label.as_str()).collect();
     let row_label = |v: &SegmentValue<usize>| match v {
         SegmentValue::CenterOf(k) => labels.get(*k).map_or(String::new(), |s| s.to_string()),
         _ => String::new(),
     };
+    let x_desc = match marked {
+        Some((a, b)) => format!("{x_label} (shaded: the plant file's window [{a}, {b}])"),
+        None => x_label.to_string(),
+    };
     chart
         .configure_mesh()
-        .x_desc(x_label)
+        .x_desc(x_desc)
         .label_style(("sans-serif", small))
         .axis_desc_style(("sans-serif", small))
         .y_label_formatter(&row_label)
@@ -81,16 +85,7 @@ pub fn plot_window_bars(
             [(a, SegmentValue::Exact(0)), (b, SegmentValue::Exact(n))],
             RGBColor(120, 120, 120).mix(0.18).filled(),
         );
-        chart
-            .draw_series(std::iter::once(band))
-            .map_err(plot_err)?
-            .label(format!("file window [{a}, {b}]"))
-            .legend(|(x, y)| {
-                Rectangle::new(
-                    [(x, y - 5), (x + 16, y + 5)],
-                    RGBColor(120, 120, 120).mix(0.18).filled(),
-                )
-            });
+        chart.draw_series(std::iter::once(band)).map_err(plot_err)?;
     }
     let text = ("sans-serif", small).into_font();
     for (k, row) in rows.iter().enumerate() {
@@ -117,16 +112,6 @@ pub fn plot_window_bars(
                 (note_at, SegmentValue::CenterOf(slot)),
                 text.clone(),
             )))
-            .map_err(plot_err)?;
-    }
-    if marked.is_some() {
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK.mix(0.3))
-            .label_font(("sans-serif", small))
-            .position(SeriesLabelPosition::LowerRight)
-            .draw()
             .map_err(plot_err)?;
     }
     root.present().map_err(plot_err)
