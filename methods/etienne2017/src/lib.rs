@@ -93,7 +93,7 @@ pub use design::{
 pub use error::Error;
 pub use gain::GainSchedule;
 pub use lmi::Condition;
-pub use method::{Conditions, Etienne2017};
+pub use method::{Conditions, Etienne2017, balanced_plant};
 pub use simulation::{
     Input, Nonlinearity, SimulationSetup, error_norm_after, error_norm_after_sample,
     lyapunov_at_samples, simulate_observer, worst_case_sampling,

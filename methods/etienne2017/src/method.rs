@@ -116,7 +116,7 @@ fn with_message(reason: Reason, message: String) -> Reason {
 /// `D⁻¹B`, `CD`, `D⁻¹G`, `HD`, the same Jacobian bounds. The LMIs (20) are solved there, so their
 /// normalisation and margin do not depend on the user's units (issue 22); [`Etienne2017::report`]
 /// maps gains and certificates back exactly. A plant that is already balanced is unchanged.
-fn plant_of(plant: &ModelPlant) -> Result<(Plant, Vec<f64>), Error> {
+pub fn balanced_plant(plant: &ModelPlant) -> Result<(Plant, Vec<f64>), Error> {
     let (Some(lip), Some(c)) = (plant.lipschitz(), plant.c()) else {
         return Err(sporadic_linalg::InputError::empty(
             "etienne2017 needs a Lipschitz nonlinearity and one output matrix C",
@@ -538,7 +538,7 @@ impl ObserverMethod for Etienne2017 {
         }
         let window = window_of(sampling)?;
         self.design.validate().map_err(invalid)?;
-        let (p, scales) = match plant_of(plant) {
+        let (p, scales) = match balanced_plant(plant) {
             Ok(p) => p,
             Err(e) => return verdict_of(e).map(failed),
         };
@@ -597,7 +597,7 @@ impl ObserverMethod for Etienne2017 {
         let start = Instant::now();
         let window = window_of(sampling)?;
         self.design.validate().map_err(invalid)?;
-        let (p, scales) = match plant_of(plant) {
+        let (p, scales) = match balanced_plant(plant) {
             Ok(p) => p,
             Err(e) => {
                 let reason = verdict_of(e)?;

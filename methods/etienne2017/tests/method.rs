@@ -7,8 +7,9 @@ use sporadic_etienne2017::sporadic_model::{Lipschitz, Plant as ModelPlant};
 use sporadic_etienne2017::{
     BisectionOptions, CheckOptions, Condition, Conditions, DesignOptions, DesignReport,
     Etienne2017, MethodError, MethodOptions, ObserverMethod, Reason, Sampling, SamplingWindow,
-    Status, design, example, max_tau_bar,
+    Status, balanced_plant, design, example, max_tau_bar,
 };
+use sporadic_linalg::balance::{unbalance_form, unbalance_gain};
 
 /// The flexible-joint robot of §5 as a plant of the common contract.
 fn flexible_joint() -> ModelPlant {
@@ -56,7 +57,10 @@ fn rows(m: MatRef<'_, f64>) -> Vec<Vec<f64>> {
 
 #[test]
 fn design_matches_the_crate_design_bitwise() {
-    let plant = example::flexible_joint().unwrap();
+    // The method designs in balanced coordinates x_b = D⁻¹x and maps back K = D·K_b,
+    // P = D⁻¹P_bD⁻¹ exactly (powers of 2): the crate's design on the balanced plant, mapped.
+    let (plant, scales) = balanced_plant(&flexible_joint()).unwrap();
+    let gain = |k: MatRef<'_, f64>| rows(unbalance_gain(k, &scales).as_ref());
     let o = DesignOptions::default();
     let method = Etienne2017::default();
 
@@ -67,11 +71,15 @@ fn design_matches_the_crate_design_bitwise() {
     let d = design(&plant, Condition::Corollary2, &w, &o).unwrap();
     let k = r.gain("K").unwrap();
     assert!(k.schedule.is_none());
-    assert_eq!(k.rows, rows(d.gain.k1()));
+    assert_eq!(k.rows, gain(d.gain.k1()));
     assert_eq!(r.margin.as_ref().unwrap().value, d.lmi.margin);
     assert!(r.margin.as_ref().unwrap().definition.contains("‖P1‖₂ ≤ 1"));
     let p1 = r.certificate.iter().find(|m| m.name == "P1").unwrap();
-    assert_eq!(p1.to_mat(), d.lmi.certificate.p1);
+    assert_eq!(
+        p1.to_mat(),
+        unbalance_form(d.lmi.certificate.p1.as_ref(), &scales)
+    );
+    assert!(r.notes.iter().any(|n| n.contains("balanced coordinates")));
     assert!(r.checks.len() >= 7 && r.checks.iter().all(|c| c.passed));
     assert_eq!(r.window, Some(w));
 
@@ -84,13 +92,13 @@ fn design_matches_the_crate_design_bitwise() {
     let schedule = k.schedule.as_ref().unwrap();
     assert_eq!(schedule.tau.len(), 11);
     assert_eq!((schedule.tau[0], schedule.tau[10]), (0.01, 0.3));
-    assert_eq!(schedule.samples[0], rows(d.gain.k0()));
-    assert_eq!(schedule.samples[10], rows(d.gain.k1()));
+    assert_eq!(schedule.samples[0], gain(d.gain.k0()));
+    assert_eq!(schedule.samples[10], gain(d.gain.k1()));
     assert_eq!(
         schedule.samples[5],
-        rows(d.gain.at(schedule.tau[5]).as_ref())
+        gain(d.gain.at(schedule.tau[5]).as_ref())
     );
-    assert_eq!(k.rows, rows(d.gain.k1()));
+    assert_eq!(k.rows, gain(d.gain.k1()));
     assert!(schedule.law.contains("K0") && k.meaning.contains("interval that just ended"));
     assert_eq!(r.margin.as_ref().unwrap().value, d.lmi.margin);
     assert!(
@@ -110,7 +118,7 @@ fn design_matches_the_crate_design_bitwise() {
         &o,
     )
     .unwrap();
-    assert_eq!(r.gain("K").unwrap().rows, rows(d.gain.k1()));
+    assert_eq!(r.gain("K").unwrap().rows, gain(d.gain.k1()));
     let margin = r.margin.unwrap();
     assert_eq!(margin.value, d.lmi.margin);
     assert!(margin.definition.contains("Remark 6"));
@@ -251,7 +259,8 @@ fn bad_options_are_invalid_input() {
 
 #[test]
 fn largest_window_brackets_the_crate_bisection() {
-    let plant = example::flexible_joint().unwrap();
+    // The method searches on the balanced plant (see `design_matches_the_crate_design_bitwise`).
+    let (plant, _) = balanced_plant(&flexible_joint()).unwrap();
     let crate_search = max_tau_bar(
         &plant,
         Condition::Theorem3,
