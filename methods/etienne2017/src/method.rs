@@ -112,9 +112,10 @@ fn with_message(reason: Reason, message: String) -> Reason {
 }
 
 /// The crate's plant (1)–(2) of a model plant the method applies to, in the balanced
-/// coordinates `x_b = D⁻¹x` (`D` the powers-of-2 `gebal` scaling of `A`, returned): `D⁻¹AD`,
+/// coordinates `x_b = D⁻¹x` (`D` the powers-of-2 `gebal` scaling of `|A| + |G||H|`, returned):
+/// `D⁻¹AD`,
 /// `D⁻¹B`, `CD`, `D⁻¹G`, `HD`, the same Jacobian bounds. The LMIs (20) are solved there, so their
-/// normalisation and margin do not depend on the user's units (issue 22); [`Etienne2017::report`]
+/// normalisation and margin do not depend on the user's units (issue 22); the report
 /// maps gains and certificates back exactly. A plant that is already balanced is unchanged.
 pub fn balanced_plant(plant: &ModelPlant) -> Result<(Plant, Vec<f64>), Error> {
     let (Some(lip), Some(c)) = (plant.lipschitz(), plant.c()) else {
@@ -315,7 +316,7 @@ impl Etienne2017 {
         if scales.iter().any(|&x| x != 1.0) {
             r.notes.push(format!(
                 "designed in the balanced coordinates x_b = D⁻¹x with D = diag{:?} (powers of 2, \
-                 LAPACK gebal scaling of A; exact): K and P1, P2, L are in the plant's \
+                 LAPACK gebal scaling of |A| + |G||H|; exact): K and P1, P2, L are in the plant's \
                  coordinates (K = D·K_b, P = D⁻¹P_bD⁻¹, L = D⁻¹L_b); the margin and the checks \
                  are those of the balanced plant",
                 scales
