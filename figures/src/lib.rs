@@ -242,7 +242,7 @@ const Y_LABEL_CHARS: u32 = 8;
 /// A tick label of a linear axis spanning `span`: at most four significant digits, no float
 /// noise (`0.30000000000000004`), no `-0`, scientific notation (`2.5e-4`) for very small or
 /// large magnitudes.
-fn tick_label(v: f64, span: f64) -> String {
+pub(crate) fn tick_label(v: f64, span: f64) -> String {
     if !v.is_finite() {
         return String::new();
     }
@@ -258,6 +258,23 @@ fn tick_label(v: f64, span: f64) -> String {
     } else {
         scientific(rounded)
     }
+}
+
+/// Whether a label is one a reader would distrust: a run of 9 or more digits (float noise such
+/// as `9.999999999999999e-5`) or a negative zero (`-0`, `-0.0`). The tick labels of this
+/// crate's figures never produce one; the tests of every figure check their SVG text with it.
+pub fn is_distrusted_label(label: &str) -> bool {
+    let mut run = 0;
+    for ch in label.chars() {
+        run = if ch.is_ascii_digit() { run + 1 } else { 0 };
+        if run >= 9 {
+            return true;
+        }
+    }
+    label
+        .trim()
+        .strip_prefix('-')
+        .is_some_and(|rest| !rest.is_empty() && rest.chars().all(|c| c == '0' || c == '.'))
 }
 
 /// A tick label of a logarithmic axis: powers of ten as `1e-5` (plain decimals from `0.001` to

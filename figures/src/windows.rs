@@ -1,7 +1,7 @@
 //! Certified sampling windows as bars on the τ axis: one row per method (or per sensor), the
 //! plant file's own window shaded across all rows — the figure of `sporadic compare`.
 
-use super::{FigureError, FigureStyle, color, plot_err};
+use super::{FigureError, FigureStyle, color, plot_err, tick_label};
 use plotters::prelude::*;
 use sporadic_linalg::InputError;
 use std::path::Path;
@@ -72,6 +72,7 @@ pub fn plot_window_bars(
     chart
         .configure_mesh()
         .x_desc(x_desc)
+        .x_label_formatter(&|v| tick_label(*v, x_max))
         .label_style(("sans-serif", small))
         .axis_desc_style(("sans-serif", small))
         .y_label_formatter(&row_label)

@@ -4,8 +4,8 @@ use std::path::PathBuf;
 
 use faer::mat;
 use sporadic_figures::{
-    PlotSpec, Series, plot_components, plot_eigen_curves, plot_error_norm, plot_hybrid_time,
-    plot_interval_bounds,
+    PlotSpec, Series, is_distrusted_label, plot_components, plot_eigen_curves, plot_error_norm,
+    plot_hybrid_time, plot_interval_bounds,
 };
 use sporadic_sim::{
     LinearJump, LtiFlow, Periodic, Record, SimOptions, Simulation, simulate_hybrid,
@@ -184,21 +184,6 @@ fn svg_texts(path: &std::path::Path) -> Vec<String> {
         .collect()
 }
 
-/// A tick label a reader would distrust: a run of 9 or more digits (float noise such as
-/// `9.999999999999999e-5`) or a negative zero (`-0`, `-0.0`).
-fn untrustworthy(label: &str) -> bool {
-    let mut run = 0;
-    for ch in label.chars() {
-        run = if ch.is_ascii_digit() { run + 1 } else { 0 };
-        if run >= 9 {
-            return true;
-        }
-    }
-    let t = label.trim();
-    t.strip_prefix('-')
-        .is_some_and(|rest| !rest.is_empty() && rest.chars().all(|c| c == '0' || c == '.'))
-}
-
 #[test]
 fn tick_labels_are_readable_on_log_and_linear_axes() {
     let dir = out_dir("ticks");
@@ -233,14 +218,18 @@ fn tick_labels_are_readable_on_log_and_linear_axes() {
         let texts = svg_texts(path);
         assert!(texts.len() > 8, "{texts:?}");
         for label in &texts {
-            assert!(!untrustworthy(label), "{}: {label:?}", path.display());
+            assert!(!is_distrusted_label(label), "{}: {label:?}", path.display());
         }
     }
     assert!(
         svg_texts(&log).iter().any(|l| l.contains("1e-")),
         "powers of ten"
     );
-    assert!(untrustworthy("9.999999999999999e-5") && untrustworthy("-0.0") && untrustworthy("-0"));
-    assert!(!untrustworthy("-0.5") && !untrustworthy("1e-5"));
+    assert!(
+        is_distrusted_label("9.999999999999999e-5")
+            && is_distrusted_label("-0.0")
+            && is_distrusted_label("-0")
+    );
+    assert!(!is_distrusted_label("-0.5") && !is_distrusted_label("1e-5"));
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -36,7 +36,7 @@ pub mod window;
 pub use faer;
 pub use method::{
     BoxedError, MethodError, MethodOptions, ObserverMethod, SamplingScenario, Scenario, TimeLimit,
-    Trajectory, default_largest_window, design_within, largest_window_with,
+    Trajectory, check_simulatable, default_largest_window, design_within, largest_window_with,
 };
 pub use outcome::{NotApplicable, Reason, Status};
 pub use plant::{Bounds, Lipschitz, Outputs, Plant};

@@ -165,7 +165,8 @@ pub trait ObserverMethod: Send + Sync {
     fn observer(&self) -> &'static str;
     /// Whether the observer picks its own sampling instants: its design certifies the
     /// intervals its rule produces (reported as the design's window), not a window of
-    /// arbitrary sampling sequences, so a window search does not apply.
+    /// arbitrary sampling sequences, so a window search does not apply
+    /// ([`largest_window_with`] answers `not_applicable`).
     fn chooses_its_sampling(&self) -> bool {
         false
     }
@@ -276,6 +277,26 @@ fn budget_words(budget: &Budget, limit: Option<Duration>) -> String {
     }
 }
 
+/// The check every [`ObserverMethod::simulate`] starts with: `design` is a certified design
+/// of the method `id` (else [`MethodError::SimulationUnavailable`] says why not).
+pub fn check_simulatable(id: &'static str, design: &DesignReport) -> Result<(), MethodError> {
+    let why = if design.method != id {
+        format!("the report is a design of {}, not of {id}", design.method)
+    } else if !design.status.is_certified() {
+        format!(
+            "the design is {} ({}): there is no certified observer to simulate",
+            design.status,
+            design
+                .reason
+                .as_ref()
+                .map_or_else(|| "no reason given".into(), |r| r.to_string())
+        )
+    } else {
+        return Ok(());
+    };
+    Err(MethodError::SimulationUnavailable { method: id, why })
+}
+
 /// The search behind [`ObserverMethod::largest_window`]'s default: [`largest_window_with`] with
 /// [`MethodOptions::search`] and [`ObserverMethod::design`] as the probe.
 pub fn default_largest_window<M: ObserverMethod + ?Sized>(
@@ -326,6 +347,20 @@ pub fn largest_window_with<M: ObserverMethod + ?Sized>(
             Some(sampling),
             Some(limit),
             na.reason,
+        ));
+    }
+    if method.chooses_its_sampling() {
+        return Ok(MaxIntervalReport::without_search(
+            method.id(),
+            plant.name(),
+            Some(sampling),
+            Some(limit),
+            Reason::UnsupportedStructure {
+                message: "this observer picks its own sampling instants, so it certifies no \
+                          window of arbitrary sampling sequences; `design` reports the range of \
+                          intervals its rule produces"
+                    .into(),
+            },
         ));
     }
     let mut report = MaxIntervalReport::without_search(

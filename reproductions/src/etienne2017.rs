@@ -91,6 +91,24 @@ fn outcome(r: Result<Design, MethodError>) -> Result<Option<Design>, Error> {
     }
 }
 
+/// One claim per design that exists: its margin `t*` against the independent `reference`
+/// (within [`MARGIN_REL_TOL`], for [`MARGIN_REASON`]).
+fn margin_claims(
+    claims: &mut Vec<Claim>,
+    rows: [(&str, &str, f64, &Option<Design>); 2],
+    note: &str,
+) {
+    for (id, reference, value, d) in rows {
+        if let Some(d) = d {
+            claims.push(
+                Claim::independent(id, reference, REFERENCE)
+                    .tolerance(MARGIN_REL_TOL * value, MARGIN_REASON)
+                    .equal(d.lmi.margin, note),
+            );
+        }
+    }
+}
+
 fn bracket(r: &MaxTauBar) -> String {
     format!(
         "bracket ({:.6}, {:.6}), {} probes, design verified at τ̄ = {}",
@@ -482,21 +500,14 @@ fn claims(v: &Values) -> Vec<Claim> {
             ),
         ),
     );
-    for (id, reference, value, d) in [
-        ("cor2.[0.01,0.2].t*", "5.402e-4", 5.402e-4, &v.cor2),
-        ("thm3.[0.01,0.3].t*", "1.458e-4", 1.458e-4, &v.thm3),
-    ] {
-        if let Some(d) = d {
-            claims.push(
-                Claim::independent(id, reference, REFERENCE)
-                    .tolerance(MARGIN_REL_TOL * value, MARGIN_REASON)
-                    .equal(
-                        d.lmi.margin,
-                        "margin of the margin problem (formulation F); not printed in the paper",
-                    ),
-            );
-        }
-    }
+    margin_claims(
+        &mut claims,
+        [
+            ("cor2.[0.01,0.2].t*", "5.402e-4", 5.402e-4, &v.cor2),
+            ("thm3.[0.01,0.3].t*", "1.458e-4", 1.458e-4, &v.thm3),
+        ],
+        "margin of the margin problem (formulation F); not printed in the paper",
+    );
     for &(cond, hi, verified, margin) in &v.no_dwell {
         claims.push(
             Claim::derived_verdict(
@@ -543,21 +554,14 @@ fn claims(v: &Values) -> Vec<Claim> {
     ] {
         claims.push(Claim::paper_states(id, true, "§4").verdict(d.is_some(), note));
     }
-    for (id, reference, value, d) in [
-        ("paper_K.[0.01,0.2].t*", "5.19e-4", 5.19e-4, &v.paper_k),
-        ("paper_K0K1.[0.01,0.3].t*", "1.10e-4", 1.10e-4, &v.paper_tv),
-    ] {
-        if let Some(d) = d {
-            claims.push(
-                Claim::independent(id, reference, REFERENCE)
-                    .tolerance(MARGIN_REL_TOL * value, MARGIN_REASON)
-                    .equal(
-                        d.lmi.margin,
-                        "fixed-gain margin (LMI in P1, P2); not in the paper",
-                    ),
-            );
-        }
-    }
+    margin_claims(
+        &mut claims,
+        [
+            ("paper_K.[0.01,0.2].t*", "5.19e-4", 5.19e-4, &v.paper_k),
+            ("paper_K0K1.[0.01,0.3].t*", "1.10e-4", 1.10e-4, &v.paper_tv),
+        ],
+        "fixed-gain margin (LMI in P1, P2); not in the paper",
+    );
     claims.push(
         Claim::independent_verdict("paper_K.[0.01,0.25].certified", false, REFERENCE).verdict(
             v.paper_k25.0,

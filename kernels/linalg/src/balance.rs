@@ -78,6 +78,17 @@ pub fn balance_c(c: MatRef<'_, f64>, d: &[f64]) -> Mat<f64> {
     Mat::from_fn(c.nrows(), c.ncols(), |i, j| c[(i, j)] * d[j])
 }
 
+/// `D⁻¹B` for `D = diag(d)` (a matrix acting into the state, e.g. an input or a nonlinearity
+/// gain, in the balanced coordinates; also a form's row factor `L = D⁻¹L_b` back).
+pub fn balance_b(b: MatRef<'_, f64>, d: &[f64]) -> Mat<f64> {
+    Mat::from_fn(b.nrows(), b.ncols(), |i, j| b[(i, j)] / d[i])
+}
+
+/// `A = D A_b D⁻¹` (a state map in the user's coordinates; inverse of [`balance_a`]).
+pub fn unbalance_a(a: MatRef<'_, f64>, d: &[f64]) -> Mat<f64> {
+    Mat::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)] * d[i] / d[j])
+}
+
 /// `P = D⁻¹ P_b D⁻¹` (a quadratic form `x_bᵀP_bx_b` in the user's coordinates `x = Dx_b`).
 pub fn unbalance_form(p: MatRef<'_, f64>, d: &[f64]) -> Mat<f64> {
     Mat::from_fn(p.nrows(), p.ncols(), |i, j| p[(i, j)] / (d[i] * d[j]))
@@ -103,6 +114,12 @@ mod tests {
             assert_eq!(x.log2().fract(), 0.0);
         }
         let b = balance_a(bad.as_ref(), &d);
+        assert_eq!(unbalance_a(b.as_ref(), &d), bad);
+        let col = mat![[3.0], [5.0]];
+        assert_eq!(
+            unbalance_gain(balance_b(col.as_ref(), &d).as_ref(), &d),
+            col
+        );
         assert!(b[(0, 1)].abs() < 8.0 && b[(1, 0)].abs() < 8.0, "{b:?}");
     }
 }

@@ -56,12 +56,6 @@ impl Budget {
         self.deadline
     }
 
-    /// Time left before the deadline (`None`: no deadline; zero once it has passed).
-    pub fn remaining(&self) -> Option<Duration> {
-        self.deadline
-            .map(|d| d.saturating_duration_since(Instant::now()))
-    }
-
     /// Whether the deadline has passed or a cancellation flag is raised.
     pub fn is_exhausted(&self) -> bool {
         self.deadline.is_some_and(|d| Instant::now() >= d)

@@ -18,8 +18,9 @@ use std::time::Instant;
 
 use sporadic_model::report::Check;
 use sporadic_model::{
-    DesignReport, Gain, Margin, MaxIntervalReport, MethodError, MethodOptions, NamedMatrix,
-    NotApplicable, ObserverMethod, Plant, Reason, Sampling, SamplingWindow, Scenario, Trajectory,
+    DesignReport, Gain, Margin, MethodError, MethodOptions, NamedMatrix, NotApplicable,
+    ObserverMethod, Plant, Reason, Sampling, SamplingWindow, Scenario, Trajectory,
+    check_simulatable,
 };
 
 use crate::error::Error;
@@ -139,28 +140,6 @@ impl ObserverMethod for Andrieu2014 {
         Ok(report)
     }
 
-    fn largest_window(
-        &self,
-        plant: &Plant,
-        sampling: &Sampling,
-        limit: f64,
-        _options: &MethodOptions,
-        _progress: &mut dyn FnMut(&sporadic_model::report::Probe),
-    ) -> Result<MaxIntervalReport, MethodError> {
-        Ok(MaxIntervalReport::without_search(
-            ID,
-            plant.name(),
-            Some(sampling),
-            Some(limit),
-            Reason::UnsupportedStructure {
-                message: "this observer certifies no window of arbitrary sampling sequences: its \
-                          rule (7) picks every sampling instant; `design` reports the range of \
-                          intervals the rule guarantees"
-                    .into(),
-            },
-        ))
-    }
-
     fn simulate(
         &self,
         plant: &Plant,
@@ -168,18 +147,7 @@ impl ObserverMethod for Andrieu2014 {
         scenario: &Scenario,
     ) -> Result<Trajectory, MethodError> {
         let unavailable = |why: String| MethodError::SimulationUnavailable { method: ID, why };
-        if design.method != ID {
-            return Err(unavailable(format!(
-                "the design is by {}, not {ID}",
-                design.method
-            )));
-        }
-        if !design.status.is_certified() {
-            return Err(unavailable(format!(
-                "the design is {}: there is no observer to simulate",
-                design.status
-            )));
-        }
+        check_simulatable(ID, design)?;
         if plant.lipschitz().is_some() {
             return Err(unavailable(
                 "the plant file gives only bounds on the Jacobian of phi, not phi itself, so the \

@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use faer::{Mat, MatRef};
 use sporadic_linalg::balance::{
-    balance_a, balance_c, balancing_scales, unbalance_form, unbalance_gain,
+    balance_a, balance_b, balance_c, balancing_scales, unbalance_form, unbalance_gain,
 };
 
 use sporadic_model::{
@@ -134,13 +134,11 @@ pub fn balanced_plant(plant: &ModelPlant) -> Result<(Plant, Vec<f64>), Error> {
                 .sum::<f64>()
     });
     let d = balancing_scales(coupled.as_ref());
-    let rows_down =
-        |m: MatRef<'_, f64>| Mat::from_fn(m.nrows(), m.ncols(), |i, j| m[(i, j)] / d[i]);
     let p = Plant::new(
         balance_a(plant.a(), &d).as_ref(),
-        rows_down(plant.b()).as_ref(),
+        balance_b(plant.b(), &d).as_ref(),
         balance_c(c, &d).as_ref(),
-        rows_down(lip.g()).as_ref(),
+        balance_b(lip.g(), &d).as_ref(),
         balance_c(lip.h(), &d).as_ref(),
         lip.jacobian_lower(),
         lip.jacobian_upper(),
@@ -226,8 +224,7 @@ impl Etienne2017 {
         // D⁻¹ L_b.
         let gain = |k: MatRef<'_, f64>| unbalance_gain(k, scales);
         let form = |p: MatRef<'_, f64>| unbalance_form(p, scales);
-        let rows_down =
-            |m: MatRef<'_, f64>| Mat::from_fn(m.nrows(), m.ncols(), |i, j| m[(i, j)] / scales[i]);
+        let rows_down = |m: MatRef<'_, f64>| balance_b(m, scales);
         let mut r = DesignReport::certified(self, plant.name(), sampling);
         let w = *d.gain.window();
         let condition = d.lmi.condition;

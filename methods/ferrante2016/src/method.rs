@@ -9,7 +9,8 @@ use faer::Mat;
 use sporadic_model::{
     Check, DesignReport, Gain, Margin, MaxIntervalReport, MethodError, MethodOptions, NamedMatrix,
     NotApplicable, ObserverMethod, Outputs, Plant as ModelPlant, Probe, Reason, Sampling,
-    SamplingScenario, SamplingWindow, Scenario, SimulationReport, Trajectory, largest_window_with,
+    SamplingScenario, SamplingWindow, Scenario, SimulationReport, Trajectory, check_simulatable,
+    largest_window_with,
 };
 use sporadic_sdp::lmi::Normalisation;
 use sporadic_sim::{Adversarial, JumpMap, Periodic, SamplingRule, SimOptions, UniformRandom};
@@ -453,22 +454,7 @@ impl ObserverMethod for Ferrante2016 {
         scenario: &Scenario,
     ) -> Result<Trajectory, MethodError> {
         let unavailable = |why: String| MethodError::SimulationUnavailable { method: ID, why };
-        if design.method != ID {
-            return Err(unavailable(format!(
-                "the report is a design of {}, not of {ID}",
-                design.method
-            )));
-        }
-        if !design.status.is_certified() {
-            return Err(unavailable(format!(
-                "the design is {} ({}): there is no certified gain to simulate",
-                design.status,
-                design
-                    .reason
-                    .as_ref()
-                    .map_or_else(|| "no reason given".into(), |r| r.to_string())
-            )));
-        }
+        check_simulatable(ID, design)?;
         let window = design
             .window
             .ok_or_else(|| unavailable("the report has no single sampling window".into()))?;

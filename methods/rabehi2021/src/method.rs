@@ -7,13 +7,14 @@
 
 use std::time::Instant;
 
-use faer::Mat;
-use sporadic_linalg::balance::{balance_a, balance_c, balancing_scales, unbalance_gain};
+use sporadic_linalg::balance::{
+    balance_a, balance_b, balance_c, balancing_scales, unbalance_a, unbalance_gain,
+};
 
 use sporadic_model::{
     Check, DesignReport, Gain, Margin, MaxIntervalReport, MethodError, MethodOptions, NamedMatrix,
     NotApplicable, ObserverMethod, Outputs, Plant as ModelPlant, Probe, Reason, Sampling,
-    SamplingScenario, SamplingWindow, Scenario, SimulationReport, Trajectory,
+    SamplingScenario, SamplingWindow, Scenario, SimulationReport, Trajectory, check_simulatable,
     default_largest_window,
 };
 
@@ -143,11 +144,9 @@ fn plant_of(plant: &ModelPlant) -> Result<(Plant, Bounds), MethodError> {
 /// Taylor polytope of `e^(Āμ)` and the normalisations of the BMI (44), which are not invariant,
 /// then see the same matrix whatever units the user chose (issue 22).
 fn balanced_plant(p: &Plant, scales: &[f64]) -> Result<Plant, MethodError> {
-    let b = p.b();
-    let b = Mat::from_fn(b.nrows(), b.ncols(), |i, j| b[(i, j)] / scales[i]);
     Plant::new(
         balance_a(p.a(), scales).as_ref(),
-        b.as_ref(),
+        balance_b(p.b(), scales).as_ref(),
         balance_c(p.c(), scales).as_ref(),
     )
     .map_err(invalid)
@@ -156,14 +155,9 @@ fn balanced_plant(p: &Plant, scales: &[f64]) -> Result<Plant, MethodError> {
 /// The gain and the split of a design made in balanced coordinates, in the plant's:
 /// `L = D·L_b` and `G_i = D·G_ib·D⁻¹` (so `I + LC = D(I + L_bC_b)D⁻¹`).
 fn unbalanced_design(mut d: Design, scales: &[f64]) -> Design {
-    let back = |g: &Mat<f64>| {
-        Mat::from_fn(g.nrows(), g.ncols(), |i, j| {
-            g[(i, j)] * scales[i] / scales[j]
-        })
-    };
     d.l = unbalance_gain(d.l.as_ref(), scales);
-    d.g1 = back(&d.g1);
-    d.g2 = back(&d.g2);
+    d.g1 = unbalance_a(d.g1.as_ref(), scales);
+    d.g2 = unbalance_a(d.g2.as_ref(), scales);
     d
 }
 
@@ -500,12 +494,7 @@ impl ObserverMethod for Rabehi2021 {
         design: &DesignReport,
         scenario: &Scenario,
     ) -> Result<Trajectory, MethodError> {
-        if !design.status.is_certified() || design.method != ID {
-            return Err(MethodError::SimulationUnavailable {
-                method: ID,
-                why: "simulation needs a certified rabehi2021 design".into(),
-            });
-        }
+        check_simulatable(ID, design)?;
         let Some(window) = design.window else {
             return Err(MethodError::SimulationUnavailable {
                 method: ID,

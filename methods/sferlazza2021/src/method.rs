@@ -23,7 +23,7 @@ use sporadic_linalg::{InputError, LinalgError};
 use sporadic_model::{
     Check, DesignReport, Gain, Margin, MethodError, MethodOptions, NamedMatrix, NotApplicable,
     ObserverMethod, Outputs, Plant, Reason, Sampling, SamplingScenario, SamplingWindow, Scenario,
-    SimulationReport, Trajectory, significant,
+    SimulationReport, Trajectory, check_simulatable, significant,
 };
 
 use crate::design::{Design, DesignOptions, design};
@@ -308,18 +308,7 @@ impl ObserverMethod for Sferlazza2021 {
         scenario: &Scenario,
     ) -> Result<Trajectory, MethodError> {
         let unavailable = |why: String| MethodError::SimulationUnavailable { method: ID, why };
-        if design.method != ID {
-            return Err(unavailable(format!(
-                "the design is by {}, not {ID}",
-                design.method
-            )));
-        }
-        if !design.status.is_certified() {
-            return Err(unavailable(format!(
-                "the design is {}: there is no observer to simulate",
-                design.status
-            )));
-        }
+        check_simulatable(ID, design)?;
         let sampling = match (&design.window, &design.windows) {
             (Some(w), _) => Sampling::Synchronous(*w),
             (None, Some(ws)) => Sampling::RoundRobin(ws.clone()),

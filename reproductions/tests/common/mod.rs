@@ -1,6 +1,7 @@
 //! The claim-record schema every paper's `--json` lines must satisfy (shared by the paper tests).
 
 use serde_json::Value;
+use sporadic_figures::is_distrusted_label;
 use sporadic_reproductions::Reproduction;
 
 /// Half a unit of the last digit of `text` as printed (`"0.4698"` → 5e-5, `"9.9e-5"` → 5e-7).
@@ -125,26 +126,10 @@ pub fn check_claim_records(paper: &str, r: &Reproduction) {
     }
 }
 
-/// A text a reader would distrust in a figure: a run of 9 or more digits (float noise such as
-/// `9.999999999999999e-5`) or a negative zero (`-0`, `-0.0`).
-fn untrustworthy(label: &str) -> bool {
-    let mut run = 0;
-    for ch in label.chars() {
-        run = if ch.is_ascii_digit() { run + 1 } else { 0 };
-        if run >= 9 {
-            return true;
-        }
-    }
-    label
-        .trim()
-        .strip_prefix('-')
-        .is_some_and(|rest| !rest.is_empty() && rest.chars().all(|c| c == '0' || c == '.'))
-}
-
 /// Scans the text of every `<text>` element of every figure of `r`.
 pub fn check_figure_texts(r: &Reproduction) {
-    assert!(untrustworthy("9.999999999999999e-5") && untrustworthy("-0.0"));
-    assert!(!untrustworthy("-0.5") && !untrustworthy("1e-5"));
+    assert!(is_distrusted_label("9.999999999999999e-5") && is_distrusted_label("-0.0"));
+    assert!(!is_distrusted_label("-0.5") && !is_distrusted_label("1e-5"));
     for f in &r.figures {
         let svg = std::fs::read_to_string(f).unwrap();
         let mut texts = 0;
@@ -153,7 +138,7 @@ pub fn check_figure_texts(r: &Reproduction) {
             let content = body.split("</text>").next().unwrap_or("");
             texts += 1;
             assert!(
-                !untrustworthy(content),
+                !is_distrusted_label(content),
                 "{}: label {content:?}",
                 f.display()
             );
