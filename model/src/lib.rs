@@ -14,7 +14,9 @@
 //! * [`search`]: the one window search (largest `T2` for a given `T1`, smallest `T1` for a
 //!   given `T2`) with its probe record;
 //! * [`stats`]: [`SolverStats`] of one LMI solve;
-//! * [`method`]: the [`ObserverMethod`] trait, [`MethodError`] and [`MethodOptions`].
+//! * [`method`]: the [`ObserverMethod`] trait, [`MethodError`] and [`MethodOptions`];
+//! * [`proof`]: rigorous proofs of a design's condition for every `τ` of its window
+//!   ([`Proof`], the adaptive subdivision [`prove_on_window`]).
 //!
 //! ```
 //! use sporadic_model::{Sampling, SamplingWindow, Status};
@@ -28,6 +30,7 @@
 pub mod method;
 pub mod outcome;
 pub mod plant;
+pub mod proof;
 pub mod report;
 pub mod search;
 pub mod stats;
@@ -37,9 +40,13 @@ pub use faer;
 pub use method::{
     BoxedError, MethodError, MethodOptions, ObserverMethod, SamplingScenario, Scenario, TimeLimit,
     Trajectory, check_simulatable, default_largest_window, design_within, largest_window_with,
+    prove_within,
 };
 pub use outcome::{NotApplicable, Reason, Status};
 pub use plant::{Bounds, Lipschitz, Outputs, Plant};
+pub use proof::{
+    PieceCheck, Proof, ProofOptions, ProofPiece, ProofStatus, WindowProof, combine, prove_on_window,
+};
 pub use report::{
     COMPARE_SCHEMA, Check, CompareEntry, CompareReport, DESIGN_SCHEMA, DesignReport, Gain,
     GainSchedule, MAX_INTERVAL_SCHEMA, Margin, MaxIntervalReport, NamedMatrix, Probe, SearchEnd,

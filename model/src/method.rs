@@ -2,7 +2,8 @@
 
 use crate::outcome::{NotApplicable, Reason, Status};
 use crate::plant::Plant;
-use crate::report::{DesignReport, MaxIntervalReport, SimulationReport};
+use crate::proof::{Proof, ProofOptions, ProofStatus};
+use crate::report::{DesignReport, Gain, MaxIntervalReport, NamedMatrix, SimulationReport};
 use crate::search::{SearchError, Verdict, WindowSearchOptions, search_upper};
 use crate::window::Sampling;
 use sporadic_sdp::budget::{self, Budget};
@@ -32,6 +33,14 @@ pub enum MethodError {
         /// The paper crate's error.
         #[source]
         source: BoxedError,
+    },
+    /// The method cannot check gains brought by the user ([`ObserverMethod::verify`]).
+    #[error("{method}: verification of given gains is not available: {why}")]
+    VerificationUnavailable {
+        /// The method id.
+        method: &'static str,
+        /// Why.
+        why: String,
     },
     /// The method offers no simulation for this design.
     #[error("{method}: simulation is not available: {why}")]
@@ -196,6 +205,49 @@ pub trait ObserverMethod: Send + Sync {
         default_largest_window(self, plant, sampling, limit, options, progress)
     }
 
+    /// Proves rigorously, in interval arithmetic, that a certified design of this method
+    /// satisfies the method's central condition for **every** sampling interval of its
+    /// window(s) (see [`crate::proof`]). Called through [`prove_within`], which handles
+    /// designs that are not certified and the time budget. The default: no prover
+    /// (`inconclusive`).
+    fn prove(
+        &self,
+        plant: &Plant,
+        design: &DesignReport,
+        options: &ProofOptions,
+    ) -> Result<Proof, MethodError> {
+        let _ = (plant, design, options);
+        Ok(Proof::not_attempted(
+            ProofStatus::Inconclusive,
+            format!("{} has no prover", self.id()),
+        ))
+    }
+
+    /// Checks gains the user brings (the `gains` of a design report, edited or designed
+    /// elsewhere) on `sampling`: the method's condition for those gains, with the
+    /// `certificate` given when it has one that fits, else with one the method finds for the
+    /// fixed gains. The report is `certified` when the condition re-verifies in floating point
+    /// as a design's would, `not_certified` (with the reason) otherwise.
+    ///
+    /// # Errors
+    /// [`MethodError::InvalidInput`] for gains of the wrong names or shapes;
+    /// [`MethodError::VerificationUnavailable`] (the default) for a method that cannot check
+    /// given gains.
+    fn verify(
+        &self,
+        plant: &Plant,
+        sampling: &Sampling,
+        gains: &[Gain],
+        certificate: &[NamedMatrix],
+        options: &MethodOptions,
+    ) -> Result<DesignReport, MethodError> {
+        let _ = (plant, sampling, gains, certificate, options);
+        Err(MethodError::VerificationUnavailable {
+            method: self.id(),
+            why: "this method has no check of given gains".into(),
+        })
+    }
+
     /// Simulates a certified design of this method (from [`design`](Self::design)).
     fn simulate(
         &self,
@@ -260,6 +312,35 @@ pub fn design_within(
             Err(e) => Err(e),
         }
     })
+}
+
+/// [`ObserverMethod::prove`] within [`ProofOptions::time_limit`], timed: a design that is
+/// not certified is `not_proved` without a proof attempt (its condition already failed, or it
+/// has no gains to prove), and a proof that is stopped by the budget is `inconclusive`.
+pub fn prove_within(
+    method: &dyn ObserverMethod,
+    plant: &Plant,
+    design: &DesignReport,
+    options: &ProofOptions,
+) -> Result<Proof, MethodError> {
+    let start = Instant::now();
+    if !design.status.is_certified() {
+        return Ok(Proof::not_attempted(
+            ProofStatus::NotProved,
+            format!(
+                "the design is {} ({}): there is no certified design to prove",
+                design.status,
+                design
+                    .reason
+                    .as_ref()
+                    .map_or_else(|| "no reason given".into(), |r| r.to_string())
+            ),
+        ));
+    }
+    let budget = Budget::for_duration(options.time_limit);
+    let mut proof = budget::within(budget, || method.prove(plant, design, options))?;
+    proof.seconds = start.elapsed().as_secs_f64();
+    Ok(proof)
 }
 
 /// Which budget stopped a design or search.

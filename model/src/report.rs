@@ -7,7 +7,10 @@
 //!   round-robin sensor), `observer` (the observer's equations and sign convention),
 //!   `gains` (array of `{name, rows, meaning, schedule?}`), `certificate` (array of
 //!   `{name, rows, meaning}`), `margin` (`{value, definition}`), `checks` (what was
-//!   re-verified and how), `notes`, `seconds`, and `simulation` when one was run.
+//!   re-verified and how), `notes`, `seconds`, `simulation` when one was run, and `proof`
+//!   when one was asked for ([`crate::Proof`]: `status` `proved` | `not_proved` |
+//!   `inconclusive`, `condition`, `how`, `subintervals`, `margin_lower_bound`,
+//!   `margin_definition`, `failed_on`, `enclosure_width`, `message`, `seconds`).
 //! * `sporadic.max-interval/1` ([`MaxIntervalReport`]): `plant`, `method`, `status`,
 //!   `reason`, `t1`, `limit`, `largest_certified_t2`, `first_failing_t2` (`null` when
 //!   certified up to `limit`), `search_end`, `probes`, `design` (the design report at the
@@ -232,6 +235,9 @@ pub struct DesignReport {
     /// A simulation of the design, when one was run.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub simulation: Option<SimulationReport>,
+    /// The rigorous proof of the design's condition, when one was asked for.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub proof: Option<crate::proof::Proof>,
 }
 
 impl DesignReport {
@@ -265,6 +271,7 @@ impl DesignReport {
             notes: Vec::new(),
             seconds: 0.0,
             simulation: None,
+            proof: None,
         }
     }
 

@@ -1,7 +1,7 @@
 //! Verified positive / negative definiteness of symmetric interval matrices (Rump 2006).
 
 use crate::round::{ETA, add_up, div_up, gamma_up, mul_up, sub_down};
-use crate::{IntervalError, IntervalMatrix};
+use crate::{Interval, IntervalError, IntervalMatrix};
 use faer::{Mat, Side};
 
 /// Outcome of a definiteness verification.
@@ -198,4 +198,67 @@ pub fn is_verified_negative_definite(x: &IntervalMatrix) -> Result<Verdict, Inte
         Verdict::Proved { bound } => Verdict::Proved { bound: -bound },
         Verdict::NotProved => Verdict::NotProved,
     })
+}
+
+/// A rigorous enclosure `[lo, hi]` of λ_max(X) valid for **every** symmetric member X of `x`.
+///
+/// * `lo` is a Rayleigh quotient: λ_max(X) ≥ vᵀXv / vᵀv for any v ≠ 0; with v the
+///   floating-point eigenvector of the midpoint's largest eigenvalue, vᵀ·x·v and vᵀv are
+///   evaluated in interval arithmetic and the lower end of their quotient is taken.
+/// * `hi` is h + b, where b < 0 is the rigorous bound of [`is_verified_negative_definite`] for
+///   x − h·I and h is a floating-point estimate of λ_max(mid) plus ‖rad‖_∞ (raised until the
+///   test proves it, at most a few times; `+∞` if it never does).
+///
+/// # Errors
+/// As [`is_verified_positive_definite`].
+pub fn lambda_max_enclosure(x: &IntervalMatrix) -> Result<Interval, IntervalError> {
+    check_symmetric(x)?;
+    let n = x.nrows();
+    let m = x.mid();
+    if !x.is_bounded() {
+        return Ok(Interval::ENTIRE);
+    }
+    let Ok(eig) = m.to_owned().self_adjoint_eigen(Side::Lower) else {
+        return Ok(Interval::ENTIRE);
+    };
+    let vals = eig.S().column_vector();
+    let top = vals[n - 1];
+    if !top.is_finite() {
+        return Ok(Interval::ENTIRE);
+    }
+    // Lower end: Rayleigh quotient of the top eigenvector, in interval arithmetic.
+    let u = eig.U();
+    let v = IntervalMatrix::from_fn(n, 1, |i, _| Interval::raw(u[(i, n - 1)], u[(i, n - 1)]));
+    let xv = x.checked_mul(&v)?;
+    let vxv = v.transpose().checked_mul(&xv)?.get(0, 0);
+    let vv = v.transpose().checked_mul(&v)?.get(0, 0);
+    let lo = if vv.lo() > 0.0 {
+        (vxv / vv).lo()
+    } else {
+        f64::NEG_INFINITY
+    };
+    // Upper end: prove x − h·I negative definite for h slightly above the estimate.
+    let rad = x.rad();
+    let rad_norm = (0..n)
+        .map(|i| (0..n).fold(0.0, |s, j| add_up(s, rad[(i, j)])))
+        .fold(0.0f64, f64::max);
+    let scale = vals
+        .iter()
+        .fold(0.0f64, |s, &l| s.max(l.abs()))
+        .max(f64::MIN_POSITIVE);
+    let mut slack = add_up(rad_norm, mul_up(gamma_up(n + 2), scale));
+    let mut hi = f64::INFINITY;
+    for _ in 0..4 {
+        let h = add_up(top, slack);
+        if !h.is_finite() {
+            break;
+        }
+        let shifted = x.checked_sub(&IntervalMatrix::identity(n).scale(Interval::raw(h, h)))?;
+        if let Verdict::Proved { bound } = is_verified_negative_definite(&shifted)? {
+            hi = add_up(h, bound);
+            break;
+        }
+        slack = mul_up(slack, 16.0).max(f64::MIN_POSITIVE);
+    }
+    Interval::new(lo.min(hi), hi).or(Ok(Interval::ENTIRE))
 }

@@ -77,7 +77,9 @@ mod matrix;
 mod round;
 mod scalar;
 
-pub use definite::{Verdict, is_verified_negative_definite, is_verified_positive_definite};
+pub use definite::{
+    Verdict, is_verified_negative_definite, is_verified_positive_definite, lambda_max_enclosure,
+};
 pub use error::IntervalError;
 pub use expm::{EnclosureOptions, EnclosurePiece, ExpmEnclosure, expm_enclosure, expm_interval};
 pub use matrix::IntervalMatrix;

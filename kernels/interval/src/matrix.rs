@@ -303,6 +303,42 @@ impl IntervalMatrix {
         }
     }
 
+    /// A symmetric interval matrix containing every **symmetric** member of `self`: midpoint
+    /// fl((M + Mᵀ)/2), radius (R + Rᵀ)/2 plus the rounding error of the midpoint, rounded up.
+    /// (A symmetric member X equals (X + Xᵀ)/2, and |X − (M + Mᵀ)/2| ≤ (R + Rᵀ)/2.) Use it
+    /// on a product such as GᵀPG, whose members are symmetric but whose midpoint–radius
+    /// form is not exactly symmetric in floating point.
+    ///
+    /// # Errors
+    /// [`IntervalError::NotSquare`] for a rectangular matrix.
+    pub fn symmetrized(&self) -> Result<Self, IntervalError> {
+        let n = self.nrows();
+        if self.ncols() != n {
+            return Err(IntervalError::NotSquare {
+                what: "interval matrix",
+                rows: n,
+                cols: self.ncols(),
+            });
+        }
+        let mut mid = Mat::zeros(n, n);
+        let mut rad = Mat::zeros(n, n);
+        for j in 0..n {
+            for i in j..n {
+                let (a, b) = (self.mid[(i, j)], self.mid[(j, i)]);
+                let m = 0.5 * a + 0.5 * b;
+                // The halvings are exact (barring underflow, covered by η); the sum errs by at
+                // most one rounding.
+                let err = add_up(rounding_error_up(m), crate::round::ETA);
+                let r = add_up(mul_up(0.5, add_up(self.rad[(i, j)], self.rad[(j, i)])), err);
+                mid[(i, j)] = m;
+                mid[(j, i)] = m;
+                rad[(i, j)] = r;
+                rad[(j, i)] = r;
+            }
+        }
+        Ok(Self::from_parts_sanitized(mid, rad))
+    }
+
     /// Whether mid and rad are exactly symmetric (square and equal to their transposes).
     pub fn is_symmetric(&self) -> bool {
         self.first_asymmetry().is_none() && self.nrows() == self.ncols()

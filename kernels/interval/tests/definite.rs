@@ -6,6 +6,7 @@ use faer::Mat;
 use proptest::prelude::*;
 use sporadic_interval::{
     Interval, IntervalMatrix, Verdict, is_verified_negative_definite, is_verified_positive_definite,
+    lambda_max_enclosure,
 };
 
 /// Sylvester–Hadamard matrix of order 8 (entries ±1, H = Hᵀ, H² = 8I).
@@ -60,6 +61,33 @@ fn perm8() -> impl Strategy<Value = (Vec<usize>, Vec<bool>)> {
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(400))]
+
+    #[test]
+    fn lambda_max_enclosure_contains_the_exact_largest_eigenvalue(
+        j in 0u32..45,
+        lam in prop::array::uniform7(1i128..16),
+        (perm, flips) in perm8(),
+        negate in any::<bool>(),
+        eps_exp in 1u32..50,
+    ) {
+        // Spectrum exactly {−2^-j, λ1..λ7} (λi ∈ 1..15): λ_max = max λi. Negated: −λ spectrum,
+        // λ_max = 2^-j. With a radius ε on the diagonal, the members' λ_max lie within ±ε of it.
+        let Some(m) = exact_spectrum_matrix(-1, j, &lam, &perm, &flips) else { return Ok(()); };
+        let (m, exact) = if negate {
+            (Mat::from_fn(8, 8, |a, b| -m[(a, b)]), 2f64.powi(-(j as i32)))
+        } else {
+            (m, *lam.iter().max().unwrap() as f64)
+        };
+        let x = IntervalMatrix::from_point(m.as_ref()).unwrap();
+        let e = lambda_max_enclosure(&x).unwrap();
+        prop_assert!(e.contains(exact), "{e:?} ∌ {exact}");
+        prop_assert!(e.hi() - e.lo() <= 1e-12 * 16.0, "too wide: {e:?}");
+        let eps = 2f64.powi(-(eps_exp as i32));
+        let rad = Mat::from_fn(8, 8, |a, b| if a == b { eps } else { 0.0 });
+        let xr = IntervalMatrix::from_mid_rad(m.clone(), rad).unwrap();
+        let er = lambda_max_enclosure(&xr).unwrap();
+        prop_assert!(er.lo() <= exact - eps && er.hi() >= exact + eps, "{er:?} vs {exact} ± {eps}");
+    }
 
     #[test]
     fn never_pd_with_a_nonpositive_eigenvalue_exact_spectrum(
@@ -209,4 +237,21 @@ fn interval_radius_is_accounted_for() {
     )
     .unwrap();
     assert!(is_verified_positive_definite(&huge).unwrap().is_proved());
+}
+
+#[test]
+fn symmetrized_contains_the_symmetric_members_of_a_product() {
+    // GᵀPG in interval arithmetic is not exactly symmetric; its symmetrized form is, and it
+    // contains the exact symmetric product of point members.
+    let g = Mat::from_fn(3, 3, |i, j| 0.1 * (i as f64 + 1.0) - 0.37 * j as f64 + 0.01);
+    let p = Mat::from_fn(3, 3, |i, j| if i == j { 2.0 } else { 0.3 });
+    let gi = IntervalMatrix::from_point(g.as_ref()).unwrap();
+    let pi = IntervalMatrix::from_point(p.as_ref()).unwrap();
+    let q = gi.transpose().checked_mul(&pi.checked_mul(&gi).unwrap()).unwrap();
+    let s = q.symmetrized().unwrap();
+    assert!(s.is_symmetric());
+    let exact = g.transpose() * &p * &g;
+    let exact = Mat::from_fn(3, 3, |i, j| 0.5 * exact[(i, j)] + 0.5 * exact[(j, i)]);
+    assert!(s.contains_point(exact.as_ref()));
+    assert!(IntervalMatrix::zeros(2, 3).symmetrized().is_err());
 }
