@@ -170,6 +170,8 @@ pub fn is_verified_positive_definite(x: &IntervalMatrix) -> Result<Verdict, Inte
         && lam > sigma0
     {
         let slack = lam - sigma0;
+        candidates.push(lam - 1e-9 * slack);
+        candidates.push(lam - 1e-6 * slack);
         candidates.push(lam - 1e-3 * slack);
         candidates.push(lam - 0.1 * slack);
         candidates.push(lam - 0.5 * slack);

@@ -5,8 +5,8 @@
 use faer::Mat;
 use proptest::prelude::*;
 use sporadic_interval::{
-    Interval, IntervalMatrix, Verdict, is_verified_negative_definite, is_verified_positive_definite,
-    lambda_max_enclosure,
+    Interval, IntervalMatrix, Verdict, is_verified_negative_definite,
+    is_verified_positive_definite, lambda_max_enclosure,
 };
 
 /// Sylvester–Hadamard matrix of order 8 (entries ±1, H = Hᵀ, H² = 8I).
@@ -247,7 +247,10 @@ fn symmetrized_contains_the_symmetric_members_of_a_product() {
     let p = Mat::from_fn(3, 3, |i, j| if i == j { 2.0 } else { 0.3 });
     let gi = IntervalMatrix::from_point(g.as_ref()).unwrap();
     let pi = IntervalMatrix::from_point(p.as_ref()).unwrap();
-    let q = gi.transpose().checked_mul(&pi.checked_mul(&gi).unwrap()).unwrap();
+    let q = gi
+        .transpose()
+        .checked_mul(&pi.checked_mul(&gi).unwrap())
+        .unwrap();
     let s = q.symmetrized().unwrap();
     assert!(s.is_symmetric());
     let exact = g.transpose() * &p * &g;

@@ -503,7 +503,7 @@ pub fn min_trace_certificate(
 
 /// The error of a failed grid verification; its `tau` is where (12) fails, or where the Schur
 /// test fails when (12) passed.
-fn verification_failed(v: &Verification) -> Error {
+pub(crate) fn verification_failed(v: &Verification) -> Error {
     Error::VerificationFailed {
         max_eigenvalue: v.max_eigenvalue,
         at: v.max_eigenvalue_at,

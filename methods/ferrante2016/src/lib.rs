@@ -77,6 +77,7 @@ mod grid;
 mod lmi;
 pub mod method;
 pub mod normalise;
+pub mod prove;
 pub mod simulation;
 pub mod system;
 pub mod verify;
@@ -91,6 +92,7 @@ pub use detectability::{DetectabilityOptions, DetectabilityReport, check_detecta
 pub use error::Error;
 pub use lmi::{LmiForm, LmiSize};
 pub use method::Ferrante2016;
+pub use prove::prove_condition12;
 pub use simulation::{BoundCheck, check_bound, simulate_error, simulate_observer};
 pub use system::Plant;
 pub use verify::{Verification, VerifyOptions, verify};

@@ -8,9 +8,9 @@ use faer::Mat;
 
 use sporadic_model::{
     Check, DesignReport, Gain, Margin, MaxIntervalReport, MethodError, MethodOptions, NamedMatrix,
-    NotApplicable, ObserverMethod, Outputs, Plant as ModelPlant, Probe, Reason, Sampling,
-    SamplingScenario, SamplingWindow, Scenario, SimulationReport, Trajectory, check_simulatable,
-    largest_window_with,
+    NotApplicable, ObserverMethod, Outputs, Plant as ModelPlant, Probe, Proof, ProofOptions,
+    Reason, Sampling, SamplingScenario, SamplingWindow, Scenario, SimulationReport, Trajectory,
+    check_simulatable, largest_window_with,
 };
 use sporadic_sdp::lmi::Normalisation;
 use sporadic_sim::{Adversarial, JumpMap, Periodic, SamplingRule, SimOptions, UniformRandom};
@@ -22,8 +22,10 @@ use crate::design::{Design, DesignOptions, design};
 use crate::error::Error;
 use crate::lmi::LmiForm;
 use crate::normalise::Coordinates;
+use crate::prove::prove_condition12;
 use crate::simulation::simulate_error;
 use crate::system::Plant;
+use crate::verify::Verification;
 use crate::window::probe;
 
 const ID: &str = "ferrante2016";
@@ -237,6 +239,41 @@ fn margin_definition(options: &DesignOptions, d: &Design) -> String {
     )
 }
 
+/// A matrix of a report (`found`), or bad input naming what is missing.
+fn named(found: Option<Mat<f64>>, name: &str, what: &str) -> Result<Mat<f64>, MethodError> {
+    found.ok_or_else(|| MethodError::InvalidInput {
+        method: ID,
+        source: format!("the design report has no {what} {name}").into(),
+    })
+}
+
+/// The grid checks of (12) and of the Schur property of a verification.
+fn verification_checks(v: &Verification, tol: f64) -> Vec<Check> {
+    vec![
+        Check {
+            what: "condition (12) of Theorem 1 on a v-grid, independent of the embedding".into(),
+            how: format!(
+                "λmax((I − LC)'e^(A'v)Pe^(Av)(I − LC) − P) on {} equally spaced v in [T1, T2] \
+                 plus a golden-section refinement (60 steps) of the worst cell, e^(Av) in f64; \
+                 passes when λmax < −{tol:e}·‖P‖ (relative value {:.3e}, worst at v = {:.6})",
+                v.grid_points, v.relative_max_eigenvalue, v.max_eigenvalue_at
+            ),
+            value: Some(v.max_eigenvalue),
+            passed: v.condition12_holds,
+        },
+        Check {
+            what: "e^(Av)(I − LC) Schur for every v in [T1, T2] (Remark 3)".into(),
+            how: format!(
+                "spectral radius on the same grid plus refinement; passes when below 1 − {tol:e} \
+                 (worst at v = {:.6})",
+                v.max_spectral_radius_at
+            ),
+            value: Some(v.max_spectral_radius),
+            passed: v.schur_holds,
+        },
+    ]
+}
+
 /// Every re-verification of a design.
 fn checks(options: &DesignOptions, d: &Design) -> Vec<Check> {
     let det = &d.detectability;
@@ -292,27 +329,7 @@ fn checks(options: &DesignOptions, d: &Design) -> Vec<Check> {
             sporadic_embed::Containment::NotGuaranteed { .. }
         ),
     });
-    out.push(Check {
-        what: "condition (12) of Theorem 1 on a v-grid, independent of the embedding".into(),
-        how: format!(
-            "λmax((I − LC)'e^(A'v)Pe^(Av)(I − LC) − P) on {} equally spaced v in [T1, T2] plus \
-             a golden-section refinement (60 steps) of the worst cell, e^(Av) in f64; passes \
-             when λmax < −{tol:e}·‖P‖ (relative value {:.3e}, worst at v = {:.6})",
-            v.grid_points, v.relative_max_eigenvalue, v.max_eigenvalue_at
-        ),
-        value: Some(v.max_eigenvalue),
-        passed: v.condition12_holds,
-    });
-    out.push(Check {
-        what: "e^(Av)(I − LC) Schur for every v in [T1, T2] (Remark 3)".into(),
-        how: format!(
-            "spectral radius on the same grid plus refinement; passes when below 1 − {tol:e} \
-             (worst at v = {:.6})",
-            v.max_spectral_radius_at
-        ),
-        value: Some(v.max_spectral_radius),
-        passed: v.schur_holds,
-    });
+    out.extend(verification_checks(v, tol));
     out
 }
 
@@ -443,6 +460,168 @@ impl ObserverMethod for Ferrante2016 {
             progress,
             &mut run,
         )
+    }
+
+    /// Proves Theorem 1's hypotheses for the report's `(P, L)` on its window in interval
+    /// arithmetic ([`prove_condition12`]).
+    fn prove(
+        &self,
+        plant: &ModelPlant,
+        design: &DesignReport,
+        options: &ProofOptions,
+    ) -> Result<Proof, MethodError> {
+        let p = self.plant_of(plant)?;
+        let window = design.window.ok_or_else(|| MethodError::InvalidInput {
+            method: ID,
+            source: "the design report has no window [T1, T2]".into(),
+        })?;
+        let l = named(design.gain("L").map(Gain::to_mat), "L", "gain")?;
+        let pm = named(
+            design
+                .certificate
+                .iter()
+                .find(|m| m.name == "P")
+                .map(NamedMatrix::to_mat),
+            "P",
+            "certificate matrix",
+        )?;
+        prove_condition12(&p, &window, l.as_ref(), pm.as_ref(), options).map_err(not_a_verdict)
+    }
+
+    /// Checks a user's gain `L` on `sampling`: with the given `P` when there is one (the grid
+    /// check of (12) and of the Schur property, as a design is checked), else with the `P` of
+    /// LMI (41) for the fixed gain (`J = FL`, margin maximisation, [`crate::analyse`]).
+    fn verify(
+        &self,
+        plant: &ModelPlant,
+        sampling: &Sampling,
+        gains: &[Gain],
+        certificate: &[NamedMatrix],
+        _options: &MethodOptions,
+    ) -> Result<DesignReport, MethodError> {
+        let start = Instant::now();
+        if let Err(na) = self.applies(plant, sampling) {
+            return Ok(DesignReport::without_design(
+                self,
+                plant.name(),
+                Some(sampling),
+                na.reason,
+            ));
+        }
+        let Sampling::Synchronous(window) = sampling else {
+            unreachable_round_robin()?
+        };
+        let p = self.plant_of(plant)?;
+        let l = gains
+            .iter()
+            .find(|g| g.name == "L")
+            .map(Gain::to_mat)
+            .ok_or_else(|| MethodError::InvalidInput {
+                method: ID,
+                source: format!(
+                    "ferrante2016 needs the gain L (n × q); the gains given are [{}]",
+                    gains
+                        .iter()
+                        .map(|g| g.name.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )
+                .into(),
+            })?;
+        p.check_gain(l.as_ref()).map_err(invalid)?;
+        let given_p = certificate
+            .iter()
+            .find(|m| m.name == "P")
+            .map(NamedMatrix::to_mat);
+        let (pm, extra, found) = match given_p {
+            Some(pm) => {
+                p.check_lyapunov_matrix(pm.as_ref()).map_err(invalid)?;
+                (pm, Vec::new(), false)
+            }
+            None => match crate::analyse(&p, window, l.as_ref(), &self.design) {
+                Ok(an) => match an.certificate {
+                    Some(c) => (
+                        c.p,
+                        vec![
+                            NamedMatrix::new("F", c.f.as_ref(), "multiplier of LMI (41)"),
+                            NamedMatrix::new("J", c.j.as_ref(), "J = FL in LMI (41)"),
+                        ],
+                        true,
+                    ),
+                    None => {
+                        let reason = Reason::InfeasibleLmi {
+                            message: format!(
+                                "LMI (41) with the given L fixed (J = FL) has no strictly                                  feasible P on the {} vertices of the embedding (margin {});                                  Corollary 1 is only sufficient",
+                                an.embedding.vertex_count(),
+                                an.margin
+                                    .map_or_else(|| "none".into(), sporadic_model::significant)
+                            ),
+                        };
+                        return Ok(self.failed(
+                            plant,
+                            sampling,
+                            reason,
+                            start.elapsed().as_secs_f64(),
+                        ));
+                    }
+                },
+                Err(e) => {
+                    return match e.reason() {
+                        Some(r) => {
+                            Ok(self.failed(plant, sampling, r, start.elapsed().as_secs_f64()))
+                        }
+                        None => Err(not_a_verdict(e)),
+                    };
+                }
+            },
+        };
+        let v = crate::verify(&p, window, l.as_ref(), pm.as_ref(), &self.design.verify)
+            .map_err(not_a_verdict)?;
+        let tol = self.design.verify.tolerance;
+        let mut r = if v.passed() {
+            DesignReport::certified(self, plant.name(), sampling)
+        } else {
+            let e = crate::design::verification_failed(&v);
+            let mut r = DesignReport::without_design(
+                self,
+                plant.name(),
+                Some(sampling),
+                e.reason().unwrap_or(Reason::VerificationFailed {
+                    tau: None,
+                    message: e.to_string(),
+                }),
+            );
+            r.checks = verification_checks(&v, tol);
+            r.seconds = start.elapsed().as_secs_f64();
+            return Ok(r);
+        };
+        r.gains.push(Gain::constant(
+            "L",
+            l.as_ref(),
+            "jump gain of observer (3), given by the user: ẑ⁺ = ẑ + L(y − Cẑ) at each sample",
+        ));
+        r.certificate.push(NamedMatrix::new(
+            "P",
+            pm.as_ref(),
+            if found {
+                "Lyapunov matrix of Theorem 1 found for the given L by LMI (41) with J = FL"
+            } else {
+                "Lyapunov matrix of Theorem 1, given by the user"
+            },
+        ));
+        r.certificate.extend(extra);
+        r.margin = Some(Margin {
+            value: -v.relative_max_eigenvalue,
+            definition: "−λmax(Δ Q(v) Δ)/λmax(Δ P Δ) over the v-grid, Q(v) the left-hand side of                          (12), Δ = diag(P)^(-1/2)"
+                .into(),
+        });
+        r.checks = verification_checks(&v, tol);
+        r.notes.push(
+            "gain checked as given (sporadic verify): no design was run; the checks are those of              a design's re-verification"
+                .into(),
+        );
+        r.seconds = start.elapsed().as_secs_f64();
+        Ok(r)
     }
 
     /// The error system (5) with the report's gain `L`: `ε' = Aε` between samples,
