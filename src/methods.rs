@@ -9,8 +9,9 @@
 
 use crate::plant_file::PlantFile;
 use sporadic_model::{
-    CompareEntry, CompareReport, DesignReport, MaxIntervalReport, MethodError, MethodOptions,
-    ObserverMethod, Plant, Probe, Reason, Sampling, Scenario, Trajectory,
+    CompareEntry, CompareReport, DesignReport, Gain, MaxIntervalReport, MethodError, MethodOptions,
+    NamedMatrix, ObserverMethod, Plant, Probe, Proof, ProofOptions, ProofStatus, Reason, Sampling,
+    SamplingWindow, Scenario, Trajectory,
 };
 
 /// Every method, in the order of the seed papers.
@@ -211,6 +212,65 @@ pub fn compare(
         results,
         start.elapsed().as_secs_f64(),
     ))
+}
+
+/// Proves a design of `method` for the plant file rigorously ([`ObserverMethod::prove`] through
+/// [`sporadic_model::prove_within`]); a file the method does not apply to gives a
+/// `not_proved` proof with the reason.
+pub fn prove(
+    file: &PlantFile,
+    method: &dyn ObserverMethod,
+    design: &DesignReport,
+    options: &ProofOptions,
+) -> Result<Proof, MethodError> {
+    match setup(file, method) {
+        Ok((plant, _)) => match sporadic_model::prove_within(method, &plant, design, options) {
+            Err(e @ MethodError::Numerical { .. }) => Ok(Proof::not_attempted(
+                ProofStatus::Inconclusive,
+                format!("the proof failed numerically: {}", e.chain()),
+            )),
+            other => other,
+        },
+        Err((_, reason)) => Ok(Proof::not_attempted(
+            ProofStatus::NotProved,
+            format!("{} does not apply: {reason}", method.id()),
+        )),
+    }
+}
+
+/// Checks gains the user brings ([`ObserverMethod::verify`]) on the plant file's sampling, or
+/// on `window` (every sensor's window, for round-robin sampling) when given.
+pub fn verify(
+    file: &PlantFile,
+    method: &dyn ObserverMethod,
+    gains: &[Gain],
+    certificate: &[NamedMatrix],
+    window: Option<SamplingWindow>,
+    options: &MethodOptions,
+) -> Result<DesignReport, MethodError> {
+    let start = std::time::Instant::now();
+    let mut report = match setup(file, method) {
+        Ok((plant, sampling)) => {
+            let sampling = match (window, sampling) {
+                (None, s) => s,
+                (Some(w), Sampling::Synchronous(_)) => Sampling::Synchronous(w),
+                (Some(w), Sampling::RoundRobin(ws)) => Sampling::RoundRobin(vec![w; ws.len()]),
+            };
+            let r = sporadic_sdp::budget::within(
+                sporadic_sdp::budget::Budget::for_duration(options.time_limit),
+                || method.verify(&plant, &sampling, gains, certificate, options),
+            );
+            numerical_as_verdict(method, &plant, &sampling, r)?
+        }
+        Err((sampling, reason)) => {
+            DesignReport::without_design(method, &file.name, sampling.as_ref(), reason)
+        }
+    };
+    report.plant = file.name.clone();
+    if report.seconds == 0.0 {
+        report.seconds = start.elapsed().as_secs_f64();
+    }
+    Ok(report)
 }
 
 /// Simulates a certified design of `method` for the plant file.

@@ -5,9 +5,9 @@ use super::{Failure, Outcome};
 use sporadic::methods;
 use sporadic::plant_file::PlantFile;
 use sporadic_model::{
-    CompareReport, DesignReport, MaxIntervalReport, MethodError, MethodOptions, NamedMatrix,
-    ObserverMethod, Probe, SamplingScenario, SamplingWindow, Scenario, SearchEnd, Status,
-    Trajectory, significant,
+    CompareReport, DesignReport, Gain, GainSchedule, MaxIntervalReport, MethodError, MethodOptions,
+    NamedMatrix, ObserverMethod, Probe, Proof, ProofOptions, ProofStatus, SamplingScenario,
+    SamplingWindow, Scenario, SearchEnd, Status, Trajectory, significant,
 };
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
@@ -169,6 +169,58 @@ pub struct DesignArgs {
     pub budget: TimeBudget,
     #[command(flatten)]
     pub simulation: SimulationArgs,
+    #[command(flatten)]
+    pub proof: ProofArgs,
+}
+
+/// The rigorous proof of a design (issue "Proofs, not samples").
+#[derive(Debug, Clone, Copy, clap::Args)]
+pub struct ProofArgs {
+    /// Prove the design's condition for every sampling interval of the window in interval
+    /// arithmetic and add a `proof` section (proved | not_proved | inconclusive). With it, the
+    /// exit status is 0 only when the design is certified and proved.
+    #[arg(long)]
+    pub prove: bool,
+    /// Largest number of τ-pieces of the proof's adaptive subdivision, per window.
+    #[arg(long, value_name = "N", default_value_t = ProofOptions::default().max_pieces, requires = "prove")]
+    pub proof_pieces: usize,
+}
+
+impl ProofArgs {
+    /// The proof options with the command's time budget.
+    fn options(&self, budget: &MethodOptions) -> Result<ProofOptions, Failure> {
+        if self.proof_pieces == 0 {
+            return Err(Failure::Input("--proof-pieces must be at least 1".into()));
+        }
+        Ok(ProofOptions {
+            max_pieces: self.proof_pieces,
+            time_limit: budget.time_limit,
+        })
+    }
+}
+
+/// Arguments of `sporadic verify`.
+#[derive(Debug, clap::Args)]
+pub struct VerifyArgs {
+    /// The plant file (TOML).
+    pub plant: PathBuf,
+    /// The method whose condition the gains are checked against.
+    #[arg(long, value_parser = method_arg)]
+    pub method: String,
+    /// The gains: a design report (`sporadic design --json`; its `gains` and, when present,
+    /// its `certificate` are used), an object `{"gains": [...], "certificate": [...]}`, or an
+    /// array of gains; each gain `{"name": "L", "rows": [[...], ...]}` (a `schedule` is kept).
+    #[arg(long, value_name = "FILE.json")]
+    pub gains: PathBuf,
+    /// Check on this window instead of the file's (every sensor's, for round-robin sampling).
+    #[arg(long, num_args = 2, value_names = ["T1", "T2"], allow_negative_numbers = true)]
+    pub window: Option<Vec<f64>>,
+    #[command(flatten)]
+    pub proof: ProofArgs,
+    #[command(flatten)]
+    pub budget: TimeBudget,
+    #[command(flatten)]
+    pub format: Format,
 }
 
 /// Arguments of `sporadic max-interval`.
@@ -299,6 +351,53 @@ fn print_design(d: &DesignReport) {
     }
 }
 
+fn print_proof(p: &Proof) {
+    println!("proof    {}: {}", p.status, p.message);
+    if !p.condition.is_empty() {
+        println!("proof: condition: {}", p.condition);
+    }
+    if let Some(m) = p.margin_lower_bound {
+        println!(
+            "proof: margin ≥ {} ({}), {} τ-pieces{}, {:.3} s",
+            significant(m),
+            p.margin_definition,
+            p.subintervals,
+            p.enclosure_width.map_or_else(String::new, |w| format!(
+                ", largest relative width of the e^(Aτ) enclosures {}",
+                significant(w)
+            )),
+            p.seconds
+        );
+    }
+    if let Some(f) = &p.failed_on {
+        println!(
+            "proof: {} on τ in [{}, {}]: decisive eigenvalue in [{}, {}]",
+            f.condition,
+            significant(f.tau[0]),
+            significant(f.tau[1]),
+            significant(f.enclosure[0]),
+            significant(f.enclosure[1])
+        );
+    }
+    if !p.how.is_empty() {
+        println!("proof: how: {}", p.how);
+    }
+}
+
+/// Exit status of a report with an optional proof: certified (and proved, when a proof was
+/// asked for) → 0, otherwise 1.
+fn proved_verdict(report: &DesignReport, asked: bool) -> Outcome {
+    let proved = report
+        .proof
+        .as_ref()
+        .is_some_and(|p| p.status == ProofStatus::Proved);
+    if report.status.is_certified() && (!asked || proved) {
+        Outcome::Certified
+    } else {
+        Outcome::NothingCertified
+    }
+}
+
 /// Exit status of a report: certified → 0, otherwise 1.
 fn verdict(status: Status) -> Outcome {
     if status.is_certified() {
@@ -331,8 +430,18 @@ pub fn design(args: &DesignArgs) -> Result<Outcome, Failure> {
         }
         report.simulation = Some(summary);
     }
+    if args.proof.prove {
+        let proof_options = args.proof.options(&options)?;
+        report.proof = Some(
+            methods::prove(&file, method.as_ref(), &report, &proof_options)
+                .map_err(method_failure)?,
+        );
+    }
     if !print_report(args.format, &report)? {
         print_design(&report);
+        if let Some(p) = &report.proof {
+            print_proof(p);
+        }
         if let Some(s) = &report.simulation {
             println!("simulation: {}", s.setup);
             println!("simulation: {}", s.result);
@@ -355,7 +464,155 @@ pub fn design(args: &DesignArgs) -> Result<Outcome, Failure> {
             }
         }
     }
-    Ok(verdict(report.status))
+    Ok(proved_verdict(&report, args.proof.prove))
+}
+
+/// A gain or certificate matrix of a JSON file: `name` and `rows` (other fields optional).
+fn named_rows(
+    v: &serde_json::Value,
+    what: &str,
+    k: usize,
+) -> Result<(String, Vec<Vec<f64>>), String> {
+    let name = v
+        .get("name")
+        .and_then(|n| n.as_str())
+        .ok_or_else(|| format!("{what} {k} has no string field \"name\""))?;
+    let rows: Vec<Vec<f64>> = v
+        .get("rows")
+        .cloned()
+        .ok_or_else(|| format!("{what} {name} has no field \"rows\""))
+        .and_then(|r| {
+            serde_json::from_value(r).map_err(|e| {
+                format!("{what} {name}: \"rows\" must be an array of rows of numbers: {e}")
+            })
+        })?;
+    let width = rows.first().map_or(0, Vec::len);
+    if rows.is_empty() || width == 0 || rows.iter().any(|r| r.len() != width) {
+        return Err(format!(
+            "{what} {name}: \"rows\" must be a non-empty rectangular matrix"
+        ));
+    }
+    if rows.iter().flatten().any(|x| !x.is_finite()) {
+        return Err(format!(
+            "{what} {name} has an entry that is not a finite number"
+        ));
+    }
+    Ok((name.to_string(), rows))
+}
+
+/// The gains (and certificate, if any) of a `--gains` file.
+fn read_gains(path: &Path) -> Result<(Vec<Gain>, Vec<NamedMatrix>), Failure> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| Failure::Input(format!("{}: {e}", path.display())))?;
+    let value: serde_json::Value = serde_json::from_str(&text)
+        .map_err(|e| Failure::Input(format!("{}: not JSON: {e}", path.display())))?;
+    let bad = |m: String| Failure::Input(format!("{}: {m}", path.display()));
+    let (gains, certificate) = match &value {
+        serde_json::Value::Array(_) => (value.clone(), serde_json::Value::Null),
+        serde_json::Value::Object(o) => (
+            o.get("gains")
+                .cloned()
+                .ok_or_else(|| bad("the object has no \"gains\" array".into()))?,
+            o.get("certificate")
+                .cloned()
+                .unwrap_or(serde_json::Value::Null),
+        ),
+        _ => {
+            return Err(bad(
+                "expected a design report, {\"gains\": [...]} or an array of gains".into(),
+            ));
+        }
+    };
+    let gains = gains
+        .as_array()
+        .ok_or_else(|| bad("\"gains\" must be an array".into()))?
+        .iter()
+        .enumerate()
+        .map(|(k, g)| {
+            let (name, rows) = named_rows(g, "gain", k).map_err(bad)?;
+            let schedule = match g.get("schedule") {
+                None | Some(serde_json::Value::Null) => None,
+                Some(s) => Some(
+                    serde_json::from_value::<GainSchedule>(s.clone())
+                        .map_err(|e| bad(format!("gain {name}: bad \"schedule\": {e}")))?,
+                ),
+            };
+            Ok(Gain {
+                meaning: g
+                    .get("meaning")
+                    .and_then(|m| m.as_str())
+                    .unwrap_or("given by the user")
+                    .to_string(),
+                name,
+                rows,
+                schedule,
+            })
+        })
+        .collect::<Result<Vec<_>, Failure>>()?;
+    if gains.is_empty() {
+        return Err(bad("no gains given".into()));
+    }
+    let certificate = match certificate {
+        serde_json::Value::Null => Vec::new(),
+        serde_json::Value::Array(items) => items
+            .iter()
+            .enumerate()
+            .map(|(k, m)| {
+                let (name, rows) = named_rows(m, "certificate matrix", k).map_err(bad)?;
+                Ok(NamedMatrix {
+                    meaning: m
+                        .get("meaning")
+                        .and_then(|x| x.as_str())
+                        .unwrap_or("given by the user")
+                        .to_string(),
+                    name,
+                    rows,
+                })
+            })
+            .collect::<Result<Vec<_>, Failure>>()?,
+        _ => return Err(bad("\"certificate\" must be an array".into())),
+    };
+    Ok((gains, certificate))
+}
+
+/// Runs `sporadic verify`.
+pub fn verify(args: &VerifyArgs) -> Result<Outcome, Failure> {
+    let file = read(&args.plant)?;
+    let method = lookup(&args.method)?;
+    let options = args.budget.options()?;
+    let (gains, certificate) = read_gains(&args.gains)?;
+    let window = match args.window.as_deref() {
+        None => None,
+        Some(&[t1, t2]) => Some(
+            SamplingWindow::new(t1, t2).map_err(|e| Failure::Input(format!("--window: {e}")))?,
+        ),
+        Some(_) => return Err(Failure::Input("--window takes two numbers T1 T2".into())),
+    };
+    let proof_options = args.proof.options(&options)?;
+    let mut report = methods::verify(
+        &file,
+        method.as_ref(),
+        &gains,
+        &certificate,
+        window,
+        &options,
+    )
+    .map_err(method_failure)?;
+    report.proof = Some(if args.proof.prove || !report.status.is_certified() {
+        methods::prove(&file, method.as_ref(), &report, &proof_options).map_err(method_failure)?
+    } else {
+        Proof::not_attempted(
+            ProofStatus::Inconclusive,
+            "no proof was asked for (--prove)",
+        )
+    });
+    if !print_report(args.format, &report)? {
+        print_design(&report);
+        if let Some(p) = &report.proof {
+            print_proof(p);
+        }
+    }
+    Ok(proved_verdict(&report, args.proof.prove))
 }
 
 /// Writes the simulated time series as CSV: `t,j,norm,<signal>...`, one row per hybrid time.

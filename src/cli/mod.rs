@@ -11,7 +11,8 @@ use std::process::ExitCode;
 
 /// Observer design and certification for plants with sporadic measurements.
 ///
-/// Exit status, for every subcommand: 0 = ran and certified (compare: at least one method
+/// Exit status, for every subcommand: 0 = ran and certified (design/verify with --prove: and
+/// proved; compare: at least one method
 /// certified; reproduce: the reproductions ran, whatever their claims' statuses; sdp solve: an
 /// optimal status); 1 = ran, but nothing was certified or the method does not apply (sdp solve:
 /// any non-optimal status); 2 = invalid or unreadable input, or a usage error.
@@ -29,6 +30,9 @@ enum Command {
     /// A plant file is TOML; `sporadic init [--kind linear|round-robin|lipschitz|bounds]`
     /// writes a commented template.
     Design(design::DesignArgs),
+    /// Check gains designed elsewhere (a design report's `gains`, edited or from MATLAB) for a
+    /// plant file, optionally with a rigorous proof (`--prove`).
+    Verify(design::VerifyArgs),
     /// Find the largest certified sampling window of a plant file with one method.
     MaxInterval(design::MaxIntervalArgs),
     /// Run every method on a plant file and compare the certified windows.
@@ -65,6 +69,7 @@ pub fn run() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Design(args) => design::design(&args),
+        Command::Verify(args) => design::verify(&args),
         Command::MaxInterval(args) => design::max_interval(&args),
         Command::Compare(args) => design::compare(&args),
         Command::Reproduce(args) => reproduce::run(&args),
