@@ -610,3 +610,35 @@ mod tests {
         assert!(r.table("p").contains("differs"));
     }
 }
+
+/// The claim that a certified design of a paper's example is proved for every sampling
+/// interval of its window (issue "Proofs, not samples"): the reference is `proved` (the design
+/// is certified, so its condition holds everywhere if the certificate is right), ours the
+/// prover's status; the note gives the pieces, the margin bound, the enclosure width and the
+/// time, or where and why the proof stopped.
+pub fn proof_claim(id: impl Into<String>, design: &str, proof: &sporadic_model::Proof) -> Claim {
+    let proved = proof.status == sporadic_model::ProofStatus::Proved;
+    let note = if proved {
+        format!(
+            "{design}: proved in interval arithmetic on {} τ-pieces in {:.2} s; margin ≥ {} ({}); \
+             largest relative width of the e^(Aτ) enclosures {}",
+            proof.subintervals,
+            proof.seconds,
+            proof
+                .margin_lower_bound
+                .map_or_else(|| "—".into(), sporadic_model::significant),
+            proof.margin_definition,
+            proof
+                .enclosure_width
+                .map_or_else(|| "—".into(), sporadic_model::significant),
+        )
+    } else {
+        format!("{design}: {} — {}", proof.status, proof.message)
+    };
+    Claim::derived_verdict(
+        id,
+        true,
+        format!("{design} is certified: its condition holds for every τ of the window"),
+    )
+    .verdict(proved, note)
+}

@@ -16,9 +16,11 @@
 use std::f64::consts::E;
 use std::path::Path;
 
-use crate::claim::{Claim, ClaimStatus, Reproduction};
+use crate::claim::{Claim, ClaimStatus, Reproduction, proof_claim};
 use faer::Mat;
+use sporadic_ferrante2016::prove_condition12;
 use sporadic_figures::{PlotSpec, Series, plot_error_norm, plot_hybrid_time};
+use sporadic_model::{Proof, ProofOptions};
 use sporadic_sim::{
     Exosystem, HybridArc, InputSignal, Periodic, Record, SimOptions, SimRng, UniformRandom,
 };
@@ -72,6 +74,8 @@ struct Example1Values {
     bound_check: BoundCheck,
     /// `|ε|` after the 2nd jump over after the 1st.
     contraction: f64,
+    /// Rigorous proofs of (12): (claim id, what, proof).
+    proofs: Vec<(&'static str, &'static str, Proof)>,
     /// Horizon of the Figure 1 run.
     horizon: f64,
 }
@@ -97,6 +101,8 @@ struct Example2Values {
     fig2_horizon: f64,
     /// Largest `T2` for `T1 = 0.2` (search capped at `T2_LIMIT`) and smallest `T1` for `T2 = 3`.
     windows: (WindowSearch, WindowSearch),
+    /// Rigorous proofs of (12): (claim id, what, proof).
+    proofs: Vec<(&'static str, &'static str, Proof)>,
 }
 
 /// Every value the claims of Ferrante et al. (2016) are checked against, computed once.
@@ -207,6 +213,30 @@ fn example1_values(out_dir: &Path, rep: &mut Reproduction) -> Result<Example1Val
         bound_check,
         contraction,
         horizon,
+        proofs: vec![
+            (
+                "ex1.proof",
+                "Example 1's (P, L) = (1, 1.1 − e^{-1})",
+                prove_condition12(
+                    &ex.plant,
+                    &ex.window,
+                    ex.l.as_ref(),
+                    ex.p.as_ref(),
+                    &ProofOptions::default(),
+                )?,
+            ),
+            (
+                "ex1.design.proof",
+                "Example 1's free design (Corollary 1)",
+                prove_condition12(
+                    &ex.plant,
+                    &ex.window,
+                    d.l.as_ref(),
+                    d.certificate.p.as_ref(),
+                    &ProofOptions::default(),
+                )?,
+            ),
+        ],
     })
 }
 
@@ -346,7 +376,32 @@ fn example2_values(out_dir: &Path, rep: &mut Reproduction) -> Result<Example2Val
     };
     let w2 = largest_t2(&ex.plant, 0.2, T2_LIMIT, &opts, &search)?;
     let w1 = smallest_t1(&ex.plant, 3.0, 0.01, &opts, &search)?;
+    let mut proofs = vec![(
+        "ex2.paper_L.proof",
+        "Example 2's published L with its min-trace P",
+        prove_condition12(
+            &ex.plant,
+            &ex.window,
+            ex.l_paper.as_ref(),
+            certificate.p.as_ref(),
+            &ProofOptions::default(),
+        )?,
+    )];
+    if let Some(d) = &d {
+        proofs.push((
+            "ex2.design.proof",
+            "Example 2's design (Corollary 1)",
+            prove_condition12(
+                &ex.plant,
+                &ex.window,
+                d.l.as_ref(),
+                d.certificate.p.as_ref(),
+                &ProofOptions::default(),
+            )?,
+        ));
+    }
     Ok(Example2Values {
+        proofs,
         design: d,
         paper_l,
         ml,
@@ -398,6 +453,9 @@ const NOISY_JUMPS: usize = 40;
 fn claims(v: &Values) -> Vec<Claim> {
     let mut c = example1_claims(&v.ex1);
     c.extend(example2_claims(&v.ex2));
+    for (id, what, proof) in v.ex1.proofs.iter().chain(&v.ex2.proofs) {
+        c.push(proof_claim(*id, what, proof));
+    }
     c
 }
 
