@@ -79,6 +79,7 @@ pub mod example;
 pub mod gain;
 pub mod lmi;
 pub mod method;
+pub mod prove;
 pub mod simulation;
 pub mod system;
 pub mod verify;
@@ -94,6 +95,7 @@ pub use error::Error;
 pub use gain::GainSchedule;
 pub use lmi::Condition;
 pub use method::{Conditions, Etienne2017, balanced_plant};
+pub use prove::prove_design;
 pub use simulation::{
     Input, Nonlinearity, SimulationSetup, error_norm_after, error_norm_after_sample,
     lyapunov_at_samples, simulate_observer, worst_case_sampling,
