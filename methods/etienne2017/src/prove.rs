@@ -33,14 +33,20 @@
 //! none, and the discrete contraction `(I − K(τ)C)'e^{R_pτ}'P1e^{R_pτ}(I − K(τ)C) ≺ P1` that the
 //! floating-point re-verification also samples is a consequence of (19b) and (16c).
 //!
-//! The proof is made in the plant's coordinates, with the gains and certificate of the report
-//! (which the method maps back exactly from the balanced coordinates it designs in).
+//! **Coordinates.** The report's `K`, `P1`, `P2` are in the plant's coordinates. The proof maps
+//! the plant and `K` to the balanced coordinates `x_b = D⁻¹x` the method designs in
+//! ([`crate::balanced_plant`]: `D⁻¹AD`, `CD`, `D⁻¹G`, `HD`, `D⁻¹K`, powers of 2, exact in
+//! floating point, which is checked by mapping back) and `P ↦ DPD`; the conditions are
+//! invariant under this congruence, and the margin then does not depend on the user's units.
+//! Should the map not be exact (data near the overflow or underflow range) the proof is made in
+//! the plant's coordinates.
 
 use faer::{Mat, MatRef};
 use sporadic_interval::{
     Interval, IntervalError, IntervalMatrix, Verdict, is_verified_negative_definite,
     lambda_max_enclosure,
 };
+use sporadic_linalg::balance::{balance_b, unbalance_a, unbalance_gain};
 use sporadic_model::{
     DesignReport, Gain, MethodError, NamedMatrix, PieceCheck, Plant as ModelPlant, Proof,
     ProofOptions, SamplingWindow, WindowProof, combine, prove_on_window,
@@ -209,11 +215,13 @@ impl Given {
 /// The vertices `R_p = A + GΘ_pH` of Lemma 1, enclosed in interval arithmetic (bit `j` of `p`
 /// picks the upper bound of the `j`-th free entry of `Θ`, in row-major order, as the crate's
 /// [`crate::Plant::vertices`]; fixed entries keep their value).
-fn vertex_enclosures(plant: &ModelPlant) -> Result<Vec<IntervalMatrix>, MethodError> {
-    let lip = plant
-        .lipschitz()
-        .ok_or_else(|| bad("etienne2017 needs a Lipschitz nonlinearity (G, H, Jacobian bounds)"))?;
-    let (lo, hi) = (lip.jacobian_lower(), lip.jacobian_upper());
+fn vertex_enclosures(
+    a: MatRef<'_, f64>,
+    g: MatRef<'_, f64>,
+    h: MatRef<'_, f64>,
+    lo: MatRef<'_, f64>,
+    hi: MatRef<'_, f64>,
+) -> Result<Vec<IntervalMatrix>, MethodError> {
     let m = lo.nrows();
     let free: Vec<(usize, usize)> = (0..m)
         .flat_map(|i| (0..m).map(move |j| (i, j)))
@@ -226,7 +234,7 @@ fn vertex_enclosures(plant: &ModelPlant) -> Result<Vec<IntervalMatrix>, MethodEr
         )));
     }
     let point = |x: MatRef<'_, f64>| IntervalMatrix::from_point(x).map_err(numerical);
-    let (a, g, h) = (point(plant.a())?, point(lip.g())?, point(lip.h())?);
+    let (a, g, h) = (point(a)?, point(g)?, point(h)?);
     (0..1usize << free.len())
         .map(|v| {
             let mut theta = lo.to_owned();
@@ -318,12 +326,56 @@ pub fn prove_design(
     let c = plant
         .c()
         .ok_or_else(|| bad("etienne2017 needs one output matrix C"))?;
+    let lip = plant
+        .lipschitz()
+        .ok_or_else(|| bad("etienne2017 needs a Lipschitz nonlinearity (G, H, Jacobian bounds)"))?;
     let (n, q) = (plant.n(), c.nrows());
     let given = Given::read(n, q, &window, &design.gains, &design.certificate)?;
     let Some((p1, p2)) = &given.p else {
         return Err(bad("the design report's certificate has no P1, P2"));
     };
-    let vertices = vertex_enclosures(plant)?;
+    let (balanced, d) =
+        crate::method::balanced_plant(plant).map_err(|e| MethodError::InvalidInput {
+            method: ID,
+            source: Box::new(e),
+        })?;
+    // The balanced data, if the similarity is exact on the plant and the gain (checked by
+    // mapping back; the certificate need not be exact: any P1, P2 that passes is a certificate).
+    let (k0, k1) = (
+        balance_b(given.k0.as_ref(), &d),
+        balance_b(given.k1.as_ref(), &d),
+    );
+    let exact = unbalance_a(balanced.a(), &d) == plant.a()
+        && unbalance_gain(balanced.g(), &d) == lip.g()
+        && Mat::from_fn(q, n, |i, j| balanced.c()[(i, j)] / d[j]) == c
+        && Mat::from_fn(lip.h().nrows(), n, |i, j| balanced.h()[(i, j)] / d[j]) == lip.h()
+        && unbalance_gain(k0.as_ref(), &d) == given.k0
+        && unbalance_gain(k1.as_ref(), &d) == given.k1;
+    let form = |p: &Mat<f64>| Mat::from_fn(n, n, |i, j| p[(i, j)] * d[i] * d[j]);
+    let (a, c, g, h, k0, k1, p1, p2) = if exact {
+        (
+            balanced.a(),
+            balanced.c(),
+            balanced.g(),
+            balanced.h(),
+            k0,
+            k1,
+            form(p1),
+            form(p2),
+        )
+    } else {
+        (
+            plant.a(),
+            c,
+            lip.g(),
+            lip.h(),
+            given.k0.clone(),
+            given.k1.clone(),
+            p1.clone(),
+            p2.clone(),
+        )
+    };
+    let vertices = vertex_enclosures(a, g, h, lip.jacobian_lower(), lip.jacobian_upper())?;
     let point = |x: MatRef<'_, f64>| IntervalMatrix::from_point(x).map_err(numerical);
     let (p1, p2, c) = (point(p1.as_ref())?, point(p2.as_ref())?, point(c)?);
     let (t1, t2) = (window.t1(), window.t2());
@@ -380,9 +432,9 @@ pub fn prove_design(
             .and_then(|y| y.checked_sub(&p_tau))
             .map_err(numerical)
     };
-    let mut ends = vec![(t2, &given.k1, "(20d)")];
+    let mut ends = vec![(t2, &k1, "(20d)")];
     if !window.is_periodic() {
-        ends.insert(0, (t1, &given.k0, "(20c)"));
+        ends.insert(0, (t1, &k0, "(20c)"));
     }
     for (tau, k, eq) in ends {
         parts.push(at_point(
@@ -401,8 +453,14 @@ pub fn prove_design(
          Jacobian box (Lemma 1), and (16c) (I − K(τ)C)'P1(I − K(τ)C) − P(τ) ≺ 0 (the Schur form \
          of (19c)) for every τ ∈ [{t1}, {t2}]; proven at the ends of the τ-intervals, which \
          suffices because (19a), (19b) are affine and (16c) is Loewner-convex in τ, and (19b) is \
-         affine in R_p",
-        vertices.len()
+         affine in R_p; {}",
+        vertices.len(),
+        if exact {
+            "in the balanced coordinates x_b = D⁻¹x of the design (A, C, G, H and K mapped \
+             exactly, P ↦ DPD), where the margin does not depend on the user's units"
+        } else {
+            "in the plant's coordinates"
+        }
     );
     let how = "outward-rounded interval arithmetic (sporadic-interval, midpoint–radius): the \
                vertices R_p = A + GΘ_pH, P(τ_low), (P2 − P1)/τ̄ and the products enclosed from \

@@ -200,3 +200,46 @@ fn verify_rejects_bad_input() {
     let e = prove_within(&m, &plant, &bare, &ProofOptions::default()).unwrap_err();
     assert!(matches!(e, MethodError::InvalidInput { .. }), "{e}");
 }
+
+/// The example in the coordinates `x_s = diag(1, 1, 1, 1024)·x` (badly scaled units): the
+/// design is made in balanced coordinates and reported in these; the proof is made in these.
+#[test]
+fn a_badly_scaled_plant_is_proved_in_its_own_coordinates() {
+    let s = 1024.0;
+    let a = mat![
+        [0.0, 1.0, 0.0, 0.0],
+        [-48.6, -1.25, 48.6, 0.0],
+        [0.0, 0.0, 0.0, 1.0 / s],
+        [19.5 * s, 0.0, -19.5 * s, 0.0],
+    ];
+    let b = mat![[0.0], [21.6], [0.0], [0.0]];
+    let c = mat![[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]];
+    let lip = Lipschitz::new(
+        mat![[0.0], [0.0], [0.0], [s]].as_ref(),
+        mat![[0.0, 0.0, 1.0, 0.0]].as_ref(),
+        mat![[-example::GAMMA]].as_ref(),
+        mat![[example::GAMMA]].as_ref(),
+    )
+    .unwrap();
+    let plant = ModelPlant::linear(a.as_ref(), Some(b.as_ref()), c.as_ref())
+        .unwrap()
+        .with_lipschitz(lip)
+        .unwrap()
+        .named("flexible joint, x4 in 1/1024 units");
+    let m = Etienne2017::default();
+    let o = MethodOptions::default();
+    for (t1, t2) in [(0.01, 0.2), (0.01, 0.3)] {
+        let r = m.design(&plant, &sampling(t1, t2), &o).unwrap();
+        assert_eq!(r.status, Status::Certified, "{:?}", r.reason);
+        let p = prove_within(&m, &plant, &r, &ProofOptions::default()).unwrap();
+        println!(
+            "badly scaled [{t1}, {t2}]: {} — {} pieces, margin ≥ {:?}, {:.4} s (design {:.4} s)",
+            p.status, p.subintervals, p.margin_lower_bound, p.seconds, r.seconds
+        );
+        assert_eq!(p.status, ProofStatus::Proved, "{}", p.message);
+        let v = m
+            .verify(&plant, &sampling(t1, t2), &r.gains, &r.certificate, &o)
+            .unwrap();
+        assert_eq!(v.status, Status::Certified, "{:?}", v.reason);
+    }
+}

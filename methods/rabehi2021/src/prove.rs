@@ -23,18 +23,28 @@
 //! decrease, at every jump, of the Lyapunov function `V = ξᵀe^{Āᵀτ}Pe^{Āτ}ξ` of the proof of
 //! Theorem 1 (scale-free).
 //!
+//! `P ≻ 0` (required by Theorem 1; not implied by (19) alone when `e^{Āμ}Γ(L)` is not Schur
+//! stable) is proven with the same definiteness test, its margin `λmin(P)/p̄` entering the
+//! minimum.
+//!
 //! **Coordinates.** The method designs in the balanced coordinates `x_b = D⁻¹x` (`D` the
 //! powers-of-2 scaling of `A`, [`sporadic_linalg::balance`]) and reports `L` in the plant's
-//! coordinates but `P_19` in the balanced ones. The proof is made on the plant as given, with
-//! `P = D̄⁻¹P_19D̄⁻¹`, `D̄ = diag(D, D)` (exact in floating point; `Φ` transforms by the same
-//! congruence, so its sign is unchanged).
+//! coordinates but `P_19` in the balanced ones. The proof maps the plant's `A`, `C` and the
+//! report's `L` to the balanced coordinates (`D⁻¹AD`, `CD`, `D⁻¹L`: exact in floating point,
+//! which is checked by mapping back; if it were not, for data near the overflow or underflow
+//! range, the proof is made in the plant's coordinates with `P = D̄⁻¹P_19D̄⁻¹`, `D̄ =
+//! diag(D, D)`). Both are the same statement: the interval error in the two coordinates differs
+//! by the positive diagonal map `D̄`, and (19) and `P ≻ 0` are invariant under the congruence by
+//! `D̄`. In the balanced coordinates the margin does not depend on the user's units.
 
 use faer::{Mat, MatRef};
 use sporadic_interval::{
     EnclosureOptions, Interval, IntervalError, IntervalMatrix, Verdict, expm_enclosure,
-    is_verified_negative_definite, lambda_max_enclosure,
+    is_verified_negative_definite, is_verified_positive_definite, lambda_max_enclosure,
 };
-use sporadic_linalg::balance::{balancing_scales, unbalance_form};
+use sporadic_linalg::balance::{
+    balance_a, balance_b, balance_c, balancing_scales, unbalance_a, unbalance_form, unbalance_gain,
+};
 use sporadic_model::{
     DesignReport, Gain, MethodError, NamedMatrix, PieceCheck, Plant as ModelPlant, Proof,
     ProofOptions, SamplingWindow, combine, prove_on_window,
@@ -197,6 +207,23 @@ impl Operands {
         Ok([e.lo(), e.hi()])
     }
 
+    /// The check of `P ≻ 0` (margin `λmin(P)/p̄`).
+    fn positive(&self) -> Result<PieceCheck, IntervalError> {
+        if let Verdict::Proved { bound } = is_verified_positive_definite(&self.p)? {
+            return Ok(PieceCheck::Holds {
+                margin_lower_bound: (Interval::point(bound)? / self.scale).lo(),
+                enclosure_width: 0.0,
+            });
+        }
+        let e = self.normalised(&-&self.p)?;
+        let enclosure = [e[0], e[1]];
+        Ok(if enclosure[0] >= 0.0 {
+            PieceCheck::Fails { enclosure }
+        } else {
+            PieceCheck::Undecided { enclosure }
+        })
+    }
+
     /// The piece check of [`prove_on_window`] on `[a, b]`.
     fn check(&self, a: f64, b: f64) -> Result<PieceCheck, IntervalError> {
         let (phi, width) = self.phi(a, b)?;
@@ -240,15 +267,23 @@ pub fn prove_design(
     let (n, p) = (plant.n(), c.nrows());
     let (l, p19) = read_given(n, p, &design.gains, &design.certificate)?;
     let p19 = p19.ok_or_else(|| bad("the design report's certificate has no P_19"))?;
-    let scales = balancing_scales(plant.a());
-    let doubled: Vec<f64> = scales.iter().chain(scales.iter()).copied().collect();
-    let operands = operands(
-        plant.a(),
-        l.as_ref(),
-        c,
-        &unbalance_form(p19.as_ref(), &doubled),
-    )?;
-    prove_operands(&operands, &window, options, start)
+    let d = balancing_scales(plant.a());
+    let (a_b, c_b, l_b) = (
+        balance_a(plant.a(), &d),
+        balance_c(c, &d),
+        balance_b(l.as_ref(), &d),
+    );
+    let exact = unbalance_a(a_b.as_ref(), &d) == plant.a()
+        && Mat::from_fn(p, n, |i, j| c_b[(i, j)] / d[j]) == c
+        && unbalance_gain(l_b.as_ref(), &d) == l;
+    let operands = if exact {
+        operands(a_b.as_ref(), l_b.as_ref(), c_b.as_ref(), &p19)?
+    } else {
+        let doubled: Vec<f64> = d.iter().chain(d.iter()).copied().collect();
+        let p_user = unbalance_form(p19.as_ref(), &doubled);
+        operands(plant.a(), l.as_ref(), c, &p_user)?
+    };
+    prove_operands(&operands, &window, exact, options, start)
 }
 
 /// The operands of (19) on the plant `(A, C)` with the gain `L` and `P` in its coordinates.
@@ -282,29 +317,39 @@ fn operands(
 fn prove_operands(
     operands: &Operands,
     window: &SamplingWindow,
+    balanced: bool,
     options: &ProofOptions,
     start: std::time::Instant,
 ) -> Result<Proof, MethodError> {
     let (t1, t2) = (window.t1(), window.t2());
-    let part = prove_on_window("(19)", t1, t2, INITIAL_PIECES, options, &mut |a, b| {
+    let positive = prove_on_window("P ≻ 0", t1, t1, 1, options, &mut |_, _| {
+        operands.positive()
+    })
+    .map_err(numerical)?;
+    let condition = prove_on_window("(19)", t1, t2, INITIAL_PIECES, options, &mut |a, b| {
         operands.check(a, b)
     })
     .map_err(numerical)?;
+    let coordinates = if balanced {
+        "in the balanced coordinates of the design (A, C and L mapped exactly)"
+    } else {
+        "in the plant's coordinates (P_19 mapped to them)"
+    };
     Ok(combine(
         format!(
-            "Theorem 1 (Rabehi et al. 2021), (19): Γ(L)ᵀe^(Āᵀμ)Pe^(Āμ)Γ(L) − P ≺ 0 for every \
-             μ ∈ [{t1}, {t2}], for the implemented jump matrix Γ(L) = [[G⁺, G⁻], [G⁻, G⁺]], \
-             G = I + LC (Remark 6), with the report's L and P = P_19 (mapped exactly to the \
-             plant's coordinates)"
+            "Theorem 1 (Rabehi et al. 2021): P ≻ 0 and (19) Γ(L)ᵀe^(Āᵀμ)Pe^(Āμ)Γ(L) − P ≺ 0 for \
+             every μ ∈ [{t1}, {t2}], for the implemented jump matrix Γ(L) = [[G⁺, G⁻], [G⁻, G⁺]], \
+             G = I + LC (Remark 6), with the report's L and P = P_19, {coordinates}"
         ),
         "outward-rounded interval arithmetic (sporadic-interval, midpoint–radius): e^(Āμ) \
          enclosed over each μ-piece (Taylor enclosure with a rigorous remainder), G = I + LC \
          and Γ(L) enclosed, Φ by interval products and symmetrised; Rump's verified Cholesky \
          test for the sign (rigorous λmax upper bound); an undecided piece is bisected, and a \
          rigorous λmax enclosure of Φ at its midpoint disproves (19) when its lower end is ≥ 0",
-        "−λmax(Φ(μ))/p̄ minimised over the window, p̄ a rigorous upper bound of λmax(P): the \
-         relative decrease at every jump of V = ξᵀe^(Āᵀτ)Pe^(Āτ)ξ (scale-free)",
-        vec![part],
+        "the smaller of λmin(P)/p̄ and −λmax(Φ(μ))/p̄ minimised over the window, p̄ a rigorous \
+         upper bound of λmax(P): the second is the relative decrease at every jump of \
+         V = ξᵀe^(Āᵀτ)Pe^(Āτ)ξ (scale-free)",
+        vec![positive, condition],
         start.elapsed().as_secs_f64(),
     ))
 }

@@ -109,6 +109,19 @@ fn a_failing_condition_is_never_proved() {
         prove_and_print("window [0.04, 2.2]", &long, r.seconds),
         ProofStatus::Proved
     );
+    // −P_19 is not positive definite (Theorem 1 needs P ≻ 0 besides (19)).
+    let mut negated = r.clone();
+    for m in negated.certificate.iter_mut().filter(|m| m.name == "P_19") {
+        for row in &mut m.rows {
+            for x in row {
+                *x = -*x;
+            }
+        }
+    }
+    assert_eq!(
+        prove_and_print("−P_19", &negated, r.seconds),
+        ProofStatus::NotProved
+    );
 }
 
 #[test]
@@ -166,4 +179,37 @@ fn verify_rejects_bad_input() {
     bare.certificate.retain(|m| m.name != "P_19");
     let e = prove_within(&m, &plant, &bare, &ProofOptions::default()).unwrap_err();
     assert!(matches!(e, MethodError::InvalidInput { .. }), "{e}");
+}
+
+/// The example in the coordinates `x_s = diag(1, 1024)·x` (badly scaled units): the method
+/// designs in balanced coordinates and reports `P_19` there; the proof maps it back exactly.
+#[test]
+fn a_badly_scaled_plant_is_proved_in_its_own_coordinates() {
+    let s = 1024.0;
+    let plant = ModelPlant::linear(
+        faer::mat![[0.0, 1.0 / s], [-s, -1.0]].as_ref(),
+        Some(faer::mat![[0.0], [s]].as_ref()),
+        faer::mat![[2.0, 0.0]].as_ref(),
+    )
+    .unwrap()
+    .named("spring-mass-damper, x2 in 1/1024 units")
+    .with_bounds(ModelBounds::new(vec![1.0, s], vec![0.4]).unwrap())
+    .unwrap();
+    let m = Rabehi2021::default();
+    let sampling = Sampling::Synchronous(example_window());
+    let o = MethodOptions::default();
+    let r = m.design(&plant, &sampling, &o).unwrap();
+    assert_eq!(r.status, Status::Certified, "{:?}", r.reason);
+    assert!(r.notes.iter().any(|n| n.contains("balanced coordinates")));
+    let p = prove_within(&m, &plant, &r, &ProofOptions::default()).unwrap();
+    println!(
+        "badly scaled: {} — {} pieces, margin ≥ {:?}, {:.4} s (design {:.4} s)",
+        p.status, p.subintervals, p.margin_lower_bound, p.seconds, r.seconds
+    );
+    assert_eq!(p.status, ProofStatus::Proved, "{}", p.message);
+    let v = m
+        .verify(&plant, &sampling, &r.gains, &r.certificate, &o)
+        .unwrap();
+    assert_eq!(v.status, Status::Certified, "{:?}", v.reason);
+    assert!(v.notes[0].contains("no SDP solved"), "{:?}", v.notes);
 }
