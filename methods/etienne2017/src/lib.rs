@@ -19,6 +19,9 @@
 //! * [`gain`]: the schedule `K(τ)` ([`GainSchedule`]);
 //! * [`verify`]: the solver-independent checks (eigenvalues of every block, τ-grid check of
 //!   (19b)/(19c), contraction of `z'P1z` across `(I − K(τ)C)e^{R_pτ}`);
+//! * [`prove`](mod@prove): the rigorous proof, in interval arithmetic, of Corollary 1's
+//!   conditions for a design's `K(τ)`, `P1`, `P2` for every `τ` of the window and every member
+//!   of the Jacobian polytope ([`prove_design`], issue 24);
 //! * [`bisection`]: the largest `τ̄` for a given `τ_low` ([`max_tau_bar`]) and the largest
 //!   period ([`max_period`]), on the shared window search;
 //! * [`simulation`]: the nonlinear plant and observer with `sporadic-sim`;

@@ -294,9 +294,9 @@ fn at_point(
 /// A rigorous upper bound of `max(λmax(P1), λmax(P2))` (the scale of the margins; 1 when it is
 /// not positive, the positivity check then fails).
 fn lyapunov_scale(p1: &IntervalMatrix, p2: &IntervalMatrix) -> Result<Interval, IntervalError> {
-    let hi = lambda_max_enclosure(&p1.symmetrized()?)?
+    let hi = lambda_max_enclosure(p1)?
         .hi()
-        .max(lambda_max_enclosure(&p2.symmetrized()?)?.hi());
+        .max(lambda_max_enclosure(p2)?.hi());
     Interval::point(if hi > 0.0 && hi.is_finite() { hi } else { 1.0 })
 }
 
@@ -377,7 +377,9 @@ pub fn prove_design(
     };
     let vertices = vertex_enclosures(a, g, h, lip.jacobian_lower(), lip.jacobian_upper())?;
     let point = |x: MatRef<'_, f64>| IntervalMatrix::from_point(x).map_err(numerical);
-    let (p1, p2, c) = (point(p1.as_ref())?, point(p2.as_ref())?, point(c)?);
+    // V = z'Pz sees only the symmetric part of P: enclose (P + P')/2.
+    let sym = |x: &Mat<f64>| point(x.as_ref())?.symmetrized().map_err(numerical);
+    let (p1, p2, c) = (sym(&p1)?, sym(&p2)?, point(c)?);
     let (t1, t2) = (window.t1(), window.t2());
     let tau_bar = Interval::point(t2).map_err(numerical)?;
     let one = Interval::ONE;
