@@ -243,3 +243,41 @@ fn a_badly_scaled_plant_is_proved_in_its_own_coordinates() {
         assert_eq!(v.status, Status::Certified, "{:?}", v.reason);
     }
 }
+
+/// The gains printed in the paper (§5): `verify` finds `P1, P2` for them (LMIs (20) with the
+/// gain fixed) on the windows the paper states, and the result is proved; the static gain on
+/// [0.01, 0.25] is not certified (the fixed-gain LMI is infeasible there).
+#[test]
+fn the_papers_gains_are_verified_and_proved() {
+    let m = Etienne2017::default();
+    let plant = flexible_joint();
+    let o = MethodOptions::default();
+    let k = example::paper_static_gain();
+    let (k0, k1) = example::paper_tv_gains();
+    let static_gain = Gain::constant("K", k.as_ref(), "");
+    let w = SamplingWindow::new(0.01, 0.3).unwrap();
+    let tv_gain = Gain::scheduled("K", "", "", vec![0.01, 0.155, 0.3], |t| {
+        if t == w.t1() {
+            k0.clone()
+        } else if t == w.t2() {
+            k1.clone()
+        } else {
+            &k0 + (t - w.t1()) / (w.t2() - w.t1()) * (&k1 - &k0)
+        }
+    });
+    for (what, g, (t1, t2)) in [
+        ("static K", &static_gain, (0.01, 0.2)),
+        ("K(τ)", &tv_gain, (0.01, 0.3)),
+    ] {
+        let v = m
+            .verify(&plant, &sampling(t1, t2), std::slice::from_ref(g), &[], &o)
+            .unwrap();
+        assert_eq!(v.status, Status::Certified, "{what}: {:?}", v.reason);
+        let status = prove_and_print(&format!("paper's {what} on [{t1}, {t2}]"), &v);
+        assert_eq!(status, ProofStatus::Proved);
+    }
+    let v = m
+        .verify(&plant, &sampling(0.01, 0.25), &[static_gain], &[], &o)
+        .unwrap();
+    assert_eq!(v.status, Status::NotCertified, "{v:?}");
+}

@@ -213,3 +213,17 @@ fn a_badly_scaled_plant_is_proved_in_its_own_coordinates() {
     assert_eq!(v.status, Status::Certified, "{:?}", v.reason);
     assert!(v.notes[0].contains("no SDP solved"), "{:?}", v.notes);
 }
+
+/// A long window near the method's limit (Table I, `c_s = 1`): the margin is thinner and the
+/// variation of `e^{Āμ}` larger, so the μ-window is bisected further; still proved.
+#[test]
+fn a_long_window_is_proved() {
+    let m = Rabehi2021::default();
+    let sampling = Sampling::Synchronous(SamplingWindow::new(0.04, 0.9).unwrap());
+    let r = m
+        .design(&example_plant(), &sampling, &MethodOptions::default())
+        .unwrap();
+    assert_eq!(r.status, Status::Certified, "{:?}", r.reason);
+    let status = prove_and_print("design on [0.04, 0.9]", &r, r.seconds);
+    assert_eq!(status, ProofStatus::Proved);
+}
