@@ -260,7 +260,7 @@ pub fn analyse(
 }
 
 /// The condition under which a given schedule is analysed.
-fn analysis_condition(gain: &GainSchedule) -> Condition {
+pub(crate) fn analysis_condition(gain: &GainSchedule) -> Condition {
     if gain.window().is_periodic() {
         Condition::Remark6
     } else if gain.is_constant() {

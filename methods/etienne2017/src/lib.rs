@@ -19,6 +19,9 @@
 //! * [`gain`]: the schedule `K(τ)` ([`GainSchedule`]);
 //! * [`verify`]: the solver-independent checks (eigenvalues of every block, τ-grid check of
 //!   (19b)/(19c), contraction of `z'P1z` across `(I − K(τ)C)e^{R_pτ}`);
+//! * [`prove`](mod@prove): the rigorous proof, in interval arithmetic, of Corollary 1's
+//!   conditions for a design's `K(τ)`, `P1`, `P2` for every `τ` of the window and every member
+//!   of the Jacobian polytope ([`prove_design`], issue 24);
 //! * [`bisection`]: the largest `τ̄` for a given `τ_low` ([`max_tau_bar`]) and the largest
 //!   period ([`max_period`]), on the shared window search;
 //! * [`simulation`]: the nonlinear plant and observer with `sporadic-sim`;
@@ -79,6 +82,7 @@ pub mod example;
 pub mod gain;
 pub mod lmi;
 pub mod method;
+pub mod prove;
 pub mod simulation;
 pub mod system;
 pub mod verify;
@@ -94,6 +98,7 @@ pub use error::Error;
 pub use gain::GainSchedule;
 pub use lmi::Condition;
 pub use method::{Conditions, Etienne2017, balanced_plant};
+pub use prove::prove_design;
 pub use simulation::{
     Input, Nonlinearity, SimulationSetup, error_norm_after, error_norm_after_sample,
     lyapunov_at_samples, simulate_observer, worst_case_sampling,

@@ -13,17 +13,19 @@ use sporadic_linalg::balance::{
 
 use sporadic_model::{
     Bracketing, Check, DesignReport, Gain, Margin, MaxIntervalReport, MethodError, MethodOptions,
-    NamedMatrix, NotApplicable, ObserverMethod, Outputs, Plant as ModelPlant, Probe, Reason,
-    Sampling, SamplingWindow, Scenario, Tolerance, Trajectory, WindowSearchOptions,
-    largest_window_with,
+    NamedMatrix, NotApplicable, ObserverMethod, Outputs, Plant as ModelPlant, Probe, Proof,
+    ProofOptions, Reason, Sampling, SamplingWindow, Scenario, Tolerance, Trajectory,
+    WindowSearchOptions, largest_window_with,
 };
 
 use crate::bisection::CompiledProbe;
-use crate::design::{Design, DesignOptions, design};
+use crate::design::{Design, DesignOptions, analyse, analysis_condition, design};
 use crate::error::Error;
+use crate::gain::GainSchedule;
 use crate::lmi::{Bounds, Condition};
+use crate::prove::{Given, prove_design};
 use crate::system::Plant;
-use crate::verify::Extremum;
+use crate::verify::{Certificate, Extremum, IndependentCheck, check_certificate};
 
 const ID: &str = "etienne2017";
 
@@ -220,77 +222,10 @@ impl Etienne2017 {
         notes: Vec<String>,
         seconds: f64,
     ) -> DesignReport {
-        // Back to the plant's coordinates x = D x_b: K = D K_b, P = D⁻¹ P_b D⁻¹, L = P K =
-        // D⁻¹ L_b.
-        let gain = |k: MatRef<'_, f64>| unbalance_gain(k, scales);
-        let form = |p: MatRef<'_, f64>| unbalance_form(p, scales);
-        let rows_down = |m: MatRef<'_, f64>| balance_b(m, scales);
         let mut r = DesignReport::certified(self, plant.name(), sampling);
-        let w = *d.gain.window();
         let condition = d.lmi.condition;
-        let jump = "jump of observer (3) at each sample t_k: x̂(t_k) = x̂(t_k⁻) + K(τ)(y_k − \
-                    Cx̂(t_k⁻)), τ = t_k − t_{k−1} the length of the interval that just ended; \
-                    the error z = x − x̂ jumps by z⁺ = (I − K(τ)C)z (4)";
-        if d.gain.is_constant() {
-            r.gains.push(Gain::constant(
-                "K",
-                gain(d.gain.k1()).as_ref(),
-                format!(
-                    "{jump}; here K does not depend on τ: K = P1⁻¹L ({})",
-                    condition.name()
-                ),
-            ));
-        } else {
-            let (t1, t2) = (w.t1(), w.t2());
-            let tau: Vec<f64> = (0..SCHEDULE_POINTS)
-                .map(|i| {
-                    if i + 1 == SCHEDULE_POINTS {
-                        t2
-                    } else {
-                        t1 + (t2 - t1) * i as f64 / (SCHEDULE_POINTS - 1) as f64
-                    }
-                })
-                .collect();
-            r.gains.push(Gain::scheduled(
-                "K",
-                format!("{jump}; the reported value is K1 = K(T2)"),
-                "K(τ) = K0 + (τ − T1)/(T2 − T1)·(K1 − K0) for τ in [T1, T2], with K0 = P1⁻¹L0 = \
-                 K(T1) and K1 = P1⁻¹L1 = K(T2) (Theorem 3, gain recovery of Remark 6)",
-                tau,
-                |t| gain(d.gain.at(t).as_ref()),
-            ));
-        }
-        let cert = &d.lmi.certificate;
-        r.certificate.push(NamedMatrix::new(
-            "P1",
-            form(cert.p1.as_ref()).as_ref(),
-            "P(0) = P1 of the Lyapunov matrix P(τ) = (1 − τ/T2)P1 + (τ/T2)P2 of Theorem 3 \
-             (V = z'P(τ)z, τ the time since the last sample): z'P1z decreases from sample to \
-             sample",
-        ));
-        r.certificate.push(NamedMatrix::new(
-            "P2",
-            form(cert.p2.as_ref()).as_ref(),
-            "P(T2) = P2 of the Lyapunov matrix of Theorem 3",
-        ));
-        if d.gain.is_constant() {
-            r.certificate.push(NamedMatrix::new(
-                "L",
-                rows_down(cert.l1.as_ref()).as_ref(),
-                "L = P1·K, the decision variable of (20c)/(20d) (L0 = L1 = L)",
-            ));
-        } else {
-            r.certificate.push(NamedMatrix::new(
-                "L0",
-                rows_down(cert.l0.as_ref()).as_ref(),
-                "L0 = P1·K0, the decision variable of (20c)",
-            ));
-            r.certificate.push(NamedMatrix::new(
-                "L1",
-                rows_down(cert.l1.as_ref()).as_ref(),
-                "L1 = P1·K1, the decision variable of (20d)",
-            ));
-        }
+        r.gains.push(gain_entry(&d.gain, condition, scales));
+        r.certificate = certificate_entries(&d.lmi.certificate, d.gain.is_constant(), scales);
         r.margin = Some(Margin {
             value: d.lmi.margin,
             definition: margin_definition(condition),
@@ -338,6 +273,185 @@ impl Etienne2017 {
     }
 }
 
+impl Etienne2017 {
+    /// [`ObserverMethod::verify`] on a plant the method applies to, in its balanced
+    /// coordinates `(p, scales)`.
+    fn verify_given(
+        &self,
+        plant: &ModelPlant,
+        sampling: &Sampling,
+        window: &SamplingWindow,
+        (p, scales): (&Plant, &[f64]),
+        given: &Given,
+    ) -> Result<DesignReport, MethodError> {
+        let start = Instant::now();
+        // To the balanced coordinates x_b = D⁻¹x (exact, powers of 2): K_b = D⁻¹K,
+        // P_b = DPD, L_b = DL.
+        let k = |m: &Mat<f64>| balance_b(m.as_ref(), scales);
+        let form = |m: &Mat<f64>| {
+            Mat::from_fn(m.nrows(), m.ncols(), |i, j| {
+                m[(i, j)] * scales[i] * scales[j]
+            })
+        };
+        let gain =
+            GainSchedule::interpolated(k(&given.k0).as_ref(), k(&given.k1).as_ref(), *window)
+                .map_err(invalid)?;
+        let condition = analysis_condition(&gain);
+        let mut notes = Vec::new();
+        if let Some((p1, p2)) = &given.p {
+            let (p1, p2) = (form(p1), form(p2));
+            // L = P1·K when the certificate has no L.
+            let (l0, l1) = match &given.l {
+                Some((l0, l1)) => (
+                    unbalance_gain(l0.as_ref(), scales),
+                    unbalance_gain(l1.as_ref(), scales),
+                ),
+                None => (&p1 * gain.k0(), &p1 * gain.k1()),
+            };
+            let cert = Certificate { p1, p2, l0, l1 };
+            let check =
+                match check_certificate(p, condition, window, &cert, &gain, &self.design.check) {
+                    Ok(c) => c,
+                    Err(e) => {
+                        let reason = verdict_of(e)?;
+                        return Ok(DesignReport::without_design(
+                            self,
+                            plant.name(),
+                            Some(sampling),
+                            reason,
+                        ));
+                    }
+                };
+            match check.failure() {
+                None => {
+                    let mut r = DesignReport::certified(self, plant.name(), sampling);
+                    r.gains.push(gain_entry(&gain, condition, scales));
+                    r.certificate = certificate_entries(&cert, gain.is_constant(), scales);
+                    r.checks = independent_checks(&self.design, &check);
+                    r.notes.push(format!(
+                        "given gain and certificate verified for {} (no LMI solved): the \
+                         independent checks of a design, in the balanced coordinates",
+                        condition.name()
+                    ));
+                    r.seconds = start.elapsed().as_secs_f64();
+                    return Ok(r);
+                }
+                Some(e) => notes.push(format!(
+                    "the given certificate does not verify ({e}); LMIs (20) were solved for \
+                     P1, P2 with the given gain fixed (L0 = P1K0, L1 = P1K1)"
+                )),
+            }
+        } else {
+            notes.push(
+                "no certificate given: LMIs (20) were solved for P1, P2 with the given gain \
+                 fixed (L0 = P1K0, L1 = P1K1)"
+                    .into(),
+            );
+        }
+        match analyse(p, &gain, &self.design) {
+            Ok(d) => Ok(self.report(
+                plant,
+                sampling,
+                p.vertices().len(),
+                &d,
+                scales,
+                notes,
+                start.elapsed().as_secs_f64(),
+            )),
+            Err(e) => {
+                let mut r = DesignReport::without_design(
+                    self,
+                    plant.name(),
+                    Some(sampling),
+                    verdict_of(e)?,
+                );
+                r.notes = notes;
+                r.seconds = start.elapsed().as_secs_f64();
+                Ok(r)
+            }
+        }
+    }
+}
+
+/// The gain `K` (or the schedule `K(τ)`) of a design in the plant's coordinates `x = Dx_b`:
+/// `K = D·K_b`.
+fn gain_entry(g: &GainSchedule, condition: Condition, scales: &[f64]) -> Gain {
+    let gain = |k: MatRef<'_, f64>| unbalance_gain(k, scales);
+    let w = *g.window();
+    let jump = "jump of observer (3) at each sample t_k: x̂(t_k) = x̂(t_k⁻) + K(τ)(y_k − \
+                Cx̂(t_k⁻)), τ = t_k − t_{k−1} the length of the interval that just ended; \
+                the error z = x − x̂ jumps by z⁺ = (I − K(τ)C)z (4)";
+    if g.is_constant() {
+        Gain::constant(
+            "K",
+            gain(g.k1()).as_ref(),
+            format!(
+                "{jump}; here K does not depend on τ: K = P1⁻¹L ({})",
+                condition.name()
+            ),
+        )
+    } else {
+        let (t1, t2) = (w.t1(), w.t2());
+        let tau: Vec<f64> = (0..SCHEDULE_POINTS)
+            .map(|i| {
+                if i + 1 == SCHEDULE_POINTS {
+                    t2
+                } else {
+                    t1 + (t2 - t1) * i as f64 / (SCHEDULE_POINTS - 1) as f64
+                }
+            })
+            .collect();
+        Gain::scheduled(
+            "K",
+            format!("{jump}; the reported value is K1 = K(T2)"),
+            "K(τ) = K0 + (τ − T1)/(T2 − T1)·(K1 − K0) for τ in [T1, T2], with K0 = P1⁻¹L0 = \
+             K(T1) and K1 = P1⁻¹L1 = K(T2) (Theorem 3, gain recovery of Remark 6)",
+            tau,
+            |t| gain(g.at(t).as_ref()),
+        )
+    }
+}
+
+/// The certificate `P1, P2` and `L` (static gain) or `L0, L1` in the plant's coordinates
+/// `x = Dx_b`: `P = D⁻¹P_bD⁻¹`, `L = PK = D⁻¹L_b`.
+fn certificate_entries(cert: &Certificate, constant: bool, scales: &[f64]) -> Vec<NamedMatrix> {
+    let form = |p: MatRef<'_, f64>| unbalance_form(p, scales);
+    let rows_down = |m: MatRef<'_, f64>| balance_b(m, scales);
+    let mut out = vec![
+        NamedMatrix::new(
+            "P1",
+            form(cert.p1.as_ref()).as_ref(),
+            "P(0) = P1 of the Lyapunov matrix P(τ) = (1 − τ/T2)P1 + (τ/T2)P2 of Theorem 3 \
+             (V = z'P(τ)z, τ the time since the last sample): z'P1z decreases from sample to \
+             sample",
+        ),
+        NamedMatrix::new(
+            "P2",
+            form(cert.p2.as_ref()).as_ref(),
+            "P(T2) = P2 of the Lyapunov matrix of Theorem 3",
+        ),
+    ];
+    if constant {
+        out.push(NamedMatrix::new(
+            "L",
+            rows_down(cert.l1.as_ref()).as_ref(),
+            "L = P1·K, the decision variable of (20c)/(20d) (L0 = L1 = L)",
+        ));
+    } else {
+        out.push(NamedMatrix::new(
+            "L0",
+            rows_down(cert.l0.as_ref()).as_ref(),
+            "L0 = P1·K0, the decision variable of (20c)",
+        ));
+        out.push(NamedMatrix::new(
+            "L1",
+            rows_down(cert.l1.as_ref()).as_ref(),
+            "L1 = P1·K1, the decision variable of (20d)",
+        ));
+    }
+    out
+}
+
 /// The message of a reason (the crate's error message).
 fn e_message(r: &Reason) -> String {
     r.message().to_string()
@@ -382,16 +496,7 @@ fn check(what: &str, how: String, e: &Extremum) -> Check {
 
 /// Every re-verification of a design.
 fn checks(options: &DesignOptions, d: &Design, vertices: usize) -> Vec<Check> {
-    let c = &d.check;
     let stats = &d.lmi.stats;
-    let (lmi_grid, discrete_grid, safety) = (
-        options.check.lmi_grid,
-        options.check.discrete_grid,
-        options.check.safety,
-    );
-    let eig = format!(
-        "symmetric eigensolver in f64 on matrices recomputed from (P1, P2, L0, L1), safety factor {safety}"
-    );
     let mut out = vec![Check {
         what: "LMIs (20) re-verified at the solver's point by the LMI layer".into(),
         how: format!(
@@ -409,6 +514,22 @@ fn checks(options: &DesignOptions, d: &Design, vertices: usize) -> Vec<Check> {
         value: Some(d.lmi.margin),
         passed: true,
     }];
+    out.extend(independent_checks(options, &d.check));
+    out
+}
+
+/// The independent checks of a certificate ([`crate::verify::check_certificate`]) as report
+/// checks.
+fn independent_checks(options: &DesignOptions, c: &IndependentCheck) -> Vec<Check> {
+    let (lmi_grid, discrete_grid, safety) = (
+        options.check.lmi_grid,
+        options.check.discrete_grid,
+        options.check.safety,
+    );
+    let eig = format!(
+        "symmetric eigensolver in f64 on matrices recomputed from (P1, P2, L0, L1), safety factor {safety}"
+    );
+    let mut out = Vec::new();
     out.push(check(
         "(20a)/(20b): max λ_max(M¹_p), λ_max(M²_p) over the vertices (must be < 0)",
         eig.clone(),
@@ -679,6 +800,58 @@ impl ObserverMethod for Etienne2017 {
             progress,
             &mut probe,
         )
+    }
+
+    /// The rigorous proof of [`crate::prove`]: Corollary 1's conditions (19a), (19b) and the
+    /// Schur form (16c) of (19c) for the design's `K(τ)`, `P1`, `P2`, for every `τ` of the
+    /// window and every member of the Jacobian polytope, in interval arithmetic.
+    fn prove(
+        &self,
+        plant: &ModelPlant,
+        design: &DesignReport,
+        options: &ProofOptions,
+    ) -> Result<Proof, MethodError> {
+        prove_design(plant, design, options)
+    }
+
+    /// Checks a gain `K` (constant, or the schedule `K(τ)` of a Theorem 3 report) on `sampling`
+    /// with the certificate `P1, P2` (and `L` or `L0, L1`; `L = P1K` when absent) by the
+    /// independent checks of a design ([`check_certificate`], in the balanced coordinates);
+    /// without a certificate, or when it does not verify, LMIs (20) are solved for `P1, P2`
+    /// with the gain fixed ([`analyse`]). Certified when the checks pass; otherwise not
+    /// certified with the reason.
+    fn verify(
+        &self,
+        plant: &ModelPlant,
+        sampling: &Sampling,
+        gains: &[Gain],
+        certificate: &[NamedMatrix],
+        _options: &MethodOptions,
+    ) -> Result<DesignReport, MethodError> {
+        if let Err(na) = self.applies(plant, sampling) {
+            return Ok(DesignReport::without_design(
+                self,
+                plant.name(),
+                Some(sampling),
+                na.reason,
+            ));
+        }
+        let window = window_of(sampling)?;
+        self.design.validate().map_err(invalid)?;
+        let (p, scales) = match balanced_plant(plant) {
+            Ok(p) => p,
+            Err(e) => {
+                let reason = verdict_of(e)?;
+                return Ok(DesignReport::without_design(
+                    self,
+                    plant.name(),
+                    Some(sampling),
+                    reason,
+                ));
+            }
+        };
+        let given = Given::read(p.n(), p.q(), &window, gains, certificate)?;
+        self.verify_given(plant, sampling, &window, (&p, &scales), &given)
     }
 
     /// Not available: the observer (3) copies the nonlinearity `φ` between samples, and a plant

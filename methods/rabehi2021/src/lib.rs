@@ -12,6 +12,8 @@
 //! * [`polytope`]: the Taylor polytope of `e^{Āμ}` (paper's single-piece construction or split);
 //! * [`analysis`]: Theorem 1 for a given `L` — SDP over the polytope, re-verified on a dense
 //!   μ-grid ([`verify`]);
+//! * [`prove`](mod@prove): the rigorous proof, in interval arithmetic, of Theorem 1's (19) for a
+//!   design's `Γ(L)` and `P_19` for every `μ` of the window ([`prove_design`], issue 24);
 //! * [`lyapunov`]: the constants of Theorem 1's proof and Lemma 1;
 //! * [`synthesis`]: Proposition 1 — convex restriction `F = I`, alternating LMI steps, sequential
 //!   convex inner approximation, Remark 6 re-verification with `Γ(L)`;
@@ -70,6 +72,7 @@ pub mod lyapunov;
 mod method;
 pub mod observer;
 pub mod polytope;
+pub mod prove;
 pub mod simulation;
 pub mod synthesis;
 pub mod system;
@@ -83,6 +86,7 @@ pub use error::Error;
 pub use method::Rabehi2021;
 pub use observer::IntervalObserver;
 pub use polytope::PolytopeOptions;
+pub use prove::prove_design;
 pub use simulation::{IntervalRun, simulate_interval};
 pub use synthesis::{Bmi44Check, Design, DesignStatus, NotCertified, SynthesisOptions, synthesise};
 pub use system::{Bounds, Plant};

@@ -7,22 +7,28 @@
 
 use std::time::Instant;
 
+use faer::Mat;
+
 use sporadic_linalg::balance::{
     balance_a, balance_b, balance_c, balancing_scales, unbalance_a, unbalance_gain,
 };
 
 use sporadic_model::{
     Check, DesignReport, Gain, Margin, MaxIntervalReport, MethodError, MethodOptions, NamedMatrix,
-    NotApplicable, ObserverMethod, Outputs, Plant as ModelPlant, Probe, Reason, Sampling,
-    SamplingScenario, SamplingWindow, Scenario, SimulationReport, Trajectory, check_simulatable,
-    default_largest_window,
+    NotApplicable, ObserverMethod, Outputs, Plant as ModelPlant, Probe, Proof, ProofOptions,
+    Reason, Sampling, SamplingScenario, SamplingWindow, Scenario, SimulationReport, Trajectory,
+    check_simulatable, default_largest_window,
 };
 
+use crate::analysis::{Analysis, analyse};
 use crate::error::Error;
+use crate::ipr::{MetzlerDecomposition, gamma_of_gain};
 use crate::observer::IntervalObserver;
+use crate::prove::{prove_design, read_given};
 use crate::simulation::{Disturbance, Noise, Scenario as SimScenario, simulate_interval};
 use crate::synthesis::{Design, DesignStatus, SynthesisOptions, synthesise};
 use crate::system::{Bounds, Plant};
+use crate::verify::{GridCheck, verify_theorem1};
 use crate::width::WidthDynamics;
 use crate::window::{beyond_cap, necessary_limit};
 
@@ -161,6 +167,32 @@ fn unbalanced_design(mut d: Design, scales: &[f64]) -> Design {
     d
 }
 
+/// What the gain `L` is, in a report.
+const L_MEANING: &str = "output-injection gain of the jump (8): with G = I + LC = G⁺ − G⁻, at \
+    each sample x̲⁺ = G⁺x̲ − G⁻x̄ − |L|v̄ − Ly and x̄⁺ = G⁺x̄ − G⁻x̲ + |L|v̄ − Ly (both bounds \
+    corrected); sign convention x̂⁺ = x̂ + L(Cx̂ − y) = (I + LC)x̂ − Ly, i.e. L multiplies the \
+    output estimate minus the measurement";
+
+/// What the certificate `P_19` is, in a report.
+const P19_MEANING: &str = "Lyapunov matrix (2n × 2n, ‖P‖₂ ≤ 1) of Theorem 1 (19) for the \
+    implemented jump matrix Γ(L) = [[G⁺, G⁻], [G⁻, G⁺]] (Remark 6): Γᵀe^(Āᵀμ)Pe^(Āμ)Γ − P ≺ 0 \
+    on [T1, T2]";
+
+/// The report check of a grid verification of (19) ([`verify_theorem1`]).
+fn grid_check(g: &GridCheck, window: &SamplingWindow, which: &str) -> Check {
+    Check {
+        what: format!("Theorem 1 (19) for Γ(L) on the whole window {which}"),
+        how: format!(
+            "dense μ-grid of {} points on {} with a rigorous bound on the variation of \
+             λmax(Γᵀe^(Āᵀμ)Pe^(Āμ)Γ − P) between points; passes if max + slack < 0 \
+             (max {:.3e} at μ = {:.4}, slack {:.2e})",
+            g.points, window, g.max_eigenvalue, g.at, g.slack
+        ),
+        value: Some(g.bound),
+        passed: g.certified,
+    }
+}
+
 /// A vector rounded to 4 decimals, in words.
 fn vector_words(x: &[f64]) -> String {
     let parts: Vec<String> = x.iter().map(|v| format!("{:.4}", v)).collect();
@@ -182,6 +214,139 @@ impl Rabehi2021 {
         )
     }
 
+    /// [`ObserverMethod::verify`] for the plant `p` (balanced by `scales`, giving `balanced`):
+    /// (19) for `Γ(L)` with the given `P_19` on the μ-grid, else Theorem 1's SDP for `P`.
+    #[allow(clippy::too_many_arguments)]
+    fn verify_given(
+        &self,
+        plant: &ModelPlant,
+        sampling: &Sampling,
+        window: &SamplingWindow,
+        balanced: &Plant,
+        scales: &[f64],
+        l: &Mat<f64>,
+        p19: Option<Mat<f64>>,
+    ) -> Result<DesignReport, MethodError> {
+        let start = Instant::now();
+        // In the balanced coordinates (exact): L_b = D⁻¹L.
+        let l_b = balance_b(l.as_ref(), scales);
+        let a_bar = MetzlerDecomposition::new(balanced.a())
+            .map_err(invalid)?
+            .a_bar;
+        let gamma = gamma_of_gain(balanced, l_b.as_ref()).map_err(invalid)?;
+        let grid = &self.synthesis.analysis.grid;
+        let certified = |p: &Mat<f64>, checks: Vec<Check>, note: String| {
+            let mut r = DesignReport::certified(self, plant.name(), sampling);
+            r.gains.push(Gain::constant("L", l.as_ref(), L_MEANING));
+            r.certificate
+                .push(NamedMatrix::new("P_19", p.as_ref(), P19_MEANING));
+            r.checks = checks;
+            r.notes.push(note);
+            if scales.iter().any(|&x| x != 1.0) {
+                r.notes.push(format!(
+                    "checked in the balanced coordinates x_b = D⁻¹x with D = diag{} (powers of \
+                     2; exact): L is in the plant's coordinates, P_19 in the balanced ones",
+                    vector_words(scales)
+                ));
+            }
+            r.seconds = start.elapsed().as_secs_f64();
+            r
+        };
+        let mut notes = Vec::new();
+        if let Some(p) = p19 {
+            let g = match verify_theorem1(a_bar.as_ref(), gamma.as_ref(), p.as_ref(), window, grid)
+            {
+                Ok(g) => g,
+                Err(e) => {
+                    return Ok(DesignReport::without_design(
+                        self,
+                        plant.name(),
+                        Some(sampling),
+                        verdict_of(e)?,
+                    ));
+                }
+            };
+            if g.certified {
+                return Ok(certified(
+                    &p,
+                    vec![grid_check(&g, window, "with the given P_19")],
+                    "given gain L and certificate P_19 verified (no SDP solved): Theorem 1 (19) \
+                     for Γ(L) on the μ-grid with a rigorous bound between points"
+                        .into(),
+                ));
+            }
+            notes.push(format!(
+                "the given P_19 does not verify (19) for Γ(L) (grid bound {:.3e}, max {:.3e} at \
+                 μ = {:.4}); Theorem 1's SDP was solved for P with L fixed",
+                g.bound, g.max_eigenvalue, g.at
+            ));
+        } else {
+            notes.push(
+                "no P_19 given: Theorem 1's SDP was solved for P with L fixed (Taylor polytope \
+                 of e^(Āμ), then the μ-grid check)"
+                    .into(),
+            );
+        }
+        let a: Analysis = match analyse(
+            a_bar.as_ref(),
+            gamma.as_ref(),
+            window,
+            &self.synthesis.analysis,
+        ) {
+            Ok(a) => a,
+            Err(e) => {
+                let mut r = DesignReport::without_design(
+                    self,
+                    plant.name(),
+                    Some(sampling),
+                    verdict_of(e)?,
+                );
+                r.notes = notes;
+                return Ok(r);
+            }
+        };
+        let polytope = Check {
+            what: "Theorem 1 (19) for Γ(L) on the Taylor polytope".into(),
+            how: format!(
+                "margin-maximising SDP for Q(M_i) = [[P, ΓᵀM_iᵀP], [PM_iΓ, P]] ≻ 0 at {} \
+                 vertices under ‖P‖₂ ≤ 1 (remainder δ = {:.2e}); passes if min_i λmin(Q(M_i)) = \
+                 {:.3e} exceeds ‖P‖₂‖Γ‖₂δ = {:.2e} plus rounding",
+                a.vertices, a.remainder, a.vertex_margin, a.remainder_effect
+            ),
+            value: Some(a.vertex_margin - a.remainder_effect),
+            passed: a.polytope_certified,
+        };
+        if a.certified {
+            let checks = vec![
+                polytope,
+                grid_check(&a.grid, window, "with the P of the SDP"),
+            ];
+            return Ok(certified(&a.p, checks, notes.join("; ")));
+        }
+        let reason = if a.polytope_certified {
+            Reason::VerificationFailed {
+                tau: Some(a.grid.at),
+                message: format!(
+                    "(19) for Γ(L) is not certified on the μ-grid with the P of the SDP (bound \
+                     {:.3e}, max {:.3e} at μ = {:.4})",
+                    a.grid.bound, a.grid.max_eigenvalue, a.grid.at
+                ),
+            }
+        } else {
+            Reason::InfeasibleLmi {
+                message: format!(
+                    "Theorem 1's SDP for the given L is not certified on the Taylor polytope \
+                     (vertex margin {:.3e}, remainder effect {:.2e}): {}",
+                    a.vertex_margin, a.remainder_effect, a.reason
+                ),
+            }
+        };
+        let mut r = DesignReport::without_design(self, plant.name(), Some(sampling), reason);
+        r.notes = notes;
+        r.seconds = start.elapsed().as_secs_f64();
+        Ok(r)
+    }
+
     /// The report of a certified design.
     fn report(
         &self,
@@ -193,14 +358,7 @@ impl Rabehi2021 {
         d: &Design,
     ) -> DesignReport {
         let mut r = DesignReport::certified(self, plant.name(), sampling);
-        r.gains.push(Gain::constant(
-            "L",
-            d.l.as_ref(),
-            "output-injection gain of the jump (8): with G = I + LC = G⁺ − G⁻, at each sample \
-             x̲⁺ = G⁺x̲ − G⁻x̄ − |L|v̄ − Ly and x̄⁺ = G⁺x̄ − G⁻x̲ + |L|v̄ − Ly (both bounds \
-             corrected); sign convention x̂⁺ = x̂ + L(Cx̂ − y) = (I + LC)x̂ − Ly, i.e. L multiplies \
-             the output estimate minus the measurement",
-        ));
+        r.gains.push(Gain::constant("L", d.l.as_ref(), L_MEANING));
         r.certificate.push(NamedMatrix::new(
             "P",
             d.p.as_ref(),
@@ -224,13 +382,8 @@ impl Rabehi2021 {
             "nonnegative part of the split I + LC = G1 − G2 of (35b)–(35d)",
         ));
         if let Some(a) = &d.reverification {
-            r.certificate.push(NamedMatrix::new(
-                "P_19",
-                a.p.as_ref(),
-                "Lyapunov matrix (2n × 2n, ‖P‖₂ ≤ 1) of Theorem 1 (19) for the implemented jump \
-                 matrix Γ(L) = [[G⁺, G⁻], [G⁻, G⁺]] (Remark 6): Γᵀe^(Āᵀμ)Pe^(Āμ)Γ − P ≺ 0 on \
-                 [T1, T2]",
-            ));
+            r.certificate
+                .push(NamedMatrix::new("P_19", a.p.as_ref(), P19_MEANING));
         }
         r.margin = Some(Margin {
             value: d.bmi.margin(),
@@ -275,17 +428,8 @@ impl Rabehi2021 {
                 value: Some(a.vertex_margin - a.remainder_effect),
                 passed: a.polytope_certified,
             });
-            r.checks.push(Check {
-                what: "Theorem 1 (19) for Γ(L) on the whole window with the P of the SDP".into(),
-                how: format!(
-                    "dense μ-grid of {} points on {} with a rigorous bound on the variation of \
-                     λmax(Γᵀe^(Āᵀμ)Pe^(Āμ)Γ − P) between points; passes if max + slack < 0 \
-                     (max {:.3e} at μ = {:.4}, slack {:.2e})",
-                    a.grid.points, window, a.grid.max_eigenvalue, a.grid.at, a.grid.slack
-                ),
-                value: Some(a.grid.bound),
-                passed: a.grid.certified,
-            });
+            r.checks
+                .push(grid_check(&a.grid, window, "with the P of the SDP"));
         }
         let kinds: Vec<String> = d
             .log
@@ -481,6 +625,47 @@ impl ObserverMethod for Rabehi2021 {
             ));
         }
         Ok(report)
+    }
+
+    /// The rigorous proof of [`crate::prove`]: Theorem 1's (19) for the implemented `Γ(L)`
+    /// with the report's `L` and `P_19`, for every `μ` of the window, in interval arithmetic.
+    fn prove(
+        &self,
+        plant: &ModelPlant,
+        design: &DesignReport,
+        options: &ProofOptions,
+    ) -> Result<Proof, MethodError> {
+        prove_design(plant, design, options)
+    }
+
+    /// Checks a gain `L` on `sampling`: Theorem 1's (19) for the implemented `Γ(L)` with the
+    /// given `P_19` (balanced coordinates, as a design report writes it) on the μ-grid of a
+    /// design's re-verification ([`verify_theorem1`]); without `P_19`, or when it does not
+    /// verify, Theorem 1's SDP is solved for `P` with `L` fixed ([`analyse`]: Taylor polytope,
+    /// then the grid). The BMI variables `P, F, G1, G2` of a report are accepted and not used.
+    fn verify(
+        &self,
+        plant: &ModelPlant,
+        sampling: &Sampling,
+        gains: &[Gain],
+        certificate: &[NamedMatrix],
+        _options: &MethodOptions,
+    ) -> Result<DesignReport, MethodError> {
+        if let Err(na) = self.applies(plant, sampling) {
+            return Ok(DesignReport::without_design(
+                self,
+                plant.name(),
+                Some(sampling),
+                na.reason,
+            ));
+        }
+        self.synthesis.validate().map_err(invalid)?;
+        let (p, _) = plant_of(plant)?;
+        let window = sampling.windows()[0];
+        let (l, p19) = read_given(p.n(), p.p(), gains, certificate)?;
+        let scales = balancing_scales(p.a());
+        let balanced = balanced_plant(&p, &scales)?;
+        self.verify_given(plant, sampling, &window, &balanced, &scales, &l, p19)
     }
 
     /// Simulates the plant and the interval observer of a certified design: `x(0) = 0` enclosed
