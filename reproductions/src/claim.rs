@@ -642,3 +642,21 @@ pub fn proof_claim(id: impl Into<String>, design: &str, proof: &sporadic_model::
     )
     .verdict(proved, note)
 }
+
+/// The design of `method` for an example plant at `sampling`, through the common contract, and
+/// its [`proof_claim`] (a design that is not certified gives a claim that says so).
+///
+/// # Errors
+/// A method error that is not a verdict.
+pub fn design_and_prove(
+    method: &dyn sporadic_model::ObserverMethod,
+    plant: &sporadic_model::Plant,
+    sampling: &sporadic_model::Sampling,
+    id: &str,
+    what: &str,
+) -> Result<Claim, crate::ReproductionError> {
+    let d = method.design(plant, sampling, &sporadic_model::MethodOptions::default())?;
+    let proof =
+        sporadic_model::prove_within(method, plant, &d, &sporadic_model::ProofOptions::default())?;
+    Ok(proof_claim(id, what, &proof))
+}

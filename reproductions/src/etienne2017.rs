@@ -23,7 +23,7 @@
 
 use std::path::Path;
 
-use crate::claim::{Claim, ClaimStatus, Reproduction};
+use crate::claim::{Claim, ClaimStatus, Reproduction, design_and_prove};
 use sporadic_figures::{PlotSpec, plot_components};
 use sporadic_sim::{FromData, Periodic, SamplingRule, Simulation, UniformRandom};
 
@@ -203,6 +203,24 @@ pub fn reproduce(out_dir: &Path) -> Result<Reproduction, Error> {
     let mut rep = Reproduction::default();
     let v = compute(out_dir, &mut rep)?;
     rep.claims = claims(&v);
+    let method = sporadic_etienne2017::Etienne2017::default();
+    let plant = sporadic_etienne2017::example::model_plant()?;
+    for (id, what, t2) in [
+        (
+            "cor2.design.proof",
+            "the design on [0.01, 0.2] (§5, Corollary 2)",
+            0.2,
+        ),
+        (
+            "thm3.design.proof",
+            "the design on [0.01, 0.3] (§5, Theorem 3)",
+            0.3,
+        ),
+    ] {
+        let sampling = sporadic_model::Sampling::Synchronous(SamplingWindow::new(0.01, t2)?);
+        rep.claims
+            .push(design_and_prove(&method, &plant, &sampling, id, what)?);
+    }
     let gains = match (&v.cor2, &v.thm3) {
         (Some(c), Some(t)) => format!(
             "Corollary 2 [0.01,0.2] K' = {}; Theorem 3 [0.01,0.3] K0' = {}, K1' = {}",

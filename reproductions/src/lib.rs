@@ -44,6 +44,10 @@ pub enum ReproductionError {
     /// Rabehi et al. (2021).
     #[error(transparent)]
     Rabehi2021(#[from] sporadic_rabehi2021::Error),
+    /// A method of the common contract failed (not a verdict: bad input or a numerical
+    /// failure).
+    #[error(transparent)]
+    Method(#[from] sporadic_model::MethodError),
     /// A simulation failed.
     #[error(transparent)]
     Simulation(#[from] sporadic_sim::SimError),

@@ -9,7 +9,7 @@
 use sporadic_linalg::InputError;
 use std::path::{Path, PathBuf};
 
-use crate::claim::{Claim, ClaimStatus, Reproduction};
+use crate::claim::{Claim, ClaimStatus, Reproduction, design_and_prove};
 use faer::Mat;
 use sporadic_figures::{
     PlotSpec, Series, plot_components, plot_eigen_curves, plot_interval_bounds,
@@ -217,6 +217,13 @@ pub fn reproduce(out_dir: &Path) -> Result<Reproduction, Error> {
          from the unknowns; (I+LC)_21 = -0.0987 vs 2 L_2 = -0.0988 is rounding"
             .into(),
     );
+    rep.claims.push(design_and_prove(
+        &sporadic_rabehi2021::Rabehi2021::default(),
+        &sporadic_rabehi2021::example::model_plant()?,
+        &sporadic_model::Sampling::Synchronous(window),
+        "design.proof",
+        "the design on [0.04, 0.3] (§V)",
+    )?);
     Ok(rep)
 }
 

@@ -45,6 +45,25 @@ pub fn flexible_joint() -> Result<Plant, Error> {
     )
 }
 
+/// The flexible-joint robot of §5 as a plant of the common contract (`sporadic_model::Plant`
+/// with its Lipschitz section: `G = e4`, `H = e3ᵀ`, `φ'(s) ∈ [−3.3, 3.3]`), named
+/// "flexible joint": what `design`, `prove` and `verify` of [`crate::Etienne2017`] take.
+///
+/// # Errors
+/// None for the constant data (the `Result` is that of the constructors).
+pub fn model_plant() -> Result<sporadic_model::Plant, Error> {
+    let p = flexible_joint()?;
+    let lip = sporadic_model::Lipschitz::new(
+        mat![[0.0], [0.0], [0.0], [1.0]].as_ref(),
+        mat![[0.0, 0.0, 1.0, 0.0]].as_ref(),
+        mat![[-GAMMA]].as_ref(),
+        mat![[GAMMA]].as_ref(),
+    )?;
+    Ok(sporadic_model::Plant::linear(p.a(), Some(p.b()), p.c())?
+        .with_lipschitz(lip)?
+        .named("flexible joint"))
+}
+
 /// The nonlinearity of the example, `φ(s) = 3.3 sin s` (m = 1).
 pub fn phi(s: &[f64], out: &mut [f64]) {
     out[0] = GAMMA * s[0].sin();

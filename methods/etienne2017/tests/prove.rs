@@ -16,26 +16,7 @@ use sporadic_etienne2017::{
 
 /// The flexible-joint robot of §5 as a plant of the common contract.
 fn flexible_joint() -> ModelPlant {
-    let a = mat![
-        [0.0, 1.0, 0.0, 0.0],
-        [-48.6, -1.25, 48.6, 0.0],
-        [0.0, 0.0, 0.0, 1.0],
-        [19.5, 0.0, -19.5, 0.0],
-    ];
-    let b = mat![[0.0], [21.6], [0.0], [0.0]];
-    let c = mat![[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]];
-    let lip = Lipschitz::new(
-        mat![[0.0], [0.0], [0.0], [1.0]].as_ref(),
-        mat![[0.0, 0.0, 1.0, 0.0]].as_ref(),
-        mat![[-example::GAMMA]].as_ref(),
-        mat![[example::GAMMA]].as_ref(),
-    )
-    .unwrap();
-    ModelPlant::linear(a.as_ref(), Some(b.as_ref()), c.as_ref())
-        .unwrap()
-        .with_lipschitz(lip)
-        .unwrap()
-        .named("flexible joint")
+    example::model_plant().unwrap()
 }
 
 fn sampling(t1: f64, t2: f64) -> Sampling {

@@ -49,6 +49,19 @@ pub fn example_bounds() -> Bounds {
     Bounds::new(vec![-1.0, -1.0], vec![1.0, 1.0], vec![0.4]).expect("valid constant bounds")
 }
 
+/// The §V example as a plant of the common contract (`sporadic_model::Plant`): the
+/// spring–mass–damper with `c_s = 1`, `|d_i| ≤ 1`, `|v| ≤ 0.4`, named "spring-mass-damper":
+/// what `design`, `prove` and `verify` of [`crate::Rabehi2021`] take.
+///
+/// # Errors
+/// None for the constant data (the `Result` is that of the constructors).
+pub fn model_plant() -> Result<sporadic_model::Plant, Error> {
+    let p = spring_mass_damper(1.0)?;
+    Ok(sporadic_model::Plant::linear(p.a(), Some(p.b()), p.c())?
+        .named("spring-mass-damper")
+        .with_bounds(sporadic_model::Bounds::new(vec![1.0, 1.0], vec![0.4])?)?)
+}
+
 /// The design window `[0.04, 0.3]`.
 pub fn example_window() -> SamplingWindow {
     SamplingWindow::new(TAU_MIN, TAU_MAX).expect("valid constant window")

@@ -13,16 +13,11 @@ use sporadic_model::{
     Status, prove_within,
 };
 use sporadic_rabehi2021::Rabehi2021;
-use sporadic_rabehi2021::example::{example_window, paper_gain, spring_mass_damper};
+use sporadic_rabehi2021::example::{example_window, paper_gain};
 
-/// The §V example as a contract plant: spring–mass–damper `c_s = 1`, `|d_i| ≤ 1`, `|v| ≤ 0.4`.
+/// The §V example as a contract plant.
 fn example_plant() -> ModelPlant {
-    let p = spring_mass_damper(1.0).unwrap();
-    ModelPlant::linear(p.a(), Some(p.b()), p.c())
-        .unwrap()
-        .named("spring-mass-damper")
-        .with_bounds(ModelBounds::new(vec![1.0, 1.0], vec![0.4]).unwrap())
-        .unwrap()
+    sporadic_rabehi2021::example::model_plant().unwrap()
 }
 
 fn example_design() -> DesignReport {
