@@ -1338,3 +1338,40 @@ fn worst_case_scenario_is_adversarial_and_honest() {
     assert_eq!(code(&o), 2, "{}", stdout(&o));
     assert!(stderr(&o).contains("worst-case"), "{}", stderr(&o));
 }
+
+#[test]
+fn sdp_bench_writes_its_table_and_skips_large_problems() {
+    // Two problems in a scratch folder: the observer LMI (n = 30ish) and a 1×1 LP; with
+    // --max-n below the LMI's order it is listed as skipped.
+    let dir = scratch("bench-dir");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::copy(ferrante_sdpa(), dir.join("lmi.dat-s")).unwrap();
+    std::fs::write(
+        dir.join("lp.dat-s"),
+        "1 =mdim\n1 =nblocks\n-2\n1.0\n0 1 1 1 1.0\n1 1 1 1 1.0\n1 1 2 2 -1.0\n",
+    )
+    .unwrap();
+    let table = scratch("bench-table");
+    let o = sporadic(&[
+        "sdp",
+        "bench",
+        &dir.display().to_string(),
+        "--max-n",
+        "4",
+        "--table",
+        &table.display().to_string(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let md = std::fs::read_to_string(table.join("sdplib.md")).unwrap();
+    let csv = std::fs::read_to_string(table.join("sdplib.csv")).unwrap();
+    assert!(md.starts_with("| problem | m | n | status |"), "{md}");
+    assert!(md.contains("| lp | 1 | 2 | sdpa_primal_infeasible |"), "{md}");
+    assert!(md.contains("skipped (n > 4): lmi"), "{md}");
+    assert_eq!(csv.lines().count(), 2, "{csv}");
+    assert!(csv.lines().nth(1).unwrap().starts_with("lp,1,2,"), "{csv}");
+    // A folder without problems is bad input.
+    let empty = scratch("bench-empty");
+    std::fs::create_dir_all(&empty).unwrap();
+    let o = sporadic(&["sdp", "bench", &empty.display().to_string()]);
+    assert_eq!(o.status.code(), Some(2));
+}

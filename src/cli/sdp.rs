@@ -70,8 +70,11 @@ enum SdpCommand {
         #[command(flatten)]
         options: SolveOptions,
     },
-    /// Solve every `.dat-s` file in a directory and compare with the optimal values listed in
-    /// the directory's `README-SDPLIB.md` (if present).
+    /// Solve every `.dat-s` file in a directory, each in its own process (`sdp solve --json`:
+    /// whole-process wall time and peak memory), and compare with the optimal values listed in
+    /// the directory's `README-SDPLIB.md` (if present); with `--vs-csdp`, run the `csdp`
+    /// binary the same way and report both and their ratios; `--table DIR` writes the table
+    /// as `sdplib.md` and `sdplib.csv`.
     Bench {
         /// Directory with `.dat-s` files.
         dir: PathBuf,
@@ -81,6 +84,13 @@ enum SdpCommand {
         /// Only files whose name contains this string.
         #[arg(long)]
         filter: Option<String>,
+        /// Skip problems whose matrix order n (sum of the block sizes) exceeds this (they are
+        /// listed as skipped, with their size).
+        #[arg(long, value_name = "N", default_value_t = 2000)]
+        max_n: usize,
+        /// Write the table to DIR/sdplib.md and DIR/sdplib.csv.
+        #[arg(long, value_name = "DIR")]
+        table: Option<PathBuf>,
     },
 }
 
@@ -163,7 +173,11 @@ pub fn run(args: &Args) -> ExitCode {
             dir,
             vs_csdp,
             filter,
-        } => bench(dir, *vs_csdp, filter.as_deref()).map(|()| EXIT_SOLVED),
+            max_n,
+            table,
+        } => {
+            bench(dir, *vs_csdp, filter.as_deref(), *max_n, table.as_deref()).map(|()| EXIT_SOLVED)
+        }
     };
     ExitCode::from(result.unwrap_or_else(|message| {
         eprintln!("error: {message}");
@@ -319,27 +333,135 @@ fn read_optima(dir: &Path) -> BTreeMap<String, f64> {
     optima
 }
 
-/// Runs `csdp` on a file and returns its wall time in seconds, or a reason it could not run.
-fn time_csdp(file: &Path) -> Result<f64, String> {
-    let out = std::env::temp_dir().join(format!("sporadic-csdp-{}.sol", std::process::id()));
-    let start = Instant::now();
-    let status = Process::new("csdp")
-        .arg(file)
-        .arg(&out)
-        .stdout(std::process::Stdio::null())
-        .stderr(std::process::Stdio::null())
-        .status()
-        .map_err(|e| format!("cannot run csdp: {e}"))?;
-    let seconds = start.elapsed().as_secs_f64();
-    let _ = std::fs::remove_file(&out);
-    // CSDP exits with 0 (success) .. 4 (partial success) for a completed run.
-    match status.code() {
-        Some(0..=4) => Ok(seconds),
-        other => Err(format!("csdp exited with {other:?}")),
-    }
+/// One measured child process: wall time, peak resident memory, exit code, standard output.
+struct Measured {
+    seconds: f64,
+    peak_mib: Option<f64>,
+    code: Option<i32>,
+    stdout: String,
 }
 
-fn bench(dir: &Path, vs_csdp: bool, filter: Option<&str>) -> Result<(), String> {
+/// Runs `program args` to completion and measures its wall time and, when GNU time is
+/// installed at `/usr/bin/time`, its peak resident set size (`%M`, the kernel's `ru_maxrss` of
+/// the child).
+fn measure(program: &Path, args: &[&std::ffi::OsStr]) -> Result<Measured, String> {
+    let gnu_time = Path::new("/usr/bin/time");
+    let rss_file = std::env::temp_dir().join(format!("sporadic-bench-rss-{}", std::process::id()));
+    let mut cmd = if gnu_time.exists() {
+        let mut c = Process::new(gnu_time);
+        c.arg("-f").arg("%M").arg("-o").arg(&rss_file).arg(program);
+        c
+    } else {
+        Process::new(program)
+    };
+    cmd.args(args).stderr(std::process::Stdio::null());
+    let start = Instant::now();
+    let out = cmd
+        .output()
+        .map_err(|e| format!("cannot run {}: {e}", program.display()))?;
+    let seconds = start.elapsed().as_secs_f64();
+    let peak_mib = std::fs::read_to_string(&rss_file)
+        .ok()
+        .and_then(|t| t.lines().last()?.trim().parse::<f64>().ok())
+        .map(|kib| kib / 1024.0);
+    let _ = std::fs::remove_file(&rss_file);
+    Ok(Measured {
+        seconds,
+        peak_mib,
+        code: out.status.code(),
+        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+    })
+}
+
+/// `m` and the matrix order `n` (sum of the block sizes) from the header of an SDPA file.
+fn sdpa_size(file: &Path) -> Result<(usize, usize), String> {
+    let text = std::fs::read_to_string(file).map_err(|e| format!("{}: {e}", file.display()))?;
+    let mut numbers = text
+        .lines()
+        .filter(|l| !l.trim_start().starts_with(['"', '*']) && !l.trim().is_empty())
+        .take(3)
+        .map(|l| {
+            l.split(|c: char| c.is_whitespace() || "{}(),".contains(c))
+                .filter_map(|f| f.parse::<i64>().ok())
+                .collect::<Vec<_>>()
+        });
+    let bad = || format!("{}: malformed SDPA header", file.display());
+    let m = *numbers
+        .next()
+        .and_then(|v| v.first().copied())
+        .as_ref()
+        .ok_or_else(bad)?;
+    let blocks = numbers
+        .next()
+        .and_then(|v| v.first().copied())
+        .ok_or_else(bad)?;
+    let sizes = numbers.next().ok_or_else(bad)?;
+    if m < 0 || blocks < 1 || sizes.len() < blocks as usize {
+        return Err(bad());
+    }
+    let n = sizes[..blocks as usize]
+        .iter()
+        .map(|b| b.unsigned_abs() as usize)
+        .sum();
+    Ok((m as usize, n))
+}
+
+/// CSDP's result from its standard output: (status word, iterations, largest DIMACS error).
+fn csdp_summary(code: Option<i32>, stdout: &str) -> (String, Option<usize>, Option<f64>) {
+    let status = match code {
+        Some(0) => "success",
+        Some(1) => "primal infeasible",
+        Some(2) => "dual infeasible",
+        Some(3) => "partial success",
+        Some(4) => "iteration limit",
+        Some(5) => "stuck at edge of primal feasibility",
+        Some(6) => "stuck at edge of dual infeasibility",
+        Some(7) => "lack of progress",
+        Some(8) => "singular matrix",
+        Some(_) => "failed",
+        None => "killed",
+    };
+    let iterations = stdout
+        .lines()
+        .filter_map(|l| l.strip_prefix("Iter:"))
+        .filter_map(|l| l.split_whitespace().next()?.parse::<usize>().ok())
+        .next_back();
+    let dimacs = stdout
+        .lines()
+        .find_map(|l| l.strip_prefix("DIMACS error measures:"))
+        .map(|l| {
+            l.split_whitespace()
+                .filter_map(|f| f.parse::<f64>().ok())
+                .map(f64::abs)
+                .fold(0.0, f64::max)
+        });
+    (status.into(), iterations, dimacs)
+}
+
+/// One row of the benchmark table.
+#[derive(Default)]
+struct Row {
+    name: String,
+    m: usize,
+    n: usize,
+    cells: Vec<String>,
+    time_ratio: Option<f64>,
+    memory_ratio: Option<f64>,
+}
+
+fn fmt_opt(x: Option<f64>, f: impl Fn(f64) -> String) -> String {
+    x.map_or_else(|| "-".into(), f)
+}
+
+/// Solves every problem of `dir` (n ≤ `max_n`) in its own process, with CSDP beside it when
+/// asked, prints the table and writes it when asked.
+fn bench(
+    dir: &Path,
+    vs_csdp: bool,
+    filter: Option<&str>,
+    max_n: usize,
+    table: Option<&Path>,
+) -> Result<(), String> {
     let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
         .map_err(|e| format!("cannot read directory {}: {e}", dir.display()))?
         .filter_map(|entry| entry.ok().map(|e| e.path()))
@@ -350,60 +472,179 @@ fn bench(dir: &Path, vs_csdp: bool, filter: Option<&str>) -> Result<(), String> 
     if files.is_empty() {
         return Err(format!("no .dat-s files in {}", dir.display()));
     }
-    let optima = read_optima(dir);
-    print!(
-        "{:<12} {:>18} {:>16} {:>9} {:>5} {:>22} {:>10} {:>9}",
-        "problem",
-        "ours (SDPA obj.)",
-        "reference",
-        "rel.err",
-        "iter",
-        "status",
-        "DIMACS max",
-        "time[s]"
-    );
-    if vs_csdp {
-        print!(" {:>9} {:>7}", "csdp[s]", "ratio");
+    let exe = std::env::current_exe().map_err(|e| format!("cannot find this program: {e}"))?;
+    if vs_csdp && Process::new("csdp").arg("-h").output().is_err() {
+        return Err("--vs-csdp: the csdp binary is not on PATH (Debian: coinor-csdp)".into());
     }
-    println!();
+    let optima = read_optima(dir);
+    let mut header = vec![
+        "problem",
+        "m",
+        "n",
+        "status",
+        "iter",
+        "rel. err",
+        "DIMACS max",
+        "time [s]",
+        "peak [MiB]",
+    ];
+    if vs_csdp {
+        header.extend([
+            "CSDP status",
+            "CSDP iter",
+            "CSDP DIMACS max",
+            "CSDP time [s]",
+            "CSDP peak [MiB]",
+            "time ours/CSDP",
+            "memory ours/CSDP",
+        ]);
+    }
+    println!("{}", header.join(" | "));
+    let mut rows = Vec::new();
+    let mut skipped = Vec::new();
     for file in &files {
         let name = file
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_default();
-        // Wall time of reading plus solving.
-        let started = Instant::now();
-        let solved =
-            read_problem(file).and_then(|p| solve_problem(file, &p, &Settings::default(), None));
-        let seconds = started.elapsed().as_secs_f64();
-        let (solution, objectives) = match solved {
-            Ok(r) => r,
-            Err(e) => {
-                println!("{name:<12} error: {e}");
-                continue;
-            }
-        };
-        let primal = objectives.primal;
-        let reference = optima.get(&name).copied();
-        let rel = reference
-            .map(|r| format!("{:.1e}", (primal - r).abs() / r.abs().max(1.0)))
-            .unwrap_or_else(|| "-".into());
-        let reference = reference
-            .map(|r| format!("{r:.6e}"))
-            .unwrap_or_else(|| "-".into());
-        print!(
-            "{name:<12} {primal:>18.9e} {reference:>16} {rel:>9} {:>5} {:>22} {:>10.1e} {seconds:>9.4}",
-            solution.iterations,
-            sdpa_status_name(solution.status),
-            solution.measures.dimacs_max()
-        );
-        if vs_csdp {
-            match time_csdp(file) {
-                Ok(t) => print!(" {t:>9.4} {:>7.2}", seconds / t),
-                Err(e) => print!(" {e}"),
-            }
+        let (m, n) = sdpa_size(file)?;
+        if n > max_n {
+            skipped.push(format!("{name} (m = {m}, n = {n})"));
+            continue;
         }
-        println!();
+        let mut row = Row {
+            name: name.clone(),
+            m,
+            n,
+            ..Row::default()
+        };
+        let run = measure(
+            &exe,
+            &[
+                "sdp".as_ref(),
+                "solve".as_ref(),
+                "--json".as_ref(),
+                file.as_os_str(),
+            ],
+        )?;
+        let json: Option<serde_json::Value> = serde_json::from_str(run.stdout.trim()).ok();
+        let get = |k: &str| json.as_ref().and_then(|j| j.get(k)).cloned();
+        let primal = get("primal_objective_sdpa").and_then(|v| v.as_f64());
+        let reference = optima.get(&name).copied();
+        let rel = primal
+            .zip(reference)
+            .map(|(p, r)| (p - r).abs() / r.abs().max(1.0));
+        row.cells = vec![
+            get("status")
+                .and_then(|v| v.as_str().map(str::to_string))
+                .unwrap_or_else(|| format!("failed (exit {:?})", run.code)),
+            fmt_opt(get("iterations").and_then(|v| v.as_f64()), |x| {
+                format!("{x:.0}")
+            }),
+            fmt_opt(rel, |x| format!("{x:.1e}")),
+            fmt_opt(get("dimacs_max").and_then(|v| v.as_f64()), |x| {
+                format!("{x:.1e}")
+            }),
+            format!("{:.3}", run.seconds),
+            fmt_opt(run.peak_mib, |x| format!("{x:.0}")),
+        ];
+        if vs_csdp {
+            let out =
+                std::env::temp_dir().join(format!("sporadic-csdp-{}.sol", std::process::id()));
+            let c = measure(Path::new("csdp"), &[file.as_os_str(), out.as_os_str()])?;
+            let _ = std::fs::remove_file(&out);
+            let (status, iterations, dimacs) = csdp_summary(c.code, &c.stdout);
+            row.time_ratio = Some(run.seconds / c.seconds);
+            row.memory_ratio = run.peak_mib.zip(c.peak_mib).map(|(a, b)| a / b);
+            row.cells.extend([
+                status,
+                fmt_opt(iterations.map(|i| i as f64), |x| format!("{x:.0}")),
+                fmt_opt(dimacs, |x| format!("{x:.1e}")),
+                format!("{:.3}", c.seconds),
+                fmt_opt(c.peak_mib, |x| format!("{x:.0}")),
+                fmt_opt(row.time_ratio, |x| format!("{x:.2}")),
+                fmt_opt(row.memory_ratio, |x| format!("{x:.2}")),
+            ]);
+        }
+        println!("{name} | {m} | {n} | {}", row.cells.join(" | "));
+        rows.push(row);
+    }
+    let summary = bench_summary(&rows, &skipped, max_n, vs_csdp);
+    for line in &summary {
+        println!("{line}");
+    }
+    if let Some(out) = table {
+        write_table(out, &header, &rows, &summary)?;
+    }
+    Ok(())
+}
+
+/// The median and extremes of the ratios, and the skipped problems.
+fn bench_summary(rows: &[Row], skipped: &[String], max_n: usize, vs_csdp: bool) -> Vec<String> {
+    let mut out = vec![format!("{} problems run (n ≤ {max_n})", rows.len())];
+    if vs_csdp {
+        let mut ratios: Vec<(f64, &str)> = rows
+            .iter()
+            .filter_map(|r| r.time_ratio.map(|t| (t, r.name.as_str())))
+            .collect();
+        ratios.sort_by(|a, b| a.0.total_cmp(&b.0));
+        if let Some(&(worst, name)) = ratios.last() {
+            let median = ratios[ratios.len() / 2].0;
+            let above = ratios.iter().filter(|r| r.0 > 1.5).count();
+            out.push(format!(
+                "time ours/CSDP (whole process): median {median:.2}, largest {worst:.2} ({name}), \
+                 {above} above 1.5"
+            ));
+        }
+        let mut mem: Vec<f64> = rows.iter().filter_map(|r| r.memory_ratio).collect();
+        mem.sort_by(f64::total_cmp);
+        if let Some(&worst) = mem.last() {
+            out.push(format!(
+                "peak memory ours/CSDP: median {:.2}, largest {worst:.2}",
+                mem[mem.len() / 2]
+            ));
+        }
+    }
+    if !skipped.is_empty() {
+        out.push(format!("skipped (n > {max_n}): {}", skipped.join(", ")));
+    }
+    out
+}
+
+/// Writes `sdplib.md` and `sdplib.csv` into `dir`.
+fn write_table(
+    dir: &Path,
+    header: &[&str],
+    rows: &[Row],
+    summary: &[String],
+) -> Result<(), String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("--table {}: {e}", dir.display()))?;
+    let mut md = String::new();
+    md.push_str(&format!("| {} |\n", header.join(" | ")));
+    md.push_str(&format!(
+        "|{}\n",
+        header.iter().map(|_| "---|").collect::<String>()
+    ));
+    let mut csv = header
+        .iter()
+        .map(|h| h.replace(' ', "_"))
+        .collect::<Vec<_>>()
+        .join(",");
+    csv.push('\n');
+    for r in rows {
+        let mut cells = vec![r.name.clone(), r.m.to_string(), r.n.to_string()];
+        cells.extend(r.cells.iter().cloned());
+        md.push_str(&format!("| {} |\n", cells.join(" | ")));
+        csv.push_str(&cells.join(","));
+        csv.push('\n');
+    }
+    md.push('\n');
+    for line in summary {
+        md.push_str(&format!("{line}\n\n"));
+    }
+    for (name, text) in [("sdplib.md", md), ("sdplib.csv", csv)] {
+        let path = dir.join(name);
+        std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?;
     }
     Ok(())
 }
