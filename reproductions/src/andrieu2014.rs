@@ -930,6 +930,11 @@ fn notes() -> Vec<String> {
          n); Lemma 1's bound includes L(0).",
         "Sampling instants are counted from t_0 = 0 (the sequence (t_k)_{k>=0} of (2), (7)); the reading y_0 \
          is not used for a correction, as in the proof, so a run has one correction fewer than instants.",
+        "No rigorous proof (sporadic design --prove) covers these designs: Theorem 2's certificate is a set \
+         of closed-form scalar conditions on the tuning (a1, a2, a3, alpha against alpha_m, a2_min, Lemma 4) \
+         and the Schur property of Q(alpha), checked in floating point (claims design.*), not a matrix \
+         inequality over a window of sampling intervals; the observer picks its own instants, so there is \
+         no tau-window to prove it on. andrieu2014's proof section is therefore inconclusive.",
     ]
     .into_iter()
     .map(str::to_owned)
