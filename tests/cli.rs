@@ -1365,7 +1365,10 @@ fn sdp_bench_writes_its_table_and_skips_large_problems() {
     let md = std::fs::read_to_string(table.join("sdplib.md")).unwrap();
     let csv = std::fs::read_to_string(table.join("sdplib.csv")).unwrap();
     assert!(md.starts_with("| problem | m | n | status |"), "{md}");
-    assert!(md.contains("| lp | 1 | 2 | sdpa_primal_infeasible |"), "{md}");
+    assert!(
+        md.contains("| lp | 1 | 2 | sdpa_primal_infeasible |"),
+        "{md}"
+    );
     assert!(md.contains("skipped (n > 4): lmi"), "{md}");
     assert_eq!(csv.lines().count(), 2, "{csv}");
     assert!(csv.lines().nth(1).unwrap().starts_with("lp,1,2,"), "{csv}");

@@ -53,6 +53,25 @@ pub enum MethodError {
 }
 
 impl MethodError {
+    /// [`MethodError::InvalidInput`] of `method` described by `message`.
+    pub fn invalid(method: &'static str, message: impl Into<String>) -> Self {
+        MethodError::InvalidInput {
+            method,
+            source: message.into().into(),
+        }
+    }
+
+    /// [`MethodError::Numerical`] of `method` caused by `source`.
+    pub fn numerical(
+        method: &'static str,
+        source: impl std::error::Error + Send + Sync + 'static,
+    ) -> Self {
+        MethodError::Numerical {
+            method,
+            source: Box::new(source),
+        }
+    }
+
     /// The message of the error and of each of its causes, joined by `: `.
     pub fn chain(&self) -> String {
         let mut s = self.to_string();

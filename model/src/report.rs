@@ -80,6 +80,31 @@ pub fn mat_of(rows: &[Vec<f64>]) -> Mat<f64> {
     Mat::from_fn(rows.len(), c, |i, j| rows[i][j])
 }
 
+/// `rows` as an `r × c` matrix with finite entries, for gains and certificates a user brings;
+/// the error message names the matrix (`what`) and the first offending entry (1-based).
+pub fn checked_mat(rows: &[Vec<f64>], r: usize, c: usize, what: &str) -> Result<Mat<f64>, String> {
+    let m = mat_of(rows);
+    if m.nrows() != r || m.ncols() != c {
+        return Err(format!(
+            "{what} must be {r}×{c} (a ragged matrix reads as 0×0), found {}×{}",
+            m.nrows(),
+            m.ncols()
+        ));
+    }
+    for j in 0..c {
+        for i in 0..r {
+            if !m[(i, j)].is_finite() {
+                return Err(format!(
+                    "{what}: entry ({}, {}) is not finite",
+                    i + 1,
+                    j + 1
+                ));
+            }
+        }
+    }
+    Ok(m)
+}
+
 /// A gain that depends on the sampling interval `τ` (the time since the previous sample):
 /// its law in words and its values on a grid of `τ`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

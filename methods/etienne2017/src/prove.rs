@@ -59,18 +59,12 @@ const MAX_FREE_ENTRIES: usize = 20;
 
 /// Bad input of the prover or of `verify` (a message, as a [`MethodError::InvalidInput`]).
 pub(crate) fn bad(message: impl Into<String>) -> MethodError {
-    MethodError::InvalidInput {
-        method: ID,
-        source: message.into().into(),
-    }
+    MethodError::invalid(ID, message)
 }
 
 /// A failure of the interval kernels (not a verdict).
 fn numerical(e: IntervalError) -> MethodError {
-    MethodError::Numerical {
-        method: ID,
-        source: Box::new(e),
-    }
+    MethodError::numerical(ID, e)
 }
 
 /// A gain schedule and certificate read from a report (or brought by the user), in the plant's
@@ -87,35 +81,9 @@ pub(crate) struct Given {
     pub l: Option<(Mat<f64>, Mat<f64>)>,
 }
 
-fn finite(m: MatRef<'_, f64>, what: &str) -> Result<(), MethodError> {
-    for j in 0..m.ncols() {
-        for i in 0..m.nrows() {
-            if !m[(i, j)].is_finite() {
-                return Err(bad(format!(
-                    "{what}: entry ({}, {}) is not finite",
-                    i + 1,
-                    j + 1
-                )));
-            }
-        }
-    }
-    Ok(())
-}
-
-fn shaped(m: Mat<f64>, rows: usize, cols: usize, what: &str) -> Result<Mat<f64>, MethodError> {
-    if m.nrows() != rows || m.ncols() != cols {
-        return Err(bad(format!(
-            "{what} must be {rows}×{cols} (a ragged matrix reads as 0×0), found {}×{}",
-            m.nrows(),
-            m.ncols()
-        )));
-    }
-    finite(m.as_ref(), what)?;
-    Ok(m)
-}
-
-fn rows_to_mat(rows: &[Vec<f64>]) -> Mat<f64> {
-    sporadic_model::report::mat_of(rows)
+/// `rows` as a `rows × cols` matrix with finite entries, or bad input naming `what`.
+fn shaped(m: &[Vec<f64>], rows: usize, cols: usize, what: &str) -> Result<Mat<f64>, MethodError> {
+    sporadic_model::report::checked_mat(m, rows, cols, what).map_err(bad)
 }
 
 impl Given {
@@ -148,7 +116,7 @@ impl Given {
         }
         let (k0, k1) = match &gain.schedule {
             None => {
-                let k = shaped(rows_to_mat(&gain.rows), n, q, "gain K")?;
+                let k = shaped(&gain.rows, n, q, "gain K")?;
                 (k.clone(), k)
             }
             Some(s) => {
@@ -166,8 +134,8 @@ impl Given {
                         window.t2()
                     )));
                 }
-                let k0 = shaped(rows_to_mat(first), n, q, "gain K(T1)")?;
-                let k1 = shaped(rows_to_mat(last), n, q, "gain K(T2)")?;
+                let k0 = shaped(first, n, q, "gain K(T1)")?;
+                let k1 = shaped(last, n, q, "gain K(T2)")?;
                 if window.is_periodic() && k0 != k1 {
                     return Err(bad(
                         "a periodic window has a static gain (Remark 6), but K(τ) varies",
@@ -190,7 +158,7 @@ impl Given {
             certificate
                 .iter()
                 .find(|m| m.name == name)
-                .map(|m| shaped(m.to_mat(), rows, cols, &format!("certificate {name}")))
+                .map(|m| shaped(&m.rows, rows, cols, &format!("certificate {name}")))
                 .transpose()
         };
         let p = match (get("P1", n, n)?, get("P2", n, n)?) {

@@ -59,40 +59,17 @@ const INITIAL_PIECES: usize = 4;
 
 /// Bad input of the prover or of `verify`, as a [`MethodError::InvalidInput`].
 pub(crate) fn bad(message: impl Into<String>) -> MethodError {
-    MethodError::InvalidInput {
-        method: ID,
-        source: message.into().into(),
-    }
+    MethodError::invalid(ID, message)
 }
 
 /// A failure of the interval kernels (not a verdict).
 fn numerical(e: IntervalError) -> MethodError {
-    MethodError::Numerical {
-        method: ID,
-        source: Box::new(e),
-    }
+    MethodError::numerical(ID, e)
 }
 
-fn shaped(m: Mat<f64>, rows: usize, cols: usize, what: &str) -> Result<Mat<f64>, MethodError> {
-    if m.nrows() != rows || m.ncols() != cols {
-        return Err(bad(format!(
-            "{what} must be {rows}×{cols} (a ragged matrix reads as 0×0), found {}×{}",
-            m.nrows(),
-            m.ncols()
-        )));
-    }
-    for j in 0..cols {
-        for i in 0..rows {
-            if !m[(i, j)].is_finite() {
-                return Err(bad(format!(
-                    "{what}: entry ({}, {}) is not finite",
-                    i + 1,
-                    j + 1
-                )));
-            }
-        }
-    }
-    Ok(m)
+/// `rows` as a `rows × cols` matrix with finite entries, or bad input naming `what`.
+fn shaped(m: &[Vec<f64>], rows: usize, cols: usize, what: &str) -> Result<Mat<f64>, MethodError> {
+    sporadic_model::report::checked_mat(m, rows, cols, what).map_err(bad)
 }
 
 /// The gain `L` (`n × p`) and the certificate `P_19` (`2n × 2n`, balanced coordinates, when
@@ -125,7 +102,7 @@ pub(crate) fn read_given(
             }
         )));
     }
-    let l = shaped(sporadic_model::report::mat_of(&gain.rows), n, p, "gain L")?;
+    let l = shaped(&gain.rows, n, p, "gain L")?;
     let known = ["P", "F", "G1", "G2", "P_19"];
     if let Some(m) = certificate
         .iter()
@@ -139,7 +116,7 @@ pub(crate) fn read_given(
     let p19 = certificate
         .iter()
         .find(|m| m.name == "P_19")
-        .map(|m| shaped(m.to_mat(), 2 * n, 2 * n, "certificate P_19"))
+        .map(|m| shaped(&m.rows, 2 * n, 2 * n, "certificate P_19"))
         .transpose()?;
     Ok((l, p19))
 }
