@@ -104,6 +104,12 @@ impl Proof {
     }
 }
 
+/// A bisection whose enclosure is wider than this share of its parent's has not narrowed it.
+const STALL_RATIO: f64 = 0.9;
+
+/// Consecutive bisections without narrowing after which a piece is given up as `inconclusive`.
+const MAX_STALLS: u32 = 6;
+
 /// Budgets of a proof.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ProofOptions {
@@ -167,8 +173,10 @@ pub struct WindowProof {
 ///
 /// The window starts as `initial_pieces` equal pieces; an [`PieceCheck::Undecided`] piece is
 /// bisected (depth first, in increasing `τ`) until every piece holds, one fails (status
-/// `not_proved`), a piece can no longer be split in floating point, the number of pieces
-/// reaches [`ProofOptions::max_pieces`], or the time budget runs out (status `inconclusive`).
+/// `not_proved`), a piece can no longer be split in floating point, six bisections in a row
+/// leave its enclosure as wide as before (rounding, not the variation over the piece, decides:
+/// the margin there is below what the evaluation resolves), the number of pieces reaches
+/// [`ProofOptions::max_pieces`], or the time budget runs out (status `inconclusive`).
 /// `condition` names the condition in [`ProofPiece::condition`].
 ///
 /// # Errors
@@ -185,7 +193,9 @@ pub fn prove_on_window<E>(
     let n0 = if t1 < t2 { initial_pieces.max(1) } else { 1 };
     let max_pieces = options.max_pieces.max(1).max(n0);
     // Stack of pieces still to check, the next one on top.
-    let mut todo: Vec<(f64, f64)> = (0..n0)
+    // Pieces to check, the next one on top, each with the width of its parent's enclosure and
+    // the number of consecutive bisections that did not narrow the enclosure.
+    let mut todo: Vec<(f64, f64, f64, u32)> = (0..n0)
         .rev()
         .map(|k| {
             let a = if k == 0 {
@@ -198,7 +208,7 @@ pub fn prove_on_window<E>(
             } else {
                 t1 + (t2 - t1) * (k + 1) as f64 / n0 as f64
             };
-            (a, b)
+            (a, b, f64::INFINITY, 0)
         })
         .collect();
     let mut pieces = n0;
@@ -215,7 +225,7 @@ pub fn prove_on_window<E>(
             message,
         )
     };
-    while let Some((a, b)) = todo.pop() {
+    while let Some((a, b, parent_width, stalls)) = todo.pop() {
         let out_of_time =
             crate::budget::exhausted() || options.time_limit.is_some_and(|l| start.elapsed() >= l);
         if out_of_time {
@@ -276,11 +286,24 @@ pub fn prove_on_window<E>(
             PieceCheck::Undecided { enclosure } => {
                 let mid = a + 0.5 * (b - a);
                 let splittable = mid > a && mid < b;
-                if !splittable || pieces >= max_pieces {
-                    let why = if splittable {
-                        format!("the budget of {max_pieces} pieces ran out")
-                    } else {
+                // Bisection narrows an enclosure dominated by the variation over the piece by
+                // about half; one dominated by rounding does not narrow at all.
+                let piece_width = enclosure[1] - enclosure[0];
+                let stalls = if piece_width > STALL_RATIO * parent_width {
+                    stalls + 1
+                } else {
+                    0
+                };
+                if !splittable || pieces >= max_pieces || stalls >= MAX_STALLS {
+                    let why = if !splittable {
                         "the piece cannot be split further in floating point".to_string()
+                    } else if stalls >= MAX_STALLS {
+                        format!(
+                            "{MAX_STALLS} bisections in a row did not narrow the enclosure (the \
+                             margin there is below the accuracy of the interval evaluation)"
+                        )
+                    } else {
+                        format!("the budget of {max_pieces} pieces ran out")
                     };
                     let (p, m) = stopped(
                         condition,
@@ -306,8 +329,8 @@ pub fn prove_on_window<E>(
                     });
                 }
                 pieces += 1;
-                todo.push((mid, b));
-                todo.push((a, mid));
+                todo.push((mid, b, piece_width, stalls));
+                todo.push((a, mid, piece_width, stalls));
             }
         }
     }
@@ -425,14 +448,27 @@ mod tests {
             max_pieces: 8,
             time_limit: None,
         };
+        // An enclosure as wide as the piece (variation-dominated: bisection halves it) with its
+        // upper end above zero: refined until the piece budget runs out.
+        let mut narrowing = |a: f64, b: f64| -> Result<PieceCheck, ()> {
+            Ok(PieceCheck::Undecided {
+                enclosure: [-(b - a), b - a],
+            })
+        };
+        let p = prove_on_window("c", 0.0, 1.0, 1, &o, &mut narrowing).unwrap();
+        assert_eq!(p.status, ProofStatus::Inconclusive);
+        assert!(p.message.contains("budget of 8 pieces"), "{}", p.message);
         let mut undecided = |_: f64, _: f64| -> Result<PieceCheck, ()> {
             Ok(PieceCheck::Undecided {
                 enclosure: [-1.0, 1.0],
             })
         };
-        let p = prove_on_window("c", 0.0, 1.0, 1, &o, &mut undecided).unwrap();
+        // An enclosure that never narrows is given up after a few bisections, not at the budget.
+        let big = ProofOptions::default();
+        let p = prove_on_window("c", 0.0, 1.0, 1, &big, &mut undecided).unwrap();
         assert_eq!(p.status, ProofStatus::Inconclusive);
-        assert!(p.message.contains("budget of 8 pieces"), "{}", p.message);
+        assert!(p.message.contains("did not narrow"), "{}", p.message);
+        assert!(p.pieces <= 8, "{}", p.pieces);
         // A point window is one piece and cannot be split.
         let p = prove_on_window("c", 0.5, 0.5, 7, &o, &mut undecided).unwrap();
         assert_eq!(p.status, ProofStatus::Inconclusive);
