@@ -353,11 +353,10 @@ fn assert_kkt(p: &Problem, sol: &sporadic_sdp::Solution, tol: f64) {
 }
 
 /// A planted problem found by `finds_planted_optimum` in a CI run (2026-11-26): the solve
-/// stops at relative gap 1.6e-6 (DIMACS 5 and 6 at 1.6e-6 and 3.2e-6), short of the 1e-8 the
-/// property asks. A known defect of the end-game (issue 23), kept as a failing test to fix,
-/// not run by default.
+/// stopped at relative gap 1.6e-6 (DIMACS 5 and 6 at 1.6e-6 and 3.2e-6), short of the 1e-8 the
+/// property asks, when the least-squares solve broke down at numerically dependent constraints
+/// (issue 23); a regression test since that solve regularises them.
 #[test]
-#[ignore = "known end-game defect, issue 23: stops at rel. gap 1.6e-6; run, not gating, by .ci/run: cargo test --release -p sporadic-sdp --test solver_props -- --ignored planted_optimum_seed"]
 fn planted_optimum_seed_5105783315184303210() {
     let (p, _) = planted_optimum(5105783315184303210, false);
     let sol = solve(&p, &Settings::default()).unwrap();

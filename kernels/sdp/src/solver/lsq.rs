@@ -45,12 +45,33 @@
 //! needs `N·m` numbers, so the normal equations remain the default; [`super::ipm`] switches to
 //! this form for the rest of a solve as soon as a normal-equations direction misses
 //! `𝒜(ΔX) = r_p` by more than the accepted error after iterative refinement, provided `K` fits
-//! the memory budget (`N ≥ m` and `N·m` numbers at most 128 MiB).
+//! the memory budget (`N ≥ m` and `(N + m)·m` numbers at most 128 MiB).
 //!
-//! Numerically dependent constraints (duplicates, or degeneracy at the optimum as in the QAP
-//! relaxations) show up as tiny pivots `R_ii`; they are floored at a relative `10⁻¹⁴` of the
-//! column norm, which bounds `Δy` along the near-null space and changes `ΔX` only at that
-//! relative level (the least-squares counterpart of the regularised Cholesky in `linsys`).
+//! # Dependent constraints
+//!
+//! Numerically dependent constraints (duplicates, degeneracy at the optimum as in the QAP
+//! relaxations, or the diverging dual ray of the hinf problems, along which `K` loses rank like
+//! `μ`) show up as pivots `R_ii` at rounding level. Householder QR then stops being a usable
+//! factor: faer deflates such a column (see [`DEFLATION`]) and leaves `R` in echelon form, and
+//! raising the tiny pivots to a floor (what this module did before) gives a triangular matrix
+//! whose inverse grows like `floor⁻ᵏ` over `k` dependent columns, not the factor of any nearby
+//! matrix: on hinf10, hinf11 and qap6 the least-squares direction reached `10¹²⁸` and the solve
+//! stopped.
+//!
+//! Instead, when a pivot falls below the deflation level, the QR is recomputed for the stacked
+//! matrix `[K; ρD]` with `D = diag(‖K_i‖)` on the flagged constraints only (zero elsewhere):
+//! Tikhonov regularisation (Golub & Van Loan, 4th ed., §6.1; like Clarabel's regularisation of
+//! its QDLDL factorisation, applied only to the pivots found too small). Its
+//! `R̃` is the exact triangular factor of `M + ρ² D²` with `|R̃_ii| ≥ ρ ‖K_i‖` (row `N + i`
+//! is untouched until column `i`), so `Δy` stays bounded. With `K̃ = [K; ρD]`, `g̃ = [g; 0]`
+//! the same formulas give `Z̃ = g̃ + K̃ Δy` and `K̃ᵀZ̃ = r_p`, i.e. `Z = g + K Δy` (the
+//! complementarity equation is exact) and `KᵀZ = r_p − ρ² D² Δy`: the regularisation only
+//! perturbs the primal equation, which the iterative refinement of [`super::direction`]
+//! (Higham, *Accuracy and Stability of Numerical Algorithms*, 2nd ed., ch. 12) corrects along
+//! every direction not itself at rounding level. `ρ` ([`REGULARISATION`]) is twice the
+//! deflation level, so faer cannot deflate a regularised column; constraints whose pivots are
+//! above the deflation level are not regularised (regularising others only raises their
+//! pivots), so problems without dependent constraints get the same direction as before.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::householder::{
@@ -75,11 +96,20 @@ use super::small;
 use super::structure::{Analysis, Values};
 use crate::problem::BlockKind;
 
-/// Largest `K` (rows × constraints, in `f64`s) that is allocated (128 MiB).
+/// Largest `[K; ρD]` ((rows + constraints) × constraints, in `f64`s) that is allocated
+/// (128 MiB).
 const MAX_ELEMENTS: usize = 1 << 24;
-/// A QR pivot `|R_ii|` below this fraction of the norm of column `i` of `K` marks the constraint
-/// as numerically dependent on the previous ones; the pivot is raised to it.
-const DEPENDENCE: f64 = 1e-14;
+/// Relative pivot level, in units of `(rows of [K; ρD]) · ε`, below which faer's Householder QR
+/// may treat a column as dependent: `qr_in_place` (faer 0.24, `no_pivoting::factor`) skips the
+/// reflection of a column whose remaining norm is below `16·(rows − row)·ε` times its norm and
+/// does *not* advance the row, which leaves `R` in echelon form with exact zeros on the
+/// diagonal of the later columns. A pivot `|R_ii|` below `DEFLATION · rows · ε · ‖K_i‖` flags
+/// constraint `i` as numerically dependent.
+const DEFLATION: f64 = 16.0;
+/// Tikhonov weight `ρ` of a dependent constraint in the same units: twice [`DEFLATION`], so that
+/// the regularised column keeps a pivot `|R_ii| ≥ ρ ‖K_i‖` above faer's deflation level and `R`
+/// is a true triangular factor.
+const REGULARISATION: f64 = 2.0 * DEFLATION;
 /// A constraint whose support covers at least this fraction of a block is scaled densely.
 const DENSE_SUPPORT: f64 = 0.7;
 
@@ -122,7 +152,7 @@ impl LeastSquares {
                 BlockKind::Lp => b.n,
             })?;
         }
-        if m == 0 || rows < m || rows.checked_mul(m)? > MAX_ELEMENTS {
+        if m == 0 || rows < m || rows.checked_add(m)?.checked_mul(m)? > MAX_ELEMENTS {
             return None;
         }
         let mut touches = vec![Vec::new(); m];
@@ -140,22 +170,23 @@ impl LeastSquares {
                 BlockKind::Lp => Vec::new(),
             });
         }
-        let block = recommended_block_size::<f64>(rows, m);
+        let block = recommended_block_size::<f64>(rows + m, m);
         Some(Self {
             m,
             offsets,
             rows,
             touches,
             supports,
-            qr: Mat::zeros(rows, m),
+            qr: Mat::zeros(rows + m, m),
             coeff: Mat::zeros(block, m),
             par,
         })
     }
 
-    /// Builds `K` at the iterate with factors `f` and factorises it. Returns `false` (and leaves
-    /// the workspace unusable until the next call) if a constraint is empty or the
-    /// factorisation is not finite.
+    /// Builds `K` at the iterate with factors `f` and factorises it, regularising the
+    /// numerically dependent constraints (module documentation). Returns `false` (and leaves the
+    /// workspace unusable until the next call) if a constraint is empty or the factorisation is
+    /// not finite.
     pub(crate) fn factorize(
         &mut self,
         an: &Analysis,
@@ -163,6 +194,59 @@ impl LeastSquares {
         x: &[Mat<f64>],
         f: &Factors,
     ) -> bool {
+        self.fill(an, vals, x, f);
+        let (rows, m) = (self.rows, self.m);
+        let norms: Vec<f64> = (0..m).map(|c| self.qr.get(..rows, c).norm_l2()).collect();
+        // An empty constraint (`A_i = 0`, hence `K_i = 0`) has no Householder reflection and
+        // flooring its pivot made `Δy` overflow (planted problem with an empty constraint,
+        // `solver_props::empty_constraint_keeps_normal_equations`): leave such problems to the
+        // regularised normal equations, which decouple the row.
+        if norms.contains(&0.0) {
+            return false;
+        }
+        self.factor_in_place();
+        let unit = (rows + m) as f64 * f64::EPSILON;
+        let finite = |qr: &Mat<f64>| (0..m).all(|i| qr[(i, i)].is_finite());
+        if !finite(&self.qr) {
+            return false;
+        }
+        let dependent: Vec<usize> = (0..m)
+            .filter(|&i| !(self.qr[(i, i)].abs() >= DEFLATION * unit * norms[i]))
+            .collect();
+        if dependent.is_empty() {
+            return true;
+        }
+        self.fill(an, vals, x, f);
+        for &i in &dependent {
+            self.qr[(rows + i, i)] = REGULARISATION * unit * norms[i];
+        }
+        self.factor_in_place();
+        finite(&self.qr)
+    }
+
+    /// Householder QR of the stacked `[K; ρD]` in place (`R` in the upper triangle).
+    fn factor_in_place(&mut self) {
+        let (rows, m) = (self.rows + self.m, self.m);
+        let block = self.coeff.nrows();
+        let mut mem = MemBuffer::new(qr_in_place_scratch::<f64>(
+            rows,
+            m,
+            block,
+            self.par,
+            Default::default(),
+        ));
+        qr_in_place(
+            self.qr.as_mut(),
+            self.coeff.as_mut(),
+            self.par,
+            MemStack::new(&mut mem),
+            Default::default(),
+        );
+    }
+
+    /// Writes the scaled constraint matrix `K` into the first rows of the workspace and zeroes
+    /// the regularisation rows below it.
+    fn fill(&mut self, an: &Analysis, vals: &Values, x: &[Mat<f64>], f: &Factors) {
         let Self {
             offsets,
             touches,
@@ -216,50 +300,12 @@ impl LeastSquares {
                 .enumerate()
                 .for_each(|(c, col)| fill(c, col)),
         }
-        let norms: Vec<f64> = (0..self.m).map(|c| self.qr.col(c).norm_l2()).collect();
-        let (rows, m) = (self.rows, self.m);
-        let block = self.coeff.nrows();
-        let mut mem = MemBuffer::new(qr_in_place_scratch::<f64>(
-            rows,
-            m,
-            block,
-            self.par,
-            Default::default(),
-        ));
-        qr_in_place(
-            self.qr.as_mut(),
-            self.coeff.as_mut(),
-            self.par,
-            MemStack::new(&mut mem),
-            Default::default(),
-        );
-        for (i, &norm) in norms.iter().enumerate() {
-            let r = self.qr[(i, i)];
-            if !r.is_finite() {
-                return false;
-            }
-            // An empty constraint (`A_i = 0`, hence `K_i = 0`) has no Householder reflection
-            // and flooring its pivot made `Δy` overflow (planted problem with an empty
-            // constraint, `solver_props::empty_constraint_keeps_normal_equations`): leave such
-            // problems to the regularised normal equations, which decouple the row.
-            if norm == 0.0 {
-                return false;
-            }
-            // A numerically dependent constraint: floor its pivot, which perturbs K by a
-            // relative DEPENDENCE in that direction only (Tikhonov-like); `Δy` then stays
-            // bounded along the near-null space and `ΔX` is unaffected to that accuracy.
-            let floor = DEPENDENCE * norm;
-            if r.abs() < floor {
-                self.qr[(i, i)] = floor.copysign(r);
-            }
-        }
-        true
     }
 
     fn apply_qt(&self, v: &mut [f64]) {
         let mut mem = MemBuffer::new(
             apply_block_householder_sequence_transpose_on_the_left_in_place_scratch::<f64>(
-                self.rows,
+                self.rows + self.m,
                 self.coeff.nrows(),
                 1,
             ),
@@ -268,7 +314,7 @@ impl LeastSquares {
             self.qr.as_ref(),
             self.coeff.as_ref(),
             Conj::No,
-            MatMut::from_column_major_slice_mut(v, self.rows, 1),
+            MatMut::from_column_major_slice_mut(v, self.rows + self.m, 1),
             self.par,
             MemStack::new(&mut mem),
         );
@@ -277,7 +323,7 @@ impl LeastSquares {
     fn apply_q(&self, v: &mut [f64]) {
         let mut mem = MemBuffer::new(
             apply_block_householder_sequence_on_the_left_in_place_scratch::<f64>(
-                self.rows,
+                self.rows + self.m,
                 self.coeff.nrows(),
                 1,
             ),
@@ -286,7 +332,7 @@ impl LeastSquares {
             self.qr.as_ref(),
             self.coeff.as_ref(),
             Conj::No,
-            MatMut::from_column_major_slice_mut(v, self.rows, 1),
+            MatMut::from_column_major_slice_mut(v, self.rows + self.m, 1),
             self.par,
             MemStack::new(&mut mem),
         );
@@ -406,6 +452,7 @@ impl LeastSquares {
     ) -> (BlockMats, Vec<f64>) {
         let m = self.m;
         let mut c = self.scaled_rhs(an, x, f, rd, sigma_mu, second);
+        c.resize(self.rows + m, 0.0);
         self.apply_qt(&mut c);
         let mut w = rp.to_vec();
         self.solve_rt(&mut w);
@@ -427,7 +474,7 @@ impl LeastSquares {
     ) -> (Vec<f64>, BlockMats) {
         let mut w = e.to_vec();
         self.solve_rt(&mut w);
-        let mut z = vec![0.0; self.rows];
+        let mut z = vec![0.0; self.rows + self.m];
         z[..self.m].copy_from_slice(&w);
         self.apply_q(&mut z);
         self.solve_r(&mut w);

@@ -71,6 +71,15 @@ impl Residuals {
             .max(self.pinf)
             .max(self.dinf)
     }
+
+    /// Largest DIMACS error of an interior point (`X, S ≻ 0`, so the two eigenvalue errors of
+    /// [`measures`] vanish): the same four formulas as there, without eigenvalues.
+    pub(crate) fn dimacs_interior(&self, norms: &DataNorms) -> f64 {
+        (self.rp_norm / (1.0 + norms.b_inf))
+            .max(self.rd_norm / (1.0 + norms.c_max))
+            .max(self.rel_gap)
+            .max(self.rel_compl)
+    }
 }
 
 /// Residuals at `(X, y, S)`.
