@@ -70,7 +70,9 @@ pub mod simulation;
 pub mod synthesis;
 pub mod validation;
 
-pub use design::{Design, DesignLoop, DesignOptions, GridMinimum, IterationRecord, design};
+pub use design::{
+    Design, DesignLoop, DesignOptions, GridMinimum, IterationRecord, design, design_screened,
+};
 pub use detectability::{DetectabilityOptions, DetectabilityReport, PbhCheck};
 pub use error::Error;
 pub use example::QuarterCar;

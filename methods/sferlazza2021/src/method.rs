@@ -21,12 +21,13 @@ use std::time::Instant;
 use faer::Mat;
 use sporadic_linalg::{InputError, LinalgError};
 use sporadic_model::{
-    Check, DesignReport, Gain, Margin, MethodError, MethodOptions, NamedMatrix, NotApplicable,
-    ObserverMethod, Outputs, Plant, Reason, Sampling, SamplingScenario, SamplingWindow, Scenario,
-    SimulationReport, Trajectory, check_simulatable, significant,
+    Check, DesignReport, Gain, Margin, MaxIntervalReport, MethodError, MethodOptions, NamedMatrix,
+    NotApplicable, ObserverMethod, Outputs, Plant, Probe, Reason, Sampling, SamplingScenario,
+    SamplingWindow, Scenario, SimulationReport, Trajectory, check_simulatable, largest_window_with,
+    significant,
 };
 
-use crate::design::{Design, DesignOptions, design};
+use crate::design::{Design, DesignOptions, design_screened};
 use crate::error::{Error, check_at_least};
 use crate::gain::GainSchedule;
 use crate::normalise::balanced_plant;
@@ -237,6 +238,58 @@ impl ObserverMethod for Sferlazza2021 {
         sampling: &Sampling,
         _options: &MethodOptions,
     ) -> Result<DesignReport, MethodError> {
+        self.design_report(plant, sampling, None)
+    }
+
+    /// The largest `T2` by [`sporadic_model::largest_window_with`], whose probe is the design
+    /// with the coarse screen of [`crate::design::DesignLoop::step_screened`] (at most
+    /// [`SEARCH_SCREEN_POINTS`] points per window): an iteration whose `P_σ` fails on the
+    /// coarse grid skips the full grid (49), whose size grows with p* near the largest
+    /// window. Every certified probe, the reported design included, passed the full
+    /// validation (48) on the (49) grid and every check of a design.
+    fn largest_window(
+        &self,
+        plant: &Plant,
+        sampling: &Sampling,
+        limit: f64,
+        options: &MethodOptions,
+        progress: &mut dyn FnMut(&Probe),
+    ) -> Result<MaxIntervalReport, MethodError> {
+        largest_window_with(
+            self,
+            plant,
+            sampling,
+            limit,
+            &options.search,
+            options,
+            progress,
+            &mut |s| self.design_report(plant, s, Some(SEARCH_SCREEN_POINTS)),
+        )
+    }
+
+    fn simulate(
+        &self,
+        plant: &Plant,
+        design: &DesignReport,
+        scenario: &Scenario,
+    ) -> Result<Trajectory, MethodError> {
+        self.simulate_design(plant, design, scenario)
+    }
+}
+
+/// Points per window of the coarse screen in the window search
+/// ([`Sferlazza2021::largest_window`](ObserverMethod::largest_window)).
+pub const SEARCH_SCREEN_POINTS: usize = 2048;
+
+impl Sferlazza2021 {
+    /// [`ObserverMethod::design`], with the coarse screen of
+    /// [`crate::design::DesignLoop::step_screened`] when `screen` is `Some`.
+    fn design_report(
+        &self,
+        plant: &Plant,
+        sampling: &Sampling,
+        screen: Option<usize>,
+    ) -> Result<DesignReport, MethodError> {
         if let Err(na) = self.applies(plant, sampling) {
             return Ok(DesignReport::without_design(
                 self,
@@ -284,7 +337,7 @@ impl ObserverMethod for Sferlazza2021 {
         } else {
             balanced_plant(&rr, &scales).map_err(invalid_input)?
         };
-        let d = match design(&balanced, &self.design) {
+        let d = match design_screened(&balanced, &self.design, screen) {
             Ok(d) => d,
             Err(e) => {
                 let mut r =
@@ -301,7 +354,8 @@ impl ObserverMethod for Sferlazza2021 {
         Ok(report)
     }
 
-    fn simulate(
+    /// [`ObserverMethod::simulate`].
+    fn simulate_design(
         &self,
         plant: &Plant,
         design: &DesignReport,
