@@ -251,8 +251,10 @@ impl ObserverMethod for Sferlazza2021 {
     /// with the coarse screen of [`crate::design::DesignLoop::step_screened`] (at most
     /// [`SEARCH_SCREEN_POINTS`] points per window): an iteration whose `P_σ` fails on the
     /// coarse grid skips the full grid (49), whose size grows with p* near the largest
-    /// window. Every certified probe, the reported design included, passed the full
-    /// validation (48) on the (49) grid and every check of a design.
+    /// window. The Proposition 1 screen of a probe (a necessary condition) is coarser, at most
+    /// [`SEARCH_DETECTABILITY_TUPLES`] grid tuples plus the aliasing tuples (its check in the
+    /// report says how many). Every certified probe, the reported design included, passed the
+    /// full validation (48) on the (49) grid and every other check of a design.
     fn largest_window(
         &self,
         plant: &Plant,
@@ -396,6 +398,11 @@ fn design_data(
 /// ([`Sferlazza2021::largest_window`](ObserverMethod::largest_window)).
 pub const SEARCH_SCREEN_POINTS: usize = 2048;
 
+/// Largest number of grid tuples of the Proposition 1 screen in a probe of the window search
+/// (the aliasing tuples come on top); a design's own screen uses
+/// [`crate::DetectabilityOptions::default`].
+pub const SEARCH_DETECTABILITY_TUPLES: usize = 4096;
+
 impl Sferlazza2021 {
     /// [`ObserverMethod::design`], with the coarse screen of
     /// [`crate::design::DesignLoop::step_screened`] when `screen` is `Some`.
@@ -452,7 +459,19 @@ impl Sferlazza2021 {
         } else {
             balanced_plant(&rr, &scales).map_err(invalid_input)?
         };
-        let d = match design_screened(&balanced, &self.design, screen) {
+        // In the window search, the Proposition 1 screen (a necessary condition, never what
+        // certifies) runs on at most SEARCH_DETECTABILITY_TUPLES grid tuples plus its aliasing
+        // tuples: 26 points per axis are 26^N tuples per probe (4.6·10⁵ for N = 4, seconds).
+        let mut options = self.design.clone();
+        if screen.is_some()
+            && let Some(det) = &mut options.detectability
+        {
+            let per_axis = (SEARCH_DETECTABILITY_TUPLES as f64)
+                .powf(1.0 / balanced.num_sensors() as f64)
+                .floor() as usize;
+            det.points_per_axis = det.points_per_axis.min(per_axis.max(2));
+        }
+        let d = match design_screened(&balanced, &options, screen) {
             Ok(d) => d,
             Err(e) => {
                 let mut r =

@@ -189,3 +189,26 @@ fn verify_own_spoiled_and_bad_input() {
         Err(MethodError::InvalidInput { .. })
     ));
 }
+
+/// A sensor that measures the whole state (`m_σ = n`, no kernel): (44) is `P_Γ ≻ 0`, proved on
+/// one piece per window; a periodic window is one point.
+#[test]
+fn full_state_sensor_and_periodic_window_are_proved() {
+    let plant = Plant::linear(mat![[-1.0]].as_ref(), None, mat![[1.0]].as_ref()).unwrap();
+    let m = Sferlazza2021::default();
+    for sampling in [
+        Sampling::Synchronous(win(0.1, 1.0)),
+        Sampling::Synchronous(SamplingWindow::periodic(0.5).unwrap()),
+    ] {
+        let r = designed(&plant, &sampling);
+        let p = prove_within(&m, &plant, &r, &ProofOptions::default()).unwrap();
+        assert_eq!(p.status, ProofStatus::Proved, "{}", p.message);
+    }
+    let (plant, _) = oscillator();
+    let periodic = SamplingWindow::periodic(0.2).unwrap();
+    let sampling = Sampling::RoundRobin(vec![periodic, periodic]);
+    let r = designed(&plant, &sampling);
+    let p = prove_within(&m, &plant, &r, &ProofOptions::default()).unwrap();
+    assert_eq!(p.status, ProofStatus::Proved, "{}", p.message);
+    assert_eq!(p.subintervals, 2);
+}
