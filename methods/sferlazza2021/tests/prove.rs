@@ -80,8 +80,10 @@ fn paper_example_design_is_proved() {
         p.message
     );
     assert_eq!(p.status, ProofStatus::Proved, "{}", p.message);
-    let lower = p.margin_lower_bound.unwrap();
-    assert!(lower > 0.0 && lower <= r.margin.as_ref().unwrap().value * (1.0 + 1e-9));
+    // The proof runs in the user's coordinates, the design's margin is that of the balanced
+    // ones: only the sign is comparable.
+    assert!(p.margin_lower_bound.unwrap() > 0.0);
+    assert!(p.seconds <= (10.0 * design_s).max(2.0), "{} s", p.seconds);
 }
 
 /// A small design is proved too, and its proof is not slower than a few designs.
