@@ -320,13 +320,31 @@ impl DesignLoop {
     /// # Errors
     /// Infeasible or failed SDP, a grid above the cap, a stalled refinement.
     pub fn step(&mut self) -> Result<bool, Error> {
+        self.step_screened(None)
+    }
+
+    /// [`DesignLoop::step`] with a cheap screen first: the synthesis' `P_σ` is validated on a
+    /// coarse uniform grid of at most `coarse_points` points per window (never finer than the
+    /// grid of the policy). If some sensor fails there at a point τ̄ not yet in its `T_σ`, the
+    /// coarse worst points (50) are added and the step ends, not passed, without the full grid.
+    /// Otherwise (every sensor passes the screen, or a coarse worst point is already in `T_σ`)
+    /// the step validates the same `P_σ` on the full grid of the policy exactly as
+    /// [`DesignLoop::step`] does; so a step reports `true` only after the full validation (48)
+    /// on the (49) grid. The screen saves the full grid on every iteration whose `P_σ` fails
+    /// on the coarse grid (the window search runs many such iterations); it changes which τ̄
+    /// are added, hence the iterates, but not the acceptance test.
+    ///
+    /// # Errors
+    /// As [`DesignLoop::step`].
+    pub fn step_screened(&mut self, coarse_points: Option<usize>) -> Result<bool, Error> {
         let mu = self.settings.mu;
         let points = self.synthesis.points().to_vec();
         let t0 = Instant::now();
         let res = self.synthesis.solve()?;
         let sdp_time = t0.elapsed();
         let t1 = Instant::now();
-        let mut sensors = Vec::with_capacity(self.plant.num_sensors());
+        let mut grids = Vec::with_capacity(self.plant.num_sensors());
+        let mut families = Vec::with_capacity(self.plant.num_sensors());
         for s in 0..self.plant.num_sensors() {
             let spacing = grid_spacing(
                 &self.plant,
@@ -349,23 +367,61 @@ impl DesignLoop {
                 },
                 other => other,
             })?;
-            let fam = XiFamily::new(&self.plant, &res.p, s)?;
-            sensors.push(fam.validate_grid(grid, mu, &self.settings.validation)?);
+            grids.push(grid);
+            families.push(XiFamily::new(&self.plant, &res.p, s)?);
         }
+        let validate = |grids: &[UniformGrid]| -> Result<Vec<SensorValidation>, Error> {
+            grids
+                .iter()
+                .zip(&families)
+                .map(|(g, f)| f.validate_grid(*g, mu, &self.settings.validation))
+                .collect()
+        };
+        let stalled = |v: &SensorValidation| {
+            let tol = 0.5 * v.spacing.max(f64::EPSILON * v.argmin_tau.abs());
+            points[v.sigma]
+                .iter()
+                .any(|&t| (t - v.argmin_tau).abs() <= tol)
+        };
+        let mut screened = None;
+        if let Some(k) = coarse_points {
+            let coarse: Vec<UniformGrid> = grids
+                .iter()
+                .zip(self.plant.sensors())
+                .map(|(g, sensor)| {
+                    let w = sensor.window();
+                    let h = (w.t2() - w.t1()) / (k.max(2) - 1) as f64;
+                    if g.points <= k || !(h > g.spacing) {
+                        Ok(*g)
+                    } else {
+                        UniformGrid::covering(w, h, self.settings.validation.max_points)
+                    }
+                })
+                .collect::<Result<_, _>>()?;
+            if coarse != grids {
+                let v = validate(&coarse)?;
+                let failing: Vec<&SensorValidation> = v.iter().filter(|v| !v.passed()).collect();
+                if !failing.is_empty() && !failing.iter().any(|v| stalled(v)) {
+                    screened = Some(v);
+                }
+            }
+        }
+        let sensors = match screened {
+            Some(v) => v,
+            None => validate(&grids)?,
+        };
         let validation_time = t1.elapsed();
         let mut added = vec![None; sensors.len()];
         for v in sensors.iter().filter(|v| !v.passed()) {
-            let s = v.sigma;
-            let tol = 0.5 * v.spacing.max(f64::EPSILON * v.argmin_tau.abs());
-            if points[s].iter().any(|&t| (t - v.argmin_tau).abs() <= tol) {
+            if stalled(v) {
                 return Err(Error::Stalled {
-                    sigma: s + 1,
+                    sigma: v.sigma + 1,
                     tau: v.argmin_tau,
                     lambda: v.min_eigenvalue,
                     mu,
                 });
             }
-            added[s] = Some(v.argmin_tau);
+            added[v.sigma] = Some(v.argmin_tau);
         }
         for (s, t) in added.iter().enumerate() {
             if let Some(t) = t {
@@ -418,9 +474,23 @@ impl DesignLoop {
 /// # Errors
 /// See [`DesignLoop::new`] and [`DesignLoop::step`]; [`Error::NotConverged`] after `max_iterations`.
 pub fn design(plant: &RoundRobinPlant, settings: &DesignOptions) -> Result<Design, Error> {
+    design_screened(plant, settings, None)
+}
+
+/// [`design()`] with the coarse screen of [`DesignLoop::step_screened`] in every iteration
+/// (`None`: exactly [`design()`]). The design it returns passed the same full validation (48)
+/// on the grid of the policy as one of [`design()`]; its `P_σ` may differ (other points τ̄).
+///
+/// # Errors
+/// As [`design()`].
+pub fn design_screened(
+    plant: &RoundRobinPlant,
+    settings: &DesignOptions,
+    coarse_points: Option<usize>,
+) -> Result<Design, Error> {
     let mut lp = DesignLoop::new(plant, settings)?;
     for _ in 0..settings.max_iterations {
-        if lp.step()? {
+        if lp.step_screened(coarse_points)? {
             return lp.finish();
         }
     }

@@ -22,6 +22,9 @@ pub enum Error {
     /// An interval helper of `sporadic-embed` rejected a window.
     #[error("window: {0}")]
     Interval(#[from] sporadic_embed::EmbedError),
+    /// A rigorous interval kernel of `sporadic-interval` failed (the proof of [`crate::prove`]).
+    #[error("interval arithmetic: {0}")]
+    Enclosure(#[from] sporadic_interval::IntervalError),
     /// Writing a figure or a report failed.
     #[error("I/O: {0}")]
     Io(#[from] std::io::Error),

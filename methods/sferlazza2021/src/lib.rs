@@ -48,6 +48,7 @@
 //! * [`iss`]: the constants of the proof of Theorem 3;
 //! * [`simulation`]: the error dynamics (53) and the Lyapunov function (30) along them;
 //! * [`example`]: the quarter-car suspension of §6;
+//! * [`prove`]: the rigorous proof of (44) over every τ of the windows (interval arithmetic);
 //! * [`method`]: the [`ObserverMethod`] implementation.
 //!
 //! Corrections of the printed paper (each documented where it applies): the window convention of
@@ -66,11 +67,14 @@ pub mod jitter_free;
 pub mod method;
 pub mod normalise;
 pub mod plant;
+pub mod prove;
 pub mod simulation;
 pub mod synthesis;
 pub mod validation;
 
-pub use design::{Design, DesignLoop, DesignOptions, GridMinimum, IterationRecord, design};
+pub use design::{
+    Design, DesignLoop, DesignOptions, GridMinimum, IterationRecord, design, design_screened,
+};
 pub use detectability::{DetectabilityOptions, DetectabilityReport, PbhCheck};
 pub use error::Error;
 pub use example::QuarterCar;

@@ -21,18 +21,23 @@ use std::time::Instant;
 use faer::Mat;
 use sporadic_linalg::{InputError, LinalgError};
 use sporadic_model::{
-    Check, DesignReport, Gain, Margin, MethodError, MethodOptions, NamedMatrix, NotApplicable,
-    ObserverMethod, Outputs, Plant, Reason, Sampling, SamplingScenario, SamplingWindow, Scenario,
-    SimulationReport, Trajectory, check_simulatable, significant,
+    Check, DesignReport, Gain, Margin, MaxIntervalReport, MethodError, MethodOptions, NamedMatrix,
+    NotApplicable, ObserverMethod, Outputs, Plant, Probe, Proof, ProofOptions, Reason, Sampling,
+    SamplingScenario, SamplingWindow, Scenario, SimulationReport, Trajectory, check_simulatable,
+    largest_window_with, significant,
 };
 
-use crate::design::{Design, DesignOptions, design};
+use crate::design::{Design, DesignOptions, design_screened};
 use crate::error::{Error, check_at_least};
+use crate::exponential_bound::exponential_bound;
 use crate::gain::GainSchedule;
+use crate::gain::check_sym;
 use crate::normalise::balanced_plant;
 use crate::plant::{RoundRobinPlant, window_grid};
+use crate::prove::{GAIN_TOLERANCE, gain_mismatch, prove_design};
 use crate::simulation::{SimulationOptions, simulate_error};
 use crate::validation::{GridPolicy, XiFamily};
+use crate::validation::{UniformGrid, grid_spacing};
 use sporadic_linalg::balance::{balancing_scales, unbalance_form, unbalance_gain};
 
 const ID: &str = "sferlazza2021";
@@ -154,7 +159,9 @@ fn verdict(e: Error) -> Result<Reason, MethodError> {
         Error::NotConverged { .. } | Error::GridTooLarge { .. } | Error::Interrupted { .. } => {
             Reason::BudgetExhausted { message }
         }
-        Error::Numerical(_) | Error::Lmi(_) => Reason::NumericalFailure { message },
+        Error::Numerical(_) | Error::Lmi(_) | Error::Enclosure(_) => {
+            Reason::NumericalFailure { message }
+        }
         Error::Linalg(LinalgError::Input(_)) => return Err(invalid(e)),
         Error::Linalg(_) => Reason::NumericalFailure { message },
         Error::Sim(_) | Error::Io(_) => {
@@ -237,6 +244,174 @@ impl ObserverMethod for Sferlazza2021 {
         sampling: &Sampling,
         _options: &MethodOptions,
     ) -> Result<DesignReport, MethodError> {
+        self.design_report(plant, sampling, None)
+    }
+
+    /// The largest `T2` by [`sporadic_model::largest_window_with`], whose probe is the design
+    /// with the coarse screen of [`crate::design::DesignLoop::step_screened`] (at most
+    /// [`SEARCH_SCREEN_POINTS`] points per window): an iteration whose `P_σ` fails on the
+    /// coarse grid skips the full grid (49), whose size grows with p* near the largest
+    /// window. The Proposition 1 screen of a probe (a necessary condition) is coarser, at most
+    /// [`SEARCH_DETECTABILITY_TUPLES`] grid tuples plus the aliasing tuples (its check in the
+    /// report says how many). Every certified probe, the reported design included, passed the
+    /// full validation (48) on the (49) grid and every other check of a design.
+    fn largest_window(
+        &self,
+        plant: &Plant,
+        sampling: &Sampling,
+        limit: f64,
+        options: &MethodOptions,
+        progress: &mut dyn FnMut(&Probe),
+    ) -> Result<MaxIntervalReport, MethodError> {
+        largest_window_with(
+            self,
+            plant,
+            sampling,
+            limit,
+            &options.search,
+            options,
+            progress,
+            &mut |s| self.design_report(plant, s, Some(SEARCH_SCREEN_POINTS)),
+        )
+    }
+
+    /// Proves (44) for every `τ` of every window in interval arithmetic ([`crate::prove`]),
+    /// after checking that the report's gains are (45) of its certificate.
+    fn prove(
+        &self,
+        plant: &Plant,
+        design: &DesignReport,
+        options: &ProofOptions,
+    ) -> Result<Proof, MethodError> {
+        let (rr, ps) = design_data(plant, design)?;
+        prove_design(&rr, &ps, &design.gains, options).map_err(crate_error)
+    }
+
+    /// Checks given gains and Lyapunov matrices: the certificate `P_1, …, P_N` (scaled so that
+    /// `I ⪯ P_σ`, as in (47)) must pass the validation (48) at μ on the grid (49) of each window
+    /// (Step 1 run for β, γ), and the gains must be (45) of it at every listed `τ`. No
+    /// balancing: the check runs in the coordinates given.
+    fn verify(
+        &self,
+        plant: &Plant,
+        sampling: &Sampling,
+        gains: &[Gain],
+        certificate: &[NamedMatrix],
+        _options: &MethodOptions,
+    ) -> Result<DesignReport, MethodError> {
+        let start = Instant::now();
+        if let Err(na) = self.applies(plant, sampling) {
+            return Ok(DesignReport::without_design(
+                self,
+                plant.name(),
+                Some(sampling),
+                na.reason,
+            ));
+        }
+        self.validate().map_err(invalid_input)?;
+        let rr = Self::round_robin_plant(plant, sampling).map_err(invalid_input)?;
+        let ps = certificate_of(&rr, certificate)?;
+        let mut report = match self.verify_certificate(plant, sampling, &rr, &ps, gains) {
+            Ok(r) => r,
+            Err(e @ (Error::Input(_) | Error::InvalidArgument(_))) => {
+                return Err(invalid_input(e));
+            }
+            Err(e) => DesignReport::without_design(self, plant.name(), Some(sampling), verdict(e)?),
+        };
+        report.seconds = start.elapsed().as_secs_f64();
+        Ok(report)
+    }
+
+    fn simulate(
+        &self,
+        plant: &Plant,
+        design: &DesignReport,
+        scenario: &Scenario,
+    ) -> Result<Trajectory, MethodError> {
+        self.simulate_design(plant, design, scenario)
+    }
+}
+
+/// A crate error of [`ObserverMethod::prove`]: bad input, or a failing kernel.
+fn crate_error(e: Error) -> MethodError {
+    match e {
+        Error::Input(_) | Error::InvalidArgument(_) | Error::NoSuchSensor { .. } => {
+            invalid_input(e)
+        }
+        e => MethodError::Numerical {
+            method: ID,
+            source: Box::new(e),
+        },
+    }
+}
+
+/// The sampling of a report (its window, or one window per sensor).
+fn report_sampling(design: &DesignReport) -> Result<Sampling, MethodError> {
+    match (&design.window, &design.windows) {
+        (Some(w), _) => Ok(Sampling::Synchronous(*w)),
+        (None, Some(ws)) => Ok(Sampling::RoundRobin(ws.clone())),
+        (None, None) => Err(invalid_input(Error::invalid(
+            "the report has no sampling window",
+        ))),
+    }
+}
+
+/// `P_1, …, P_N` from a certificate (each `n × n`, finite, symmetric).
+fn certificate_of(
+    rr: &RoundRobinPlant,
+    certificate: &[NamedMatrix],
+) -> Result<Vec<Mat<f64>>, MethodError> {
+    (1..=rr.num_sensors())
+        .map(|s| {
+            let name = format!("P_{s}");
+            let m = certificate
+                .iter()
+                .find(|m| m.name == name)
+                .map(NamedMatrix::to_mat)
+                .ok_or_else(|| {
+                    invalid_input(Error::invalid(format!("the certificate has no {name}")))
+                })?;
+            check_sym(m.as_ref(), rr.n(), &name).map_err(invalid_input)?;
+            Ok(m)
+        })
+        .collect()
+}
+
+/// The round-robin plant and the certificate of a design report of this method.
+fn design_data(
+    plant: &Plant,
+    design: &DesignReport,
+) -> Result<(RoundRobinPlant, Vec<Mat<f64>>), MethodError> {
+    if design.method != ID {
+        return Err(invalid_input(Error::invalid(format!(
+            "the report is a design of {}, not of {ID}",
+            design.method
+        ))));
+    }
+    let rr = Sferlazza2021::round_robin_plant(plant, &report_sampling(design)?)
+        .map_err(invalid_input)?;
+    let ps = certificate_of(&rr, &design.certificate)?;
+    Ok((rr, ps))
+}
+
+/// Points per window of the coarse screen in the window search
+/// ([`Sferlazza2021::largest_window`](ObserverMethod::largest_window)).
+pub const SEARCH_SCREEN_POINTS: usize = 2048;
+
+/// Largest number of grid tuples of the Proposition 1 screen in a probe of the window search
+/// (the aliasing tuples come on top); a design's own screen uses
+/// [`crate::DetectabilityOptions::default`].
+pub const SEARCH_DETECTABILITY_TUPLES: usize = 4096;
+
+impl Sferlazza2021 {
+    /// [`ObserverMethod::design`], with the coarse screen of
+    /// [`crate::design::DesignLoop::step_screened`] when `screen` is `Some`.
+    fn design_report(
+        &self,
+        plant: &Plant,
+        sampling: &Sampling,
+        screen: Option<usize>,
+    ) -> Result<DesignReport, MethodError> {
         if let Err(na) = self.applies(plant, sampling) {
             return Ok(DesignReport::without_design(
                 self,
@@ -284,7 +459,19 @@ impl ObserverMethod for Sferlazza2021 {
         } else {
             balanced_plant(&rr, &scales).map_err(invalid_input)?
         };
-        let d = match design(&balanced, &self.design) {
+        // In the window search, the Proposition 1 screen (a necessary condition, never what
+        // certifies) runs on at most SEARCH_DETECTABILITY_TUPLES grid tuples plus its aliasing
+        // tuples: 26 points per axis are 26^N tuples per probe (4.6·10⁵ for N = 4, seconds).
+        let mut options = self.design.clone();
+        if screen.is_some()
+            && let Some(det) = &mut options.detectability
+        {
+            let per_axis = (SEARCH_DETECTABILITY_TUPLES as f64)
+                .powf(1.0 / balanced.num_sensors() as f64)
+                .floor() as usize;
+            det.points_per_axis = det.points_per_axis.min(per_axis.max(2));
+        }
+        let d = match design_screened(&balanced, &options, screen) {
             Ok(d) => d,
             Err(e) => {
                 let mut r =
@@ -301,7 +488,8 @@ impl ObserverMethod for Sferlazza2021 {
         Ok(report)
     }
 
-    fn simulate(
+    /// [`ObserverMethod::simulate`].
+    fn simulate_design(
         &self,
         plant: &Plant,
         design: &DesignReport,
@@ -417,6 +605,133 @@ impl ObserverMethod for Sferlazza2021 {
 }
 
 impl Sferlazza2021 {
+    /// The report of [`ObserverMethod::verify`] for the certificate `ps` (in the coordinates of
+    /// `rr`) and the given `gains`.
+    fn verify_certificate(
+        &self,
+        plant: &Plant,
+        sampling: &Sampling,
+        rr: &RoundRobinPlant,
+        ps: &[Mat<f64>],
+        gains: &[Gain],
+    ) -> Result<DesignReport, Error> {
+        let mu = self.design.mu;
+        let failed = |tau: Option<f64>, message: String| {
+            DesignReport::without_design(
+                self,
+                plant.name(),
+                Some(sampling),
+                Reason::VerificationFailed { tau, message },
+            )
+        };
+        // Scale to I ⪯ P_σ ⪯ p*I, the normalisation of (47) under which μ and (49) apply.
+        let mut lo = f64::INFINITY;
+        let mut hi = 0.0f64;
+        for p in ps {
+            lo = lo.min(sporadic_linalg::min_eigenvalue(p.as_ref())?);
+            hi = hi.max(sporadic_linalg::max_eigenvalue(p.as_ref())?);
+        }
+        if !(lo > 0.0) {
+            return Ok(failed(
+                None,
+                format!(
+                    "the certificate is not positive definite (smallest eigenvalue {})",
+                    significant(lo)
+                ),
+            ));
+        }
+        if let Some((s, tau, _, dev)) = gain_mismatch(rr, ps, gains)? {
+            return Ok(failed(
+                Some(tau),
+                format!(
+                    "the given gain K_{}(τ) at τ = {} is not (45) of the certificate P_{} \
+                    (relative deviation {}): the certificate does not certify it",
+                    s + 1,
+                    significant(tau),
+                    s + 1,
+                    significant(dev)
+                ),
+            ));
+        }
+        let normalised: Vec<Mat<f64>> = ps.iter().map(|p| p * (1.0 / lo)).collect();
+        let p_star = hi / lo;
+        let bound = exponential_bound(&rr.a().to_owned(), rr.t_max(), &self.design.bound)?;
+        let mut report = DesignReport::certified(self, plant.name(), sampling);
+        report.gains = gains.to_vec();
+        report.certificate = ps
+            .iter()
+            .enumerate()
+            .map(|(s, p)| {
+                NamedMatrix::new(
+                    format!("P_{}", s + 1),
+                    p.as_ref(),
+                    format!("Lyapunov matrix of sensor {} in (44), as given", s + 1),
+                )
+            })
+            .collect();
+        let mut margin = f64::INFINITY;
+        for (s, sensor) in rr.sensors().iter().enumerate() {
+            let spacing = grid_spacing(rr, s, self.design.grid, mu, p_star, &bound.bound)?;
+            let grid =
+                UniformGrid::covering(sensor.window(), spacing, self.design.validation.max_points)?;
+            let fam = XiFamily::new(rr, &normalised, s)?;
+            let v = fam.validate_grid(grid, mu, &self.design.validation)?;
+            if !v.passed() {
+                return Ok(failed(
+                    Some(v.argmin_tau),
+                    format!(
+                        "(48) fails for sensor {}: λ_min(Ξ_{}(τ)) = {} ≤ μ = {} at τ = {} (grid of \
+                        {} points, spacing {}; P_σ scaled to I ⪯ P_σ)",
+                        s + 1,
+                        s + 1,
+                        significant(v.min_eigenvalue),
+                        significant(mu),
+                        significant(v.argmin_tau),
+                        grid.points,
+                        significant(grid.spacing)
+                    ),
+                ));
+            }
+            margin = margin.min(v.min_eigenvalue / p_star);
+            report.checks.push(Check {
+                what: format!(
+                    "(48): λ_min(Ξ_{}(τ)) > μ = {} on the window {} of sensor {}",
+                    s + 1,
+                    significant(mu),
+                    sensor.window(),
+                    s + 1
+                ),
+                how: format!(
+                    "uniform grid of {} points, spacing {} (the design's grid policy, p* = {}), \
+                    the given P_σ scaled to I ⪯ P_σ; value: λ_min on a subsample",
+                    grid.points,
+                    significant(grid.spacing),
+                    significant(p_star)
+                ),
+                value: Some(v.min_eigenvalue),
+                passed: true,
+            });
+        }
+        report.checks.push(Check {
+            what: "the given gains are (45) of the given P_σ at every listed τ".into(),
+            how: format!("K_σ(τ) recomputed from P_σ, relative deviation ≤ {GAIN_TOLERANCE}"),
+            value: None,
+            passed: true,
+        });
+        report.margin = Some(Margin {
+            value: margin,
+            definition: "min over the sensors of λ_min(Ξ_σ(τ)) on a subsample of the validation \
+            grid (48)–(49), with the P_σ scaled to max_σ λ_max(P_σ) = 1"
+                .into(),
+        });
+        report.notes.push(
+            "verification of given gains and certificate (no design): Step 1, the validation \
+            (48) on the grid (49) and the gain law (45), in the coordinates given"
+                .into(),
+        );
+        Ok(report)
+    }
+
     /// The certified report of a successful design `d`.
     ///
     /// `d` was designed in the balanced coordinates `x_b = D⁻¹x`, `D = diag(scales)` (powers of 2,

@@ -113,6 +113,10 @@ pub fn grid_spacing(
         )));
     }
     let sensor = plant.sensor(sigma)?;
+    if sensor.c_perp().ncols() == 0 {
+        // m_σ = n: Ξ_σ(τ) = P_Γ does not depend on τ; one point is exact.
+        return Ok(f64::MAX);
+    }
     let growth = bound.at(plant.t_max());
     let spacing = match policy {
         GridPolicy::Paper => 2.0 * mu / (p_norm * spectral_norm(plant.a())? * growth),
