@@ -258,3 +258,21 @@ fn symmetrized_contains_the_symmetric_members_of_a_product() {
     assert!(s.contains_point(exact.as_ref()));
     assert!(IntervalMatrix::zeros(2, 3).symmetrized().is_err());
 }
+
+#[test]
+fn verified_inverse_contains_the_inverse_and_refuses_singular_members() {
+    let a = faer::mat![[4.0, 1.0, 0.0], [1.0, 3.0, 1.0], [0.0, 1.0, 2.0]];
+    let x = IntervalMatrix::from_point(a.as_ref()).unwrap();
+    let inv = x.verified_inverse().unwrap().expect("nonsingular");
+    let f = a.partial_piv_lu().inverse();
+    assert!(inv.contains_point(f.as_ref()));
+    assert!(inv.max_rad() < 1e-14);
+    // Exactly: A·A⁻¹ = I must be in the product of the enclosures.
+    let prod = x.checked_mul(&inv).unwrap();
+    assert!(prod.contains_point(Mat::<f64>::identity(3, 3).as_ref()));
+    // A radius that admits a singular member: not proven.
+    let s = faer::mat![[1.0, 1.0], [1.0, 1.0 + 1e-3]];
+    let wide = IntervalMatrix::from_mid_rad(s, Mat::from_fn(2, 2, |_, _| 1e-3)).unwrap();
+    assert!(wide.verified_inverse().unwrap().is_none());
+    assert!(IntervalMatrix::zeros(2, 3).verified_inverse().is_err());
+}

@@ -47,7 +47,6 @@ use std::collections::HashMap;
 use std::time::Instant;
 
 use faer::Mat;
-use faer::linalg::solvers::DenseSolveCore;
 use sporadic_interval::{
     EnclosureOptions, Interval, IntervalError, IntervalMatrix, Verdict, expm_enclosure,
     is_verified_positive_definite, lambda_max_enclosure,
@@ -87,41 +86,13 @@ fn point(m: &Mat<f64>) -> Result<IntervalMatrix, IntervalError> {
     IntervalMatrix::from_point(m.as_ref())
 }
 
-/// A verified enclosure of the inverse of the square interval matrix `m`: with `R ≈ mid(m)⁻¹`
-/// and `E = I − R·m`, `‖E‖_∞ ≤ e < 1` gives `m⁻¹ = Σ_k E^k R ∈ R ± ‖R‖_∞ e/(1 − e)` entrywise.
-/// `None` when `‖E‖_∞` is not proven below 1 (e.g. `m` contains a singular matrix).
-fn verified_inverse(m: &IntervalMatrix) -> Result<Option<IntervalMatrix>, IntervalError> {
-    let k = m.nrows();
-    let r = m.mid().to_owned().partial_piv_lu().inverse();
-    if !r.norm_max().is_finite() {
-        return Ok(None);
-    }
-    let ri = point(&r)?;
-    let e = IntervalMatrix::identity(k)
-        .checked_sub(&ri.checked_mul(m)?)?
-        .norm_inf_up();
-    if !(e < 1.0) {
-        return Ok(None);
-    }
-    let delta = (Interval::point(ri.norm_inf_up())? * Interval::point(e)?
-        / (Interval::point(1.0)? - Interval::point(e)?))
-    .hi();
-    if !delta.is_finite() {
-        return Ok(None);
-    }
-    Ok(Some(IntervalMatrix::from_mid_rad(
-        r,
-        Mat::from_fn(k, k, |_, _| delta),
-    )?))
-}
-
 impl SensorCondition {
     fn new(plant: &RoundRobinPlant, p: &[Mat<f64>], sigma: usize) -> Result<Self, Error> {
         let sensor = plant.sensor(sigma)?;
         let c = point(&sensor.c().to_owned())?;
         let c_perp = point(&sensor.c_perp().to_owned())?;
         let cct = c.checked_mul(&c.transpose())?;
-        let inv = verified_inverse(&cct)?.ok_or_else(|| {
+        let inv = cct.verified_inverse()?.ok_or_else(|| {
             Error::invalid(format!(
                 "C_{} C_{}ᵀ is not proven nonsingular: the sensor's output matrix has no verified \
                  full row rank",
