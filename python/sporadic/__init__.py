@@ -28,6 +28,7 @@ from ._errors import (
     SdpError,
     SimulationUnavailableError,
     SporadicError,
+    VerificationUnavailableError,
 )
 from ._plant import Plant, _call
 from ._reports import CompareReport, DesignReport, MaxIntervalReport, Proof
@@ -37,7 +38,7 @@ __all__ = [
     "Plant", "design", "verify", "max_interval", "compare", "simulate", "expm", "methods", "sdp",
     "DesignReport", "Proof", "MaxIntervalReport", "CompareReport", "Simulation",
     "SporadicError", "PlantError", "InvalidInputError", "NumericalError", "NotCertifiedError",
-    "SimulationUnavailableError", "SdpError", "DEFAULT_TIME_LIMIT",
+    "SimulationUnavailableError", "VerificationUnavailableError", "SdpError", "DEFAULT_TIME_LIMIT",
 ]
 __version__ = "0.1.0"
 
@@ -157,7 +158,8 @@ def verify(plant: PlantLike, method: str, gains: Any, certificate: Any = None,
 
     The report always has a ``proof``: with ``prove=True`` the rigorous proof; without it
     ``inconclusive`` ("no proof was asked for") when the gains pass the floating-point check,
-    ``not_proved`` when they fail it.
+    ``not_proved`` when they fail it. Raises :class:`VerificationUnavailableError` for a method
+    without a check of given gains (sferlazza2021, andrieu2014), as the CLI exits with an error.
     """
     _proof_args(prove, proof_pieces)
     p = _plant(plant)

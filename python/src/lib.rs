@@ -76,6 +76,7 @@ fn method_error(e: MethodError) -> PyErr {
         MethodError::InvalidInput { .. } => "invalid_input",
         MethodError::Numerical { .. } => "numerical",
         MethodError::SimulationUnavailable { .. } => "simulation_unavailable",
+        MethodError::VerificationUnavailable { .. } => "verification_unavailable",
         #[allow(unreachable_patterns)]
         _ => "method_error",
     };

@@ -62,12 +62,16 @@ def test_a_method_without_prover_is_inconclusive():
     assert "Proof(" in repr(r.proof)
 
 
-@pytest.mark.parametrize("method", ["ferrante2016", "sferlazza2021", "etienne2017", "rabehi2021"])
+@pytest.mark.parametrize("method", METHODS)
 @pytest.mark.parametrize("path", EXAMPLES, ids=IDS)
 def test_verify_a_design_report_equals_cli_json(cli, tmp_path, path, method):
     design = sporadic.design(path, method=method)
     if not design.gains:
         pytest.skip(f"{method} has no gains on {path.stem}")
+    if method in ("sferlazza2021", "andrieu2014"):  # no check of given gains: the CLI exits with an error
+        with pytest.raises(sporadic.VerificationUnavailableError, match="not available"):
+            sporadic.verify(path, method, design)
+        return
     gfile = tmp_path / "design.json"
     gfile.write_text(design.to_json())
     for prove in (False, True):
@@ -122,7 +126,7 @@ def test_verify_on_another_window_and_a_failing_gain(cli, tmp_path):
     (dict(gains={"L": "abc"}), sporadic.InvalidInputError, "L"),
     (dict(gains={"L": np.zeros(3)}), sporadic.InvalidInputError, "2-D"),
     (dict(gains={}), sporadic.InvalidInputError, "no gains"),
-    (dict(gains={"L": np.zeros((5, 7))}), sporadic.SporadicError, ""),
+    (dict(gains={"L": np.zeros((5, 7))}), sporadic.SporadicError, None),
     (dict(gains={"L": np.zeros((3, 1))}, window=(0.5, 0.1)), sporadic.InvalidInputError, "window"),
     (dict(gains={"L": np.zeros((3, 1))}, window=(0.1,)), sporadic.InvalidInputError, "window"),
     (dict(gains={"L": np.zeros((3, 1))}, window="ab"), sporadic.InvalidInputError, "window"),
@@ -222,13 +226,14 @@ def test_ctrl_c_interrupts_a_window_search():
     assert sporadic.design(DC).certified
 
 
-def test_ctrl_c_interrupts_a_proof():
-    # the proof's adaptive subdivision checks the budget between pieces (model/src/proof.rs)
-    path = ROOT / "examples" / "etienne2017-flexible-joint.toml"
+def test_ctrl_c_interrupts_designs_with_proofs():
+    # design_within and the proof's adaptive subdivision check the budget (model/src/method.rs,
+    # model/src/proof.rs), whose cancel flag the signal check raises
+    path = ROOT / "examples" / "ferrante2016-example2.toml"
 
-    def long_proof():
-        for _ in range(20):
-            sporadic.design(path, "etienne2017", prove=True, time_limit=None, proof_pieces=10**6)
+    def designs_and_proofs():
+        for _ in range(30):
+            sporadic.design(path, "ferrante2016", prove=True, time_limit=None, proof_pieces=10**6)
 
-    assert _interrupted(long_proof) < 5.0
+    assert _interrupted(designs_and_proofs, after=0.5) < 5.0
     assert sporadic.design(DC).certified
