@@ -59,7 +59,7 @@ print(f"largest certified T2 with T1 = {mi.t1}: {mi.largest_certified_t2}")
 
 # %% Simulate the certified observer with random intervals in the window, from x(0) = x0 (the
 # plant runs without input; x̂(0) = x0 − the default initial error).
-sim = sporadic.simulate(plant, method="ferrante2016", horizon=1.0, seed=1, x0=[1.0, 0.0, 0.0])
+sim = sporadic.simulate(plant, method="ferrante2016", horizon=1.0, seed=1, x0=[0.0, 1.0, 0.0])
 print(f"{len(sim.jumps)} samples; |x − x̂| from {sim.norm[0]:.3g} to {sim.norm[-1]:.3g}")
 
 try:
