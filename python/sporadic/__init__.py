@@ -8,6 +8,13 @@ program, numpy arrays in and out, reports equal to the CLI's ``--json`` output.
 >>> report = sporadic.design(plant, method="ferrante2016")
 >>> report.status, report.gains["L"].shape        # doctest: +SKIP
 ('certified', (2, 1))
+>>> sporadic.design(plant, prove=True).proof.status             # doctest: +SKIP
+'proved'
+>>> sporadic.verify(plant, "ferrante2016", {"L": report.gains["L"]}).status   # doctest: +SKIP
+'certified'
+
+``sporadic.sdp`` is the SDP solver; ``import sporadic.cvxpy`` registers it with CVXPY
+(``problem.solve(solver="SPORADIC")``) when cvxpy is installed.
 """
 
 from __future__ import annotations
