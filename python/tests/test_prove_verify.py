@@ -77,8 +77,7 @@ def test_verify_a_design_report_equals_cli_json(cli, tmp_path, path, method):
         except sporadic.VerificationUnavailableError as e:
             # no check of given gains (sferlazza2021, andrieu2014): the CLI fails the same way
             assert e.kind == "verification_unavailable" and "not available" in str(e)
-            with pytest.raises(AssertionError, match="not available"):
-                cli(*args)
+            assert cli(*args, raw=True).strip() == ""  # the CLI fails too: an error, no report
             return
         expected = cli(*args)
         _same_report(got, expected)
