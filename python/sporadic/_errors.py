@@ -61,6 +61,10 @@ class SimulationUnavailableError(SporadicError):
     """The method has no simulation for this plant."""
 
 
+class VerificationUnavailableError(SporadicError):
+    """The method has no check of given gains (``verify``; e.g. sferlazza2021, andrieu2014)."""
+
+
 class SdpError(SporadicError, ValueError):
     """An SDP problem or SDPA file the solver cannot use (``kind``: ``sdpa_format``, ``io``,
     ``dimension_mismatch``, ``non_finite``, ``structure``, ...)."""
@@ -73,6 +77,7 @@ _BY_KIND = {
     "numerical": NumericalError,
     "not_certified": NotCertifiedError,
     "simulation_unavailable": SimulationUnavailableError,
+    "verification_unavailable": VerificationUnavailableError,
     # sporadic-sdp's SdpError variants
     "non_finite": SdpError,
     "structure": SdpError,

@@ -130,6 +130,18 @@ class DesignReport(_Report):
     def simulation(self) -> Optional[Dict[str, Any]]:
         return self._d.get("simulation")
 
+    @property
+    def proof(self) -> Optional["Proof"]:
+        """The rigorous proof section (``design(..., prove=True)``, ``verify``), or None."""
+        p = self._d.get("proof")
+        return None if p is None else Proof(p)
+
+    @property
+    def proved(self) -> bool:
+        """Certified and proved (the CLI's exit status 0 with ``--prove``)."""
+        p = self.proof
+        return self.certified and p is not None and p.status == "proved"
+
     def __repr__(self) -> str:
         return f"DesignReport(method={self.method!r}, status={self.status!r}, window={self.window!r}, margin={self.margin!r})"
 
@@ -206,6 +218,80 @@ class CompareReport(_Report):
     def __repr__(self) -> str:
         st = ", ".join(f"{e['method']}: {e['design']['status']}" for e in self._d["results"])
         return f"CompareReport({st})"
+
+
+class Proof:
+    """The ``proof`` section of a design report: whether the design's condition holds for
+    **every** sampling interval of the window, proven in outward-rounded interval arithmetic
+    (schema in the Rust ``sporadic_model::Proof``).
+
+    ``status`` is ``proved``, ``not_proved`` or ``inconclusive``; ``margin_lower_bound`` a
+    rigorous lower bound of the margin (``proved`` only); ``failed_on`` the piece
+    ``{condition, tau, enclosure}`` where it failed or stopped; ``message`` the result in words.
+    """
+
+    def __init__(self, d: Dict[str, Any]):
+        self._d = d
+
+    @property
+    def status(self) -> str:
+        """``proved``, ``not_proved`` or ``inconclusive``."""
+        return self._d["status"]
+
+    @property
+    def proved(self) -> bool:
+        return self.status == "proved"
+
+    @property
+    def condition(self) -> str:
+        return self._d["condition"]
+
+    @property
+    def how(self) -> str:
+        return self._d["how"]
+
+    @property
+    def subintervals(self) -> int:
+        return self._d["subintervals"]
+
+    @property
+    def margin_lower_bound(self) -> Optional[float]:
+        return self._d.get("margin_lower_bound")
+
+    @property
+    def margin_definition(self) -> str:
+        return self._d["margin_definition"]
+
+    @property
+    def failed_on(self) -> Optional[Dict[str, Any]]:
+        return self._d.get("failed_on")
+
+    @property
+    def enclosure_width(self) -> Optional[float]:
+        return self._d.get("enclosure_width")
+
+    @property
+    def message(self) -> str:
+        return self._d["message"]
+
+    @property
+    def seconds(self) -> float:
+        return self._d["seconds"]
+
+    def __getitem__(self, key: str) -> Any:
+        return self._d[key]
+
+    def to_dict(self) -> Dict[str, Any]:
+        """The section as a dict (a copy)."""
+        return json.loads(json.dumps(self._d))
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Proof) and other._d == self._d
+
+    __hash__ = None  # type: ignore[assignment]
+
+    def __repr__(self) -> str:
+        return f"Proof(status={self.status!r}, margin_lower_bound={self.margin_lower_bound!r}, subintervals={self.subintervals!r})"
 
 
 def _matrix(rows) -> np.ndarray:

@@ -24,11 +24,13 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
 use sporadic::faer::{Mat, MatRef};
-use sporadic::model::{SamplingScenario, Scenario};
+use sporadic::model::{
+    Gain, GainSchedule, NamedMatrix, Proof, ProofOptions, ProofStatus, SamplingScenario, Scenario,
+};
 use sporadic::plant_file::PlantFile;
 use sporadic::sdp::budget::{Budget, within};
 use sporadic::sdp::{BlockKind, ProblemBuilder, Settings};
-use sporadic::{MethodError, MethodOptions, methods};
+use sporadic::{MethodError, MethodOptions, SamplingWindow, methods};
 
 create_exception!(
     _native,
@@ -74,6 +76,7 @@ fn method_error(e: MethodError) -> PyErr {
         MethodError::InvalidInput { .. } => "invalid_input",
         MethodError::Numerical { .. } => "numerical",
         MethodError::SimulationUnavailable { .. } => "simulation_unavailable",
+        MethodError::VerificationUnavailable { .. } => "verification_unavailable",
         #[allow(unreachable_patterns)]
         _ => "method_error",
     };
@@ -266,20 +269,194 @@ fn method_ids() -> Vec<&'static str> {
     methods::ids()
 }
 
-/// `sporadic design FILE --method M --json` on a plant-file text: the report's JSON.
+/// The proof options of `--prove [--proof-pieces N]` with the call's time budget.
+fn proof_options(pieces: Option<usize>, o: &MethodOptions) -> PyResult<ProofOptions> {
+    let max_pieces = pieces.unwrap_or(ProofOptions::default().max_pieces);
+    if max_pieces == 0 {
+        return Err(native(
+            "invalid_input",
+            "proof_pieces must be at least 1".into(),
+            vec![],
+        ));
+    }
+    Ok(ProofOptions {
+        max_pieces,
+        time_limit: o.time_limit,
+    })
+}
+
+/// `sporadic design FILE --method M [--prove [--proof-pieces N]] --json` on a plant-file text:
+/// the report's JSON (with a `proof` section when `prove`).
 #[pyfunction]
-#[pyo3(signature = (text, path, method_id, time_limit=None))]
+#[pyo3(signature = (text, path, method_id, time_limit=None, prove=false, proof_pieces=None))]
 fn design(
     py: Python<'_>,
     text: &str,
     path: &str,
     method_id: &str,
     time_limit: Option<f64>,
+    prove: bool,
+    proof_pieces: Option<usize>,
 ) -> PyResult<String> {
     let file = plant_file(text, path)?;
     let m = method(method_id)?;
     let o = options(time_limit)?;
-    let r = interruptible(py, || methods::design(&file, m.as_ref(), &o))?;
+    let po = proof_options(proof_pieces, &o)?;
+    let r = interruptible(py, || {
+        let mut report = methods::design(&file, m.as_ref(), &o)?;
+        if prove {
+            report.proof = Some(methods::prove(&file, m.as_ref(), &report, &po)?);
+        }
+        Ok(report)
+    })?;
+    json(&r.map_err(method_error)?)
+}
+
+/// A gain or certificate matrix of a gains JSON: `name` and `rows` (as `sporadic verify`).
+fn named_rows(
+    v: &serde_json::Value,
+    what: &str,
+    k: usize,
+) -> Result<(String, Vec<Vec<f64>>), String> {
+    let name = v
+        .get("name")
+        .and_then(|n| n.as_str())
+        .ok_or_else(|| format!("{what} {k} has no string field \"name\""))?;
+    let rows: Vec<Vec<f64>> = v
+        .get("rows")
+        .cloned()
+        .ok_or_else(|| format!("{what} {name} has no field \"rows\""))
+        .and_then(|r| {
+            serde_json::from_value(r).map_err(|e| {
+                format!("{what} {name}: \"rows\" must be an array of rows of numbers: {e}")
+            })
+        })?;
+    let width = rows.first().map_or(0, Vec::len);
+    if rows.is_empty() || width == 0 || rows.iter().any(|r| r.len() != width) {
+        return Err(format!(
+            "{what} {name}: \"rows\" must be a non-empty rectangular matrix"
+        ));
+    }
+    if rows.iter().flatten().any(|x| !x.is_finite()) {
+        return Err(format!(
+            "{what} {name} has an entry that is not a finite number"
+        ));
+    }
+    Ok((name.to_string(), rows))
+}
+
+/// The gains (and certificate, if any) of a gains JSON text, with the semantics of
+/// `sporadic verify --gains FILE.json`: a design report, `{"gains": [...], "certificate":
+/// [...]}` or an array of gains.
+fn parse_gains(text: &str) -> Result<(Vec<Gain>, Vec<NamedMatrix>), String> {
+    let value: serde_json::Value =
+        serde_json::from_str(text).map_err(|e| format!("gains: not JSON: {e}"))?;
+    let (gains, certificate) = match &value {
+        serde_json::Value::Array(_) => (value.clone(), serde_json::Value::Null),
+        serde_json::Value::Object(o) => (
+            o.get("gains")
+                .cloned()
+                .ok_or("the object has no \"gains\" array")?,
+            o.get("certificate")
+                .cloned()
+                .unwrap_or(serde_json::Value::Null),
+        ),
+        _ => {
+            return Err("expected a design report, {\"gains\": [...]} or an array of gains".into());
+        }
+    };
+    let gains = gains
+        .as_array()
+        .ok_or("\"gains\" must be an array")?
+        .iter()
+        .enumerate()
+        .map(|(k, g)| {
+            let (name, rows) = named_rows(g, "gain", k)?;
+            let schedule = match g.get("schedule") {
+                None | Some(serde_json::Value::Null) => None,
+                Some(s) => Some(
+                    serde_json::from_value::<GainSchedule>(s.clone())
+                        .map_err(|e| format!("gain {name}: bad \"schedule\": {e}"))?,
+                ),
+            };
+            Ok(Gain {
+                meaning: g
+                    .get("meaning")
+                    .and_then(|m| m.as_str())
+                    .unwrap_or("given by the user")
+                    .to_string(),
+                name,
+                rows,
+                schedule,
+            })
+        })
+        .collect::<Result<Vec<_>, String>>()?;
+    if gains.is_empty() {
+        return Err("no gains given".into());
+    }
+    let certificate = match certificate {
+        serde_json::Value::Null => Vec::new(),
+        serde_json::Value::Array(items) => items
+            .iter()
+            .enumerate()
+            .map(|(k, m)| {
+                let (name, rows) = named_rows(m, "certificate matrix", k)?;
+                Ok(NamedMatrix {
+                    meaning: m
+                        .get("meaning")
+                        .and_then(|x| x.as_str())
+                        .unwrap_or("given by the user")
+                        .to_string(),
+                    name,
+                    rows,
+                })
+            })
+            .collect::<Result<Vec<_>, String>>()?,
+        _ => return Err("\"certificate\" must be an array".into()),
+    };
+    Ok((gains, certificate))
+}
+
+/// `sporadic verify FILE --method M --gains G.json [--window T1 T2] [--prove] --json`: checks
+/// the gains of `gains_json` (a design report, `{"gains": [...], "certificate": [...]}` or an
+/// array of gains) and returns the report's JSON, always with a `proof` section.
+#[pyfunction]
+#[pyo3(signature = (text, path, method_id, gains_json, window=None, prove=false, proof_pieces=None, time_limit=None))]
+fn verify(
+    py: Python<'_>,
+    text: &str,
+    path: &str,
+    method_id: &str,
+    gains_json: &str,
+    window: Option<(f64, f64)>,
+    prove: bool,
+    proof_pieces: Option<usize>,
+    time_limit: Option<f64>,
+) -> PyResult<String> {
+    let file = plant_file(text, path)?;
+    let m = method(method_id)?;
+    let o = options(time_limit)?;
+    let (gains, certificate) =
+        parse_gains(gains_json).map_err(|e| native("invalid_input", e, vec![]))?;
+    let window = window
+        .map(|(t1, t2)| {
+            SamplingWindow::new(t1, t2)
+                .map_err(|e| native("invalid_input", format!("window: {e}"), vec![]))
+        })
+        .transpose()?;
+    let po = proof_options(proof_pieces, &o)?;
+    let r = interruptible(py, || {
+        let mut report = methods::verify(&file, m.as_ref(), &gains, &certificate, window, &o)?;
+        report.proof = Some(if prove || !report.status.is_certified() {
+            methods::prove(&file, m.as_ref(), &report, &po)?
+        } else {
+            Proof::not_attempted(
+                ProofStatus::Inconclusive,
+                "no proof was asked for (--prove)",
+            )
+        });
+        Ok(report)
+    })?;
     json(&r.map_err(method_error)?)
 }
 
@@ -351,7 +528,7 @@ fn compare(
 /// Designs and simulates: (design JSON, quantity, t, j, signal names, signals, norm, summary
 /// JSON). Raises when the design is not certified or the method has no simulation.
 #[pyfunction]
-#[pyo3(signature = (text, path, method_id, horizon=None, initial_error=None, scenario="uniform", seed=1, time_limit=None))]
+#[pyo3(signature = (text, path, method_id, horizon=None, initial_error=None, scenario="uniform", seed=1, time_limit=None, x0=None))]
 fn simulate(
     py: Python<'_>,
     text: &str,
@@ -362,8 +539,28 @@ fn simulate(
     scenario: &str,
     seed: u64,
     time_limit: Option<f64>,
+    x0: Option<Vec<f64>>,
 ) -> PyResult<PyObject> {
     let file = plant_file(text, path)?;
+    let n = file.a.nrows();
+    let x0 = x0.unwrap_or_else(|| vec![0.0; n]);
+    if x0.len() != n {
+        return Err(native(
+            "invalid_input",
+            format!(
+                "x0 must have {n} entries (the plant's states), got {}",
+                x0.len()
+            ),
+            vec![],
+        ));
+    }
+    if let Some(bad) = x0.iter().find(|v| !v.is_finite()) {
+        return Err(native(
+            "invalid_input",
+            format!("x0 entries must be finite, got {bad}"),
+            vec![],
+        ));
+    }
     let m = method(method_id)?;
     let o = options(time_limit)?;
     if let Some(h) = horizon
@@ -427,6 +624,11 @@ fn simulate(
     let names: Vec<String> = run.signals.iter().map(|(n, _)| n.clone()).collect();
     let signals: Vec<Vec<f64>> = run.signals.into_iter().map(|(_, v)| v).collect();
     let summary = json(&run.report)?;
+    let x = if plant_is_linear_error(&file, method_id, signals.len()) {
+        Some(linear_flow(file.a.as_ref(), &x0, &run.t)?)
+    } else {
+        None
+    };
     Ok((
         design_json,
         run.quantity,
@@ -436,10 +638,46 @@ fn simulate(
         signals,
         run.norm,
         summary,
+        x,
     )
         .into_pyobject(py)?
         .into_any()
         .unbind())
+}
+
+/// Whether a method's simulated signals are the estimation error `x − x̂` of the plant's state
+/// under the flow `ẋ = Ax` (a linear plant without input, which does not jump): ferrante2016,
+/// sferlazza2021 and andrieu2014 on a plant without a Lipschitz nonlinearity.
+fn plant_is_linear_error(file: &PlantFile, method_id: &str, signals: usize) -> bool {
+    matches!(method_id, "ferrante2016" | "sferlazza2021" | "andrieu2014")
+        && file.lipschitz.is_none()
+        && signals == file.a.nrows()
+}
+
+/// `x(t_k) = e^{A t_k} x0` at every time (rows: states); consecutive equal times (a jump) share
+/// one exponential.
+fn linear_flow(a: MatRef<'_, f64>, x0: &[f64], t: &[f64]) -> PyResult<Vec<Vec<f64>>> {
+    let n = a.nrows();
+    let mut out = vec![Vec::with_capacity(t.len()); n];
+    let mut last: Option<(f64, Vec<f64>)> = None;
+    for &tk in t {
+        let x = match &last {
+            Some((tl, x)) if *tl == tk => x.clone(),
+            _ => {
+                let at = Mat::from_fn(n, n, |i, j| a[(i, j)] * tk);
+                let e = sporadic::linalg::expm(at.as_ref())
+                    .map_err(|e| native(&kind_of(&e), format!("x(t) = e^(At) x0: {e}"), vec![]))?;
+                (0..n)
+                    .map(|i| (0..n).map(|j| e[(i, j)] * x0[j]).sum())
+                    .collect()
+            }
+        };
+        for (i, v) in x.iter().enumerate() {
+            out[i].push(*v);
+        }
+        last = Some((tk, x));
+    }
+    Ok(out)
 }
 
 /// The matrix exponential `e^A` of the linalg kernel.
@@ -551,6 +789,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(parse_plant, m)?)?;
     m.add_function(wrap_pyfunction!(method_ids, m)?)?;
     m.add_function(wrap_pyfunction!(design, m)?)?;
+    m.add_function(wrap_pyfunction!(verify, m)?)?;
     m.add_function(wrap_pyfunction!(default_limit, m)?)?;
     m.add_function(wrap_pyfunction!(max_interval, m)?)?;
     m.add_function(wrap_pyfunction!(compare, m)?)?;

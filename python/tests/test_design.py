@@ -144,9 +144,10 @@ def test_simulate_periodic_scenarios_and_not_certified():
     assert e.value.report.status != "certified"
 
 
-def test_prove_is_not_implemented_yet():
-    with pytest.raises(NotImplementedError, match="issue 24"):
-        sporadic.design(ROOT / "examples" / "dc-motor-jitter.toml", prove=True)
+def test_prove_is_implemented():
+    # was test_prove_is_not_implemented_yet (NotImplementedError before issue 24's provers)
+    r = sporadic.design(ROOT / "examples" / "dc-motor-jitter.toml", prove=True)
+    assert r.proof is not None and r.proof.status == "proved" and r.proved
 
 
 def test_the_example_script_runs(tmp_path):
@@ -158,3 +159,4 @@ def test_the_example_script_runs(tmp_path):
                          timeout=600, env={**os.environ, "MPLBACKEND": "Agg"})
     assert out.returncode == 0, out.stderr
     assert "ferrante2016   certified" in out.stdout and "samples;" in out.stdout
+    assert "proof: proved" in out.stdout and "verify L: certified, proof proved" in out.stdout
