@@ -36,6 +36,7 @@
 //! The `sporadic` binary (`cargo run --release -- --help`) drives the designs, the paper
 //! reproductions and the solver from the command line.
 
+pub mod gains_file;
 pub mod methods;
 pub mod plant_file;
 

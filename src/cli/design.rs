@@ -5,9 +5,9 @@ use super::{Failure, Outcome};
 use sporadic::methods;
 use sporadic::plant_file::PlantFile;
 use sporadic_model::{
-    CompareReport, DesignReport, Gain, GainSchedule, MaxIntervalReport, MethodError, MethodOptions,
-    NamedMatrix, ObserverMethod, Probe, Proof, ProofOptions, ProofStatus, SamplingScenario,
-    SamplingWindow, Scenario, SearchEnd, Status, Trajectory, significant,
+    CompareReport, DesignReport, Gain, MaxIntervalReport, MethodError, MethodOptions, NamedMatrix,
+    ObserverMethod, Probe, Proof, ProofOptions, ProofStatus, SamplingScenario, SamplingWindow,
+    Scenario, SearchEnd, Status, Trajectory, significant,
 };
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
@@ -467,112 +467,12 @@ pub fn design(args: &DesignArgs) -> Result<Outcome, Failure> {
     Ok(proved_verdict(&report, args.proof.prove))
 }
 
-/// A gain or certificate matrix of a JSON file: `name` and `rows` (other fields optional).
-fn named_rows(
-    v: &serde_json::Value,
-    what: &str,
-    k: usize,
-) -> Result<(String, Vec<Vec<f64>>), String> {
-    let name = v
-        .get("name")
-        .and_then(|n| n.as_str())
-        .ok_or_else(|| format!("{what} {k} has no string field \"name\""))?;
-    let rows: Vec<Vec<f64>> = v
-        .get("rows")
-        .cloned()
-        .ok_or_else(|| format!("{what} {name} has no field \"rows\""))
-        .and_then(|r| {
-            serde_json::from_value(r).map_err(|e| {
-                format!("{what} {name}: \"rows\" must be an array of rows of numbers: {e}")
-            })
-        })?;
-    let width = rows.first().map_or(0, Vec::len);
-    if rows.is_empty() || width == 0 || rows.iter().any(|r| r.len() != width) {
-        return Err(format!(
-            "{what} {name}: \"rows\" must be a non-empty rectangular matrix"
-        ));
-    }
-    if rows.iter().flatten().any(|x| !x.is_finite()) {
-        return Err(format!(
-            "{what} {name} has an entry that is not a finite number"
-        ));
-    }
-    Ok((name.to_string(), rows))
-}
-
 /// The gains (and certificate, if any) of a `--gains` file.
 fn read_gains(path: &Path) -> Result<(Vec<Gain>, Vec<NamedMatrix>), Failure> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| Failure::Input(format!("{}: {e}", path.display())))?;
-    let value: serde_json::Value = serde_json::from_str(&text)
-        .map_err(|e| Failure::Input(format!("{}: not JSON: {e}", path.display())))?;
-    let bad = |m: String| Failure::Input(format!("{}: {m}", path.display()));
-    let (gains, certificate) = match &value {
-        serde_json::Value::Array(_) => (value.clone(), serde_json::Value::Null),
-        serde_json::Value::Object(o) => (
-            o.get("gains")
-                .cloned()
-                .ok_or_else(|| bad("the object has no \"gains\" array".into()))?,
-            o.get("certificate")
-                .cloned()
-                .unwrap_or(serde_json::Value::Null),
-        ),
-        _ => {
-            return Err(bad(
-                "expected a design report, {\"gains\": [...]} or an array of gains".into(),
-            ));
-        }
-    };
-    let gains = gains
-        .as_array()
-        .ok_or_else(|| bad("\"gains\" must be an array".into()))?
-        .iter()
-        .enumerate()
-        .map(|(k, g)| {
-            let (name, rows) = named_rows(g, "gain", k).map_err(bad)?;
-            let schedule = match g.get("schedule") {
-                None | Some(serde_json::Value::Null) => None,
-                Some(s) => Some(
-                    serde_json::from_value::<GainSchedule>(s.clone())
-                        .map_err(|e| bad(format!("gain {name}: bad \"schedule\": {e}")))?,
-                ),
-            };
-            Ok(Gain {
-                meaning: g
-                    .get("meaning")
-                    .and_then(|m| m.as_str())
-                    .unwrap_or("given by the user")
-                    .to_string(),
-                name,
-                rows,
-                schedule,
-            })
-        })
-        .collect::<Result<Vec<_>, Failure>>()?;
-    if gains.is_empty() {
-        return Err(bad("no gains given".into()));
-    }
-    let certificate = match certificate {
-        serde_json::Value::Null => Vec::new(),
-        serde_json::Value::Array(items) => items
-            .iter()
-            .enumerate()
-            .map(|(k, m)| {
-                let (name, rows) = named_rows(m, "certificate matrix", k).map_err(bad)?;
-                Ok(NamedMatrix {
-                    meaning: m
-                        .get("meaning")
-                        .and_then(|x| x.as_str())
-                        .unwrap_or("given by the user")
-                        .to_string(),
-                    name,
-                    rows,
-                })
-            })
-            .collect::<Result<Vec<_>, Failure>>()?,
-        _ => return Err(bad("\"certificate\" must be an array".into())),
-    };
-    Ok((gains, certificate))
+    sporadic::gains_file::parse_gains(&text)
+        .map_err(|e| Failure::Input(format!("{}: {e}", path.display())))
 }
 
 /// Runs `sporadic verify`.

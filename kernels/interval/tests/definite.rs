@@ -3,6 +3,7 @@
 //! matrices, the bound is a true lower bound of λ_min.
 
 use faer::Mat;
+use faer::linalg::solvers::DenseSolveCore;
 use proptest::prelude::*;
 use sporadic_interval::{
     Interval, IntervalMatrix, Verdict, is_verified_negative_definite,
