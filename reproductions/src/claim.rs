@@ -505,6 +505,56 @@ impl Reproduction {
     }
 }
 
+/// The claim that a certified design of a paper's example is proved for every sampling
+/// interval of its window (issue "Proofs, not samples"): the reference is `proved` (the design
+/// is certified, so its condition holds everywhere if the certificate is right), ours the
+/// prover's status; the note gives the pieces, the margin bound, the enclosure width and the
+/// time, or where and why the proof stopped.
+pub fn proof_claim(id: impl Into<String>, design: &str, proof: &sporadic_model::Proof) -> Claim {
+    let proved = proof.status == sporadic_model::ProofStatus::Proved;
+    let note = if proved {
+        format!(
+            "{design}: proved in interval arithmetic on {} τ-pieces in {:.2} s; margin ≥ {} ({}); \
+             largest relative width of the e^(Aτ) enclosures {}",
+            proof.subintervals,
+            proof.seconds,
+            proof
+                .margin_lower_bound
+                .map_or_else(|| "—".into(), sporadic_model::significant),
+            proof.margin_definition,
+            proof
+                .enclosure_width
+                .map_or_else(|| "—".into(), sporadic_model::significant),
+        )
+    } else {
+        format!("{design}: {} — {}", proof.status, proof.message)
+    };
+    Claim::derived_verdict(
+        id,
+        true,
+        format!("{design} is certified: its condition holds for every τ of the window"),
+    )
+    .verdict(proved, note)
+}
+
+/// The design of `method` for an example plant at `sampling`, through the common contract, and
+/// its [`proof_claim`] (a design that is not certified gives a claim that says so).
+///
+/// # Errors
+/// A method error that is not a verdict.
+pub fn design_and_prove(
+    method: &dyn sporadic_model::ObserverMethod,
+    plant: &sporadic_model::Plant,
+    sampling: &sporadic_model::Sampling,
+    id: &str,
+    what: &str,
+) -> Result<Claim, crate::ReproductionError> {
+    let d = method.design(plant, sampling, &sporadic_model::MethodOptions::default())?;
+    let proof =
+        sporadic_model::prove_within(method, plant, &d, &sporadic_model::ProofOptions::default())?;
+    Ok(proof_claim(id, what, &proof))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -609,54 +659,4 @@ mod tests {
         assert_eq!(r.tally(), [1, 1, 0, 1]);
         assert!(r.table("p").contains("differs"));
     }
-}
-
-/// The claim that a certified design of a paper's example is proved for every sampling
-/// interval of its window (issue "Proofs, not samples"): the reference is `proved` (the design
-/// is certified, so its condition holds everywhere if the certificate is right), ours the
-/// prover's status; the note gives the pieces, the margin bound, the enclosure width and the
-/// time, or where and why the proof stopped.
-pub fn proof_claim(id: impl Into<String>, design: &str, proof: &sporadic_model::Proof) -> Claim {
-    let proved = proof.status == sporadic_model::ProofStatus::Proved;
-    let note = if proved {
-        format!(
-            "{design}: proved in interval arithmetic on {} τ-pieces in {:.2} s; margin ≥ {} ({}); \
-             largest relative width of the e^(Aτ) enclosures {}",
-            proof.subintervals,
-            proof.seconds,
-            proof
-                .margin_lower_bound
-                .map_or_else(|| "—".into(), sporadic_model::significant),
-            proof.margin_definition,
-            proof
-                .enclosure_width
-                .map_or_else(|| "—".into(), sporadic_model::significant),
-        )
-    } else {
-        format!("{design}: {} — {}", proof.status, proof.message)
-    };
-    Claim::derived_verdict(
-        id,
-        true,
-        format!("{design} is certified: its condition holds for every τ of the window"),
-    )
-    .verdict(proved, note)
-}
-
-/// The design of `method` for an example plant at `sampling`, through the common contract, and
-/// its [`proof_claim`] (a design that is not certified gives a claim that says so).
-///
-/// # Errors
-/// A method error that is not a verdict.
-pub fn design_and_prove(
-    method: &dyn sporadic_model::ObserverMethod,
-    plant: &sporadic_model::Plant,
-    sampling: &sporadic_model::Sampling,
-    id: &str,
-    what: &str,
-) -> Result<Claim, crate::ReproductionError> {
-    let d = method.design(plant, sampling, &sporadic_model::MethodOptions::default())?;
-    let proof =
-        sporadic_model::prove_within(method, plant, &d, &sporadic_model::ProofOptions::default())?;
-    Ok(proof_claim(id, what, &proof))
 }
