@@ -13,7 +13,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use crate::claim::{Claim, ClaimStatus, Reproduction};
+use crate::claim::{Claim, ClaimStatus, Reproduction, design_and_prove};
 use faer::Mat;
 use sporadic_figures::{PlotSpec, Series, plot_components, plot_eigen_curves};
 use sporadic_linalg::min_eigenvalue;
@@ -335,6 +335,14 @@ pub fn reproduce_with(out_dir: &Path, rs: &ReproduceOptions) -> Result<Reproduct
     let mut rep = Reproduction::default();
     let (v, tr) = compute(&plant, rs)?;
     rep.claims = claims(&v, rs);
+    let (model_plant, sampling) = sporadic_sferlazza2021::example::model_plant()?;
+    rep.claims.push(design_and_prove(
+        &sporadic_sferlazza2021::Sferlazza2021::default(),
+        &model_plant,
+        &sampling,
+        "design.proof",
+        "the design on the windows of §6",
+    )?);
     let d = &v.design;
     rep.figures = fig3(out_dir, d, rs.fig3_points)?;
     rep.figures.extend(fig45(out_dir, &tr)?);

@@ -108,6 +108,24 @@ pub fn suspension() -> Result<RoundRobinPlant, Error> {
         .with_complement(1, c2p.as_ref())
 }
 
+/// The §6 quarter car as a plant and sampling of the common contract (`sporadic_model`):
+/// round-robin over `C_1 = [1 0 0 0]`, `C_2 = [0 0 1 0]` with the windows [`WINDOWS`], named
+/// "suspension": what `design`, `prove` and `verify` of [`crate::Sferlazza2021`] take.
+///
+/// # Errors
+/// None for the printed data (the constructors' checks are run anyway).
+pub fn model_plant() -> Result<(sporadic_model::Plant, sporadic_model::Sampling), Error> {
+    let a = QuarterCar::default().a();
+    let (c1, c2) = (mat![[1.0, 0.0, 0.0, 0.0]], mat![[0.0, 0.0, 1.0, 0.0]]);
+    let plant = sporadic_model::Plant::round_robin(a.as_ref(), None, &[c1.as_ref(), c2.as_ref()])?
+        .named("suspension");
+    let windows = WINDOWS
+        .iter()
+        .map(|&(t1, t2)| SamplingWindow::new(t1, t2))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok((plant, sporadic_model::Sampling::RoundRobin(windows)))
+}
+
 /// The matrices printed in (52). They are **not** a valid certificate: `P_2` is indefinite
 /// (eigenvalue ≈ −0.342) and the pair violates (44) on both windows; they are kept only
 /// to report that fact.

@@ -5,7 +5,6 @@ use std::time::Instant;
 
 use faer::mat;
 use sporadic_model::{ProofOptions, ProofStatus, prove_within};
-use sporadic_sferlazza2021::example::{QuarterCar, WINDOWS};
 use sporadic_sferlazza2021::{
     DesignReport, MethodError, MethodOptions, ObserverMethod, Plant, Sampling, SamplingWindow,
     Sferlazza2021, Status,
@@ -17,13 +16,7 @@ fn win(t1: f64, t2: f64) -> SamplingWindow {
 
 /// The quarter car of §6 (the paper's example), round-robin over its two windows.
 fn suspension() -> (Plant, Sampling) {
-    let a = QuarterCar::default().a();
-    let (c1, c2) = (mat![[1.0, 0.0, 0.0, 0.0]], mat![[0.0, 0.0, 1.0, 0.0]]);
-    let plant = Plant::round_robin(a.as_ref(), None, &[c1.as_ref(), c2.as_ref()])
-        .unwrap()
-        .named("suspension");
-    let sampling = Sampling::RoundRobin(WINDOWS.iter().map(|&(a, b)| win(a, b)).collect());
-    (plant, sampling)
+    sporadic_sferlazza2021::example::model_plant().unwrap()
 }
 
 /// The oscillator of the crate docs, position and velocity read in turn.
