@@ -9,7 +9,8 @@ use std::time::Instant;
 use sporadic_ferrante2016::faer::{Mat, mat};
 use sporadic_ferrante2016::sporadic_model::{ProofOptions, ProofStatus};
 use sporadic_ferrante2016::{
-    Design, DesignOptions, Error, Plant, SamplingWindow, design, prove_condition12,
+    Design, DesignOptions, Error, Plant, SamplingWindow, VerifyOptions, design, prove_condition12,
+    verify,
 };
 
 /// The plant of the issue: `λ = −1, −2`, the slow state measured.
@@ -88,6 +89,28 @@ fn long_window_proof_is_not_fooled() {
     let proof =
         prove_condition12(&p, &w, l.as_ref(), bad.as_ref(), &ProofOptions::default()).unwrap();
     assert_ne!(proof.status, ProofStatus::Proved, "{}", proof.message);
+}
+
+/// The grid check of (12) on `[0.01, 10¹⁵]` finds the violation near `v = 1` (an equally
+/// spaced grid has its second point at `3.6·10¹¹`).
+#[test]
+fn long_window_grid_finds_a_violation_near_t1() {
+    let w = SamplingWindow::new(0.01, 1e15).unwrap();
+    let bad = mat![[1.0, 0.0], [0.0, 1e-4]];
+    let l = Mat::<f64>::zeros(2, 1);
+    let v = verify(
+        &stable(),
+        &w,
+        l.as_ref(),
+        bad.as_ref(),
+        &VerifyOptions::default(),
+    )
+    .unwrap();
+    assert!(!v.condition12_holds, "{v:?}");
+    assert!(
+        v.max_eigenvalue_at > 0.1 && v.max_eigenvalue_at < 10.0,
+        "{v:?}"
+    );
 }
 
 /// The unstable plant: certified on a short window as before, refused on long ones.
