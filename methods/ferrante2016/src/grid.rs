@@ -18,7 +18,7 @@
 //! that is not Hurwitz) keep the uniform grid.
 use faer::{Mat, MatRef};
 use sporadic_embed::Interval;
-use sporadic_linalg::InputError;
+use sporadic_linalg::{InputError, LinalgError};
 use sporadic_linalg::{expm_scaled, expm_stepper, golden_section};
 
 use crate::error::Error;
@@ -64,24 +64,35 @@ pub(crate) fn tail_grid(s: f64, hi: f64, points: usize) -> Vec<f64> {
         .collect()
 }
 
-/// Largest number of squarings of [`expm_far`] (`v` up to `2⁶⁴` times the largest `v` with a
-/// finite `‖A‖v`).
-const MAX_SQUARINGS: usize = 64;
+/// Largest `‖A‖_max·v` for which [`expm_far`] calls the exponential directly (`2³⁰`: the
+/// scaling and squaring inside the exponential then stays well within its accuracy).
+const DIRECT_EXPONENT: f64 = 1_073_741_824.0;
 
-/// `e^{Av}` also where `v·A` overflows (a point of the geometric tail of a long window, e.g.
-/// `v = 10³⁰⁸`): `(e^{Av/2^j})^{2^j}` with the fewest halvings `j` that keep `‖A‖_max v/2^j`
-/// below `10³⁰⁰`.
+/// Largest number of squarings of [`expm_far`] (enough for `‖A‖_max·v` up to the largest
+/// double).
+const MAX_SQUARINGS: usize = 1100;
+
+/// `e^{Av}` also where `v·A` overflows or the exponential's own scaling and squaring would lose
+/// its accuracy (a point of the geometric tail of a long window, e.g. `v = 10³⁰⁰`):
+/// `(e^{Av/2^j})^{2^j}` with the fewest halvings `j` that bring `‖A‖_max v/2^j` below
+/// [`DIRECT_EXPONENT`] (none on an ordinary window, where this is the exponential itself).
 pub(crate) fn expm_far(a: MatRef<'_, f64>, v: f64) -> Result<Mat<f64>, Error> {
     let norm = a.norm_max();
     let mut w = v;
     let mut squarings = 0;
-    while norm * w > 1e300 && squarings < MAX_SQUARINGS {
+    while norm * w > DIRECT_EXPONENT && squarings < MAX_SQUARINGS {
         w *= 0.5;
         squarings += 1;
     }
     let mut e = expm_scaled(a, w)?;
     for _ in 0..squarings {
         e = &e * &e;
+        if !e.is_all_finite() {
+            return Err(LinalgError::Overflow {
+                what: format!("e^(Av) at v = {v} exceeds the double-precision range"),
+            }
+            .into());
+        }
     }
     Ok(e)
 }
