@@ -19,15 +19,34 @@
 //!   `ψ'(v) = b(1 + k/ρ(v)²) > 0` for `b > 0`. The phase is continuous and strictly increasing,
 //!   so the critical points are exactly the solutions of `ψ(v) = π/2 + mπ` (cosine) or
 //!   `ψ(v) = mπ` (sine) for the finitely many integers `m` with the level inside
-//!   `(ψ(T1), ψ(T2))`; each is bracketed and refined by safeguarded Newton. Nothing is sampled,
-//!   so no extremum can be missed (containment needs the true global extrema, which a grid
-//!   alone cannot guarantee).
+//!   `(ψ(T1), ψ(T2))`; each is bracketed (`ψ' ≥ b` puts the next one within `(level − ψ)/b`)
+//!   and refined by safeguarded Newton. Nothing is sampled, so no extremum can be missed
+//!   (containment needs the true global extrema, which a grid alone cannot guarantee). For a
+//!   decaying mode (`a < 0`) the enumeration stops once the envelope `2e^{av}v^k/k!`, which
+//!   decreases for `v > k/|a|`, is below both extremal values found so far: no later value can
+//!   be more extreme (so a window `[T1, 10³⁰⁰]` costs as many points as `[T1, ∞)` needs). At
+//!   most [`MAX_CRITICAL_POINTS`] are enumerated otherwise (a non-decaying oscillation over
+//!   more half periods is an error, not a hang).
+//!
+//! The outward rounding is relative to each candidate's own value: evaluating `c(v)` has a
+//! relative error of a few ulps times `1 + (|a| + |b|)v + k` (the arguments `av`, `bv`), so the
+//! margin is `max_v envelope(v)·16u·(1 + (|a| + |b|)v + k)` over the candidates, plus
+//! `10⁻¹²·max|c|`. (A margin `max|c|·16u·(|a| + |b|)T2` instead — the evaluation error at `T2`
+//! scaled by the largest value — inflates the box of a decaying mode by a factor 7 on
+//! `[1, 10¹⁵]`, where the value at `T2` is zero.)
 
 use sporadic_linalg::InputError;
 use sporadic_linalg::input::{LowerEnd, check_window};
 use std::f64::consts::{FRAC_PI_2, PI};
 
 use crate::EmbedError;
+
+/// Largest number of interior critical points enumerated for one coefficient function (a
+/// non-decaying oscillation over more half periods of the window is refused).
+pub const MAX_CRITICAL_POINTS: usize = 1_000_000;
+
+/// Relative outward margin of a range on top of the evaluation error.
+const RELATIVE_MARGIN: f64 = 1e-12;
 
 /// One scalar coefficient function `c_k(v)` of the expansion `e^{Av} = Σ_k c_k(v) N_k`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -90,6 +109,17 @@ fn power_over_factorial(v: f64, k: u32) -> f64 {
     (1..=k).fold(1.0, |p, i| p * (v / f64::from(i)))
 }
 
+/// `e^x · factor · v^k / k!` (`|factor| ≤ 2`); in logarithms when the product is not a number
+/// (`e^x = 0` and `v^k/k!` overflowing, e.g. a decaying mode at `v = 10³⁰⁰`).
+fn exp_times_power(x: f64, factor: f64, v: f64, k: u32) -> f64 {
+    let direct = x.exp() * factor * power_over_factorial(v, k);
+    if direct.is_nan() && v > 0.0 {
+        factor * (x + (1..=k).map(|i| (v / f64::from(i)).ln()).sum::<f64>()).exp()
+    } else {
+        direct
+    }
+}
+
 impl CoefficientFunction {
     /// The power `k`.
     pub fn power(&self) -> u32 {
@@ -103,12 +133,23 @@ impl CoefficientFunction {
     /// Evaluates `c(v)`.
     pub fn eval(&self, v: f64) -> f64 {
         match *self {
-            Self::Real { lambda, power } => (lambda * v).exp() * power_over_factorial(v, power),
+            Self::Real { lambda, power } => exp_times_power(lambda * v, 1.0, v, power),
             Self::Cosine { re, im, power } => {
-                2.0 * (re * v).exp() * (im * v).cos() * power_over_factorial(v, power)
+                exp_times_power(re * v, 2.0 * (im * v).cos(), v, power)
             }
             Self::Sine { re, im, power } => {
-                -2.0 * (re * v).exp() * (im * v).sin() * power_over_factorial(v, power)
+                exp_times_power(re * v, -2.0 * (im * v).sin(), v, power)
+            }
+        }
+    }
+
+    /// The envelope `|c(v)| ≤ envelope(v)`: `|b(v)|` for a real eigenvalue,
+    /// `2e^{av}v^k/k!` for a complex one (the size of the evaluation error at `v`).
+    fn envelope(&self, v: f64) -> f64 {
+        match *self {
+            Self::Real { .. } => self.eval(v).abs(),
+            Self::Cosine { re, power, .. } | Self::Sine { re, power, .. } => {
+                exp_times_power(re * v, 2.0, v, power)
             }
         }
     }
@@ -133,12 +174,20 @@ impl CoefficientFunction {
                     }
                 }
             }
-            Self::Cosine { re, im, power } => {
-                critical_points(re, im, power, FRAC_PI_2, t1, t2, &mut critical)
-            }
-            Self::Sine { re, im, power } => {
-                critical_points(re, im, power, 0.0, t1, t2, &mut critical)
-            }
+            Self::Cosine { re, im, power } => critical_points(
+                (re, im, power, FRAC_PI_2),
+                t1,
+                t2,
+                |v| self.eval(v),
+                &mut critical,
+            )?,
+            Self::Sine { re, im, power } => critical_points(
+                (re, im, power, 0.0),
+                t1,
+                t2,
+                |v| self.eval(v),
+                &mut critical,
+            )?,
         }
         candidates.extend_from_slice(&critical);
         let (mut min, mut argmin, mut max, mut argmax) = (f64::INFINITY, t1, f64::NEG_INFINITY, t1);
@@ -160,14 +209,32 @@ impl CoefficientFunction {
         let (lower, upper) = if self.is_constant() {
             (min, max)
         } else {
-            // Relative evaluation error of exp/cos/sin and of the argument products: a few ulps
-            // times the size of the arguments; a relative margin of 1e-12 on top.
+            // Evaluation error of exp/cos/sin and of the argument products at each candidate:
+            // a few ulps of its envelope times the size of the arguments there (see the module
+            // docs); a relative margin of 1e-12 on top.
             let (a, b) = match *self {
                 Self::Real { lambda, .. } => (lambda, 0.0),
                 Self::Cosine { re, im, .. } | Self::Sine { re, im, .. } => (re, im),
             };
-            let growth = 1.0 + (a.abs() + b.abs()) * t2 + f64::from(self.power());
-            let margin = min.abs().max(max.abs()) * (1e-12 + 16.0 * f64::EPSILON * growth);
+            let rounding = candidates
+                .iter()
+                .map(|&v| {
+                    let growth = 1.0 + (a.abs() + b.abs()) * v + f64::from(self.power());
+                    let e = self.envelope(v);
+                    if e == 0.0 {
+                        0.0
+                    } else {
+                        e * 16.0 * f64::EPSILON * growth
+                    }
+                })
+                .fold(0.0, f64::max);
+            let margin = min.abs().max(max.abs()) * RELATIVE_MARGIN + rounding;
+            if !margin.is_finite() {
+                return Err(InputError::non_finite(format!(
+                    "rounding margin of the range of {self:?} on [{t1}, {t2}]"
+                ))
+                .into());
+            }
             (min - margin, max + margin)
         };
         Ok(CoefficientRange {
@@ -196,16 +263,19 @@ fn phase(re: f64, im: f64, power: u32, v: f64) -> (f64, f64) {
     }
 }
 
-/// Appends every `v ∈ (t1, t2)` with `ψ(v) = offset + mπ` (in increasing order).
+/// Appends every `v ∈ (t1, t2)` with `ψ(v) = offset + mπ` (in increasing order) for the mode
+/// `(re, im, power)`, `eval` being the coefficient function; for a decaying mode it stops where
+/// the envelope falls below both extremal values found so far (see the module docs).
+///
+/// # Errors
+/// More than [`MAX_CRITICAL_POINTS`] critical points would be needed.
 fn critical_points(
-    re: f64,
-    im: f64,
-    power: u32,
-    offset: f64,
+    (re, im, power, offset): (f64, f64, u32, f64),
     t1: f64,
     t2: f64,
+    eval: impl Fn(f64) -> f64,
     out: &mut Vec<f64>,
-) {
+) -> Result<(), EmbedError> {
     if im <= 0.0 || t1 == t2 {
         // Not produced by the residue expansion (b > 0 always); a zero frequency has no
         // oscillation and a degenerate interval has no interior.
@@ -218,24 +288,52 @@ fn critical_points(
                 }
             }
         }
-        return;
+        return Ok(());
     }
     let psi1 = phase(re, im, power, t1).0;
     let psi2 = phase(re, im, power, t2).0;
     let m_lo = ((psi1 - offset) / PI).ceil() as i64;
     let m_hi = ((psi2 - offset) / PI).floor() as i64;
+    // The envelope 2e^{av}v^k/k! decreases from k/|a| on when a < 0.
+    let decreasing_from = if re < 0.0 {
+        f64::from(power) / -re
+    } else {
+        f64::INFINITY
+    };
+    let envelope = |v: f64| exp_times_power(re * v, 2.0, v, power);
+    let (e1, e2) = (eval(t1), eval(t2));
+    let (mut lowest, mut highest) = (e1.min(e2), e1.max(e2));
     let mut lo = t1;
-    for m in m_lo..=m_hi {
+    let mut m = m_lo;
+    while m <= m_hi {
+        if out.len() >= MAX_CRITICAL_POINTS {
+            return Err(EmbedError::InvalidArgument(format!(
+                "the coefficient function of the eigenvalue {re} ± {im}i has more than \
+                 {MAX_CRITICAL_POINTS} critical points on [{t1}, {t2}] (a non-decaying \
+                 oscillation over too many periods)"
+            )));
+        }
         let level = offset + m as f64 * PI;
+        m = m.saturating_add(1);
         if level <= psi1 || level >= psi2 {
             continue;
         }
-        let v = solve_monotone(|v| phase(re, im, power, v), level, lo, t2);
+        // ψ' ≥ b: the level is reached within (level − ψ(lo))/b of lo (twice that, for the
+        // rounding of ψ).
+        let reach = lo + 2.0 * (level - phase(re, im, power, lo).0) / im;
+        let hi = if reach > lo && reach < t2 { reach } else { t2 };
+        let v = solve_monotone(|v| phase(re, im, power, v), level, lo, hi);
         if t1 < v && v < t2 {
             out.push(v);
             lo = v;
+            let c = eval(v);
+            (lowest, highest) = (lowest.min(c), highest.max(c));
+            if v >= decreasing_from && 2.0 * envelope(v) <= (-lowest).min(highest) {
+                break;
+            }
         }
     }
+    Ok(())
 }
 
 /// Solves `f(v) = level` for a continuous strictly increasing `f` with `f(lo) < level < f(hi)`
@@ -399,7 +497,7 @@ mod tests {
                 CoefficientFunction::Sine { re, im, power } => (re, im, power, 0.0),
                 CoefficientFunction::Real { .. } => unreachable!(),
             };
-            critical_points(re, im, power, off, 0.05, 6.0, &mut crit);
+            critical_points((re, im, power, off), 0.05, 6.0, |v| f.eval(v), &mut crit).unwrap();
             assert!(!crit.is_empty());
             for v in crit {
                 let h = 1e-6;
@@ -408,6 +506,52 @@ mod tests {
                 assert!(d.abs() < 1e-6 * scale.max(1.0), "{f:?} v={v} d={d}");
             }
         }
+    }
+
+    /// Issue 22: on `[1, 10¹⁵]` the box of a decaying mode is its range, not seven times it
+    /// (the rounding margin is relative to each candidate's value, and the value at `T2` is 0).
+    #[test]
+    fn long_window_range_is_not_inflated() {
+        for t2 in [1e3, 1e15, 1e100, 1e308] {
+            for power in [0, 2] {
+                let f = CoefficientFunction::Real {
+                    lambda: -2.0,
+                    power,
+                };
+                let r = f.range(1.0, t2).unwrap();
+                let peak = f.eval(1.0).max(f.eval(1.0f64.max(f64::from(power) / 2.0)));
+                assert!(r.lower <= 0.0 && r.lower > -1e-11 * peak, "{t2} {r:?}");
+                assert!(
+                    r.upper >= r.max && r.upper < r.max * (1.0 + 1e-11),
+                    "{t2} {r:?}"
+                );
+            }
+        }
+    }
+
+    /// A decaying oscillation on `[1, 10³⁰⁰]` stops enumerating critical points once its
+    /// envelope is below the extremes found; a non-decaying one over too many periods is an
+    /// error, not a hang.
+    #[test]
+    fn long_window_oscillation_terminates() {
+        let f = CoefficientFunction::Cosine {
+            re: -1.0,
+            im: 3.0,
+            power: 1,
+        };
+        let r = f.range(1.0, 1e300).unwrap();
+        let short = f.range(1.0, 100.0).unwrap();
+        assert!(r.critical_points < 40, "{r:?}");
+        assert_eq!((r.min, r.max), (short.min, short.max));
+        let g = CoefficientFunction::Sine {
+            re: 0.0,
+            im: 1.0,
+            power: 0,
+        };
+        assert!(matches!(
+            g.range(0.0, 1e15),
+            Err(EmbedError::InvalidArgument(_))
+        ));
     }
 
     proptest! {

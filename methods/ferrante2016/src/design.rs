@@ -7,7 +7,8 @@
 //! when all of these succeed; every failure is a typed [`Error`].
 //!
 //! The precheck is made on the Gramian normal form of the problem ([`crate::normalise`]), the
-//! LMI on the data as given, then on the normal forms (time unit `T2` with Gramian coordinates,
+//! LMI on the data as given, then on the normal forms (time unit `T2`, or `T1` plus the decay
+//! horizon of a Hurwitz `A` on a longer window, with Gramian coordinates,
 //! then with power-of-two diagonal scalings), the first certificate being mapped back. A solver point whose margin is positive but below
 //! the solver's verification threshold (which is relative to the margin problem's normalisation
 //! `‖P‖₂ ≤ 1`, hence to the coordinates) is accepted when every vertex LMI of (41) is negative

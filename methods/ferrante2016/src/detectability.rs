@@ -4,7 +4,8 @@
 //!
 //! The test is the PBH test on `e^{Av}`: for every eigenvalue `μ` of `e^{Av}` with `|μ| ≥ 1`, the
 //! matrix `[μI − e^{Av}; M]` must have full column rank. It is evaluated on a uniform grid of
-//! `[T1, T2]` **plus every aliasing instant** of the non-decaying modes: two eigenvalues `λ ≠ λ'` of `A`
+//! `[T1, T2]` (on a window longer than the decay of every mode of a Hurwitz `A`, uniform up to
+//! that decay and geometric beyond, see [`crate::grid`]) **plus every aliasing instant** of the non-decaying modes: two eigenvalues `λ ≠ λ'` of `A`
 //! with `Re λ = Re λ' ≥ 0` give the same eigenvalue of `e^{Av}` exactly when
 //! `v · |Im λ − Im λ'| ∈ 2πℕ`, and only at those isolated instants can the eigenspaces of `e^{Av}`
 //! merge and detectability be lost while `(A, M)` is detectable (a grid alone would miss them).
@@ -17,17 +18,18 @@
 //! `μ = e^{λv}` from those of `A`, exact also at the aliasing instants.
 
 use faer::c64;
-use sporadic_linalg::{LinalgError, PbhOptions, aliasing_instants, expm_scaled, pbh_detectability};
+use sporadic_linalg::{LinalgError, PbhOptions, aliasing_instants, pbh_detectability};
 
 use crate::error::Error;
-use crate::grid::window_grid;
+use crate::grid::{expm_far, window_grid};
 use crate::system::Plant;
 use sporadic_model::SamplingWindow;
 
 /// Options of [`check_detectability`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DetectabilityOptions {
-    /// Number of uniform grid points on `[T1, T2]` (the aliasing instants are added). Default 1001.
+    /// Number of uniform grid points on `[T1, T2]` (the aliasing instants are added; see
+    /// [`crate::grid`] for long windows). Default 1001.
     pub grid_points: usize,
     /// Tolerances of the PBH test: smallest admissible margin `rank_tol` (default `1e-8`); eigenvalues
     /// of `e^{Av}` with `|μ| ≥ 1 − unit_circle_tol` are treated as non-decaying (default `1e-9`).
@@ -91,7 +93,7 @@ pub fn check_detectability(
         options.pbh.unit_circle_tol,
         MAX_ALIASING_INSTANTS,
     )?;
-    let mut points = window_grid(window, options.grid_points.max(1))?;
+    let mut points = window_grid(a, window, options.grid_points.max(1))?;
     points.extend_from_slice(&aliasing);
     points.sort_by(f64::total_cmp);
     points.dedup();
@@ -103,7 +105,7 @@ pub fn check_detectability(
         min_margin_at: window.t1(),
     };
     for &v in &points {
-        let e = expm_scaled(a, v)?;
+        let e = expm_far(a, v)?;
         let mus: Vec<c64> = lambdas
             .iter()
             .map(|l| (l * c64::new(v, 0.0)).exp())

@@ -141,17 +141,17 @@ impl Ferrante2016 {
         match d.scaling.coordinates {
             Coordinates::Given => {}
             Coordinates::Gramian => r.notes.push(format!(
-                "LMI (41) solved on the normalised problem: time unit T2 = {:e} s, state \
-                 coordinates x' = Tx in which the observability Gramian over one window length \
-                 is the identity, output scaling y' = Sy with S = diag{}; L, P, F, J mapped back \
+                "LMI (41) solved on the normalised problem: time unit k = {:e} s (T2, or T1 plus \
+                 the decay horizon 72/|α| of A when the window is longer), state coordinates \
+                 x' = Tx in which the observability Gramian over one time unit is the identity, output scaling y' = Sy with S = diag{}; L, P, F, J mapped back \
                  (L = T^-1 L' S, P = T'P'T, F = T'F'T, J = T'J'S) and (12) re-verified on the \
                  user's data",
                 d.scaling.time,
                 vector_words(&d.scaling.output),
             )),
             Coordinates::Diagonal => r.notes.push(format!(
-                "LMI (41) solved on the normalised problem: time unit T2 = {:e} s, state scaling \
-                 x' = Dx with D = diag{} (powers of two), output scaling y' = Sy with S = diag{}; \
+                "LMI (41) solved on the normalised problem: time unit k = {:e} s (T2, or T1 plus \
+                 the decay horizon 72/|α| of A when the window is longer), state scaling x' = Dx with D = diag{} (powers of two), output scaling y' = Sy with S = diag{}; \
                  L, P, F, J mapped back (L = D^-1 L' S, P = D'P'D, F = D'F'D, J = D'J'S) and (12) \
                  re-verified on the user's data",
                 d.scaling.time,

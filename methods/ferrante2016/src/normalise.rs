@@ -12,11 +12,19 @@
 //! is solved the problem is therefore brought to a normal form that is the same for every such
 //! equivalent problem:
 //!
-//! * **time** ([`Coordinates::Gramian`] and [`Coordinates::Diagonal`]): the unit is `k = T2`,
-//!   `A₁ = kA`, window `[T1/T2, 1]`;
+//! * **time** ([`Coordinates::Gramian`] and [`Coordinates::Diagonal`]): the unit is
+//!   `k = min(T2, T1 + H)` ([`time_unit`]), `A₁ = kA`, window `[T1/k, T2/k]`, where
+//!   `H = 72/|α|` is the decay horizon of a Hurwitz `A` (spectral abscissa `α`;
+//!   [`crate::grid::decay_horizon`], `H = ∞` otherwise). Both `T2` and `T1 + H` are
+//!   similarity-invariant and scale as `1/c` under `(A, window) → (cA, window/c)`, so the normal
+//!   form is the same for every equivalent problem. Every window up to the decay of all modes
+//!   has `k = T2` (window `[T1/T2, 1]`); on a longer one (issue 22: `[1, 10¹⁵]` for `λ = −1, −2`)
+//!   `k = T2` would make `A₁ = T2·A` with entries `~10¹⁵` (overflowing at `T2 ~ 10³⁰⁸`) and a
+//!   Gramian on `[0, 1]` that sees the dynamics only on its first `10⁻¹⁵`, while beyond
+//!   `T1 + H` nothing of `e^{Av}` is left to normalise;
 //! * **states** ([`Coordinates::Gramian`]): `x' = Gx` with `G = Λ^½Vᵀ` from the eigenvalue
-//!   decomposition `VΛVᵀ` of the observability Gramian of the normalised problem on one window
-//!   length, `W = ∫₀¹ e^{A₁ᵀs} C₁ᵀC₁ e^{A₁s} ds` (so that `W = I` in the new coordinates; computed
+//!   decomposition `VΛVᵀ` of the observability Gramian of the normalised problem on one time
+//!   unit, `W = ∫₀¹ e^{A₁ᵀs} C₁ᵀC₁ e^{A₁s} ds` (so that `W = I` in the new coordinates; computed
 //!   again in the coordinates it gives, at most [`GRAMIAN_PASSES`] times, because in badly scaled
 //!   coordinates its rounding errors are relative to its largest eigenvalue). Under `x → Tx` the
 //!   Gramian becomes `T⁻ᵀWT⁻¹`, so the new coordinates are the same up to an orthogonal matrix
@@ -80,10 +88,10 @@ const MAX_EXPONENT: f64 = 400.0;
 pub enum Coordinates {
     /// The user's data as given.
     Given,
-    /// Time unit `T2`, state coordinates in which the observability Gramian on one window
-    /// length is the identity, outputs with equal shares of it.
+    /// Time unit [`time_unit`], state coordinates in which the observability Gramian on one
+    /// time unit is the identity, outputs with equal shares of it.
     Gramian,
-    /// Time unit `T2`, power-of-two diagonal state and output scalings.
+    /// Time unit [`time_unit`], power-of-two diagonal state and output scalings.
     Diagonal,
 }
 
@@ -169,6 +177,14 @@ fn power_of_two(x: f64) -> f64 {
     }
 }
 
+/// The time unit of the normal forms: `min(T2, T1 + H)` with `H` the decay horizon of a
+/// Hurwitz `A` ([`crate::grid::decay_horizon`]; `T2` when `A` is not Hurwitz). See the module
+/// docs.
+pub fn time_unit(plant: &Plant, window: &SamplingWindow) -> f64 {
+    let (t1, t2) = (window.t1(), window.t2());
+    crate::grid::decay_horizon(plant.a()).map_or(t2, |h| t2.min(t1 + h))
+}
+
 /// The normal forms of `plant` on `window` to try, in this order: the Gramian form (when it is
 /// usable), the diagonal form (when it changes anything; see the module docs).
 pub fn scalings(plant: &Plant, window: &SamplingWindow) -> Vec<Scaling> {
@@ -252,7 +268,7 @@ fn gramian(plant: &Plant, window: &SamplingWindow) -> Option<Scaling> {
     let (n, q) = (plant.n(), plant.q());
     let mut scaling = Scaling {
         coordinates: Coordinates::Gramian,
-        time: window.t2(),
+        time: time_unit(plant, window),
         ..Scaling::identity(n, q)
     };
     for pass in 0..GRAMIAN_PASSES {
@@ -305,7 +321,7 @@ fn gramian(plant: &Plant, window: &SamplingWindow) -> Option<Scaling> {
 /// The diagonal (power-of-two) normal form (see the module docs).
 fn diagonal(plant: &Plant, window: &SamplingWindow) -> Scaling {
     let (n, q) = (plant.n(), plant.q());
-    let time = window.t2();
+    let time = time_unit(plant, window);
     let identity = Scaling {
         time,
         coordinates: Coordinates::Diagonal,

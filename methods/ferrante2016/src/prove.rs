@@ -13,6 +13,15 @@
 //! enclosure): if the enclosure of `λmax` there is at or above zero, (12) fails there; otherwise
 //! the piece is bisected ([`sporadic_model::prove_on_window`]).
 //!
+//! **Long windows** (issue 22). For a Hurwitz `A` and a window longer than the decay of every
+//! mode (`T2 > S = T1 + 72/|α|`, [`crate::grid`]), the pieces above cover `[T1, S]` only, and the
+//! tail `[S, T2]` is proved at once ([`prove_tail`]): with `X ≻ 0` solving `A'X + XA = −I`
+//! (both properties proven in interval arithmetic), `‖e^{Aw}‖₂² ≤ κ = λmax(X)/λmin(X)` for every
+//! `w ≥ 0`, so for every `v ≥ S`, writing `e^{Av} = e^{A(v−S)}e^{AS}`,
+//! `λmax(Δ Q(v) Δ) ≤ λmax(P)·κ·‖e^{AS}(I − LC)Δ‖₂² − λmin(ΔPΔ)`, which is negative when `e^{AS}`
+//! (enclosed rigorously) is small enough — as it is, `‖e^{AS}‖ ~ e^{−72}` times the plant's
+//! transient. Otherwise the tail is `inconclusive` (never `proved` without that bound).
+//!
 //! The margin is scale-free: `−λmax(Δ Q Δ)/λmax(Δ P Δ)` (the relative value of the design's
 //! grid check), bounded below over the window.
 
@@ -21,8 +30,10 @@ use sporadic_interval::{
     EnclosureOptions, Interval, IntervalError, IntervalMatrix, Verdict, expm_enclosure,
     is_verified_negative_definite, is_verified_positive_definite, lambda_max_enclosure,
 };
+use sporadic_linalg::lyap_continuous;
 use sporadic_model::{
-    PieceCheck, Proof, ProofOptions, ProofStatus, SamplingWindow, combine, prove_on_window,
+    PieceCheck, Proof, ProofOptions, ProofPiece, ProofStatus, SamplingWindow, WindowProof, combine,
+    prove_on_window,
 };
 
 use crate::error::Error;
@@ -99,11 +110,11 @@ pub fn prove_condition12(
         Err(e) => return Ok(numerical(e)),
     };
     // P ≻ 0 (Theorem 1), and an upper bound of λmax(ΔPΔ) for the scale-free margin.
-    let p_scale = match (
+    let (p_scale, ps_min) = match (
         is_verified_positive_definite(&ps),
         lambda_max_enclosure(&ps),
     ) {
-        (Ok(Verdict::Proved { .. }), Ok(e)) if e.hi().is_finite() => e.hi(),
+        (Ok(Verdict::Proved { bound }), Ok(e)) if e.hi().is_finite() => (e.hi(), bound),
         (Ok(Verdict::Proved { .. }), _) => {
             return Ok(Proof {
                 condition: condition.into(),
@@ -183,19 +194,131 @@ pub fn prove_condition12(
         })
     };
     let (t1, t2) = (window.t1(), window.t2());
+    // A window longer than the decay of every mode: pieces on [T1, S], the tail at once.
+    let split = crate::grid::split_point(a, t1, t2);
+    let head_end = split.unwrap_or(t2);
     let norm_a = (0..n)
         .map(|i| (0..n).map(|j| a[(i, j)].abs()).sum::<f64>())
         .fold(0.0, f64::max);
-    let initial = ((norm_a * (t2 - t1)).ceil() as usize).clamp(1, 1024);
-    let part = match prove_on_window("(12)", t1, t2, initial, options, &mut check) {
-        Ok(p) => p,
+    let initial = ((norm_a * (head_end - t1)).ceil() as usize).clamp(1, 1024);
+    let mut parts = match prove_on_window("(12)", t1, head_end, initial, options, &mut check) {
+        Ok(p) => vec![p],
         Err(e) => return Ok(numerical(e)),
+    };
+    if let Some(s) = split {
+        let tail = Tail {
+            p: &pi,
+            reset: &ri,
+            delta: &di,
+            ps_min,
+            p_scale,
+        };
+        parts.push(match prove_tail(a, s, t2, &tail) {
+            Ok(p) => p,
+            Err(e) => return Ok(numerical(e)),
+        });
+    }
+    let how = if split.is_some() {
+        format!(
+            "{how}; for v beyond the decay of every mode, at once from ‖e^(Av)‖ ≤ ‖e^(A(v−S))‖·‖e^(AS)‖ with a Lyapunov bound of ‖e^(Aw)‖, w ≥ 0"
+        )
+    } else {
+        how.to_string()
     };
     Ok(combine(
         condition,
         how,
         PROOF_MARGIN_DEFINITION,
-        vec![part],
+        parts,
         start.elapsed().as_secs_f64(),
     ))
+}
+
+/// What [`prove_tail`] needs of the certificate: `P`, `I − LC` and `Δ` as interval matrices, a
+/// rigorous lower bound of `λmin(ΔPΔ)` and an upper bound of `λmax(ΔPΔ)` (the margin's scale).
+struct Tail<'a> {
+    p: &'a IntervalMatrix,
+    reset: &'a IntervalMatrix,
+    delta: &'a IntervalMatrix,
+    ps_min: f64,
+    p_scale: f64,
+}
+
+/// Proves (12) for every `v ∈ [s, t2]` at once (see the module docs): `proved` with the margin
+/// lower bound `(λmin(ΔPΔ) − λmax(P)·κ·‖e^{As}(I − LC)Δ‖_F²)/λmax(ΔPΔ)` when it is positive,
+/// `inconclusive` otherwise (the bound is only sufficient).
+fn prove_tail(
+    a: MatRef<'_, f64>,
+    s: f64,
+    t2: f64,
+    tail: &Tail<'_>,
+) -> Result<WindowProof, IntervalError> {
+    let n = a.nrows();
+    let undecided = |message: String| WindowProof {
+        status: ProofStatus::Inconclusive,
+        pieces: 1,
+        margin_lower_bound: None,
+        enclosure_width: None,
+        failed_on: Some(ProofPiece {
+            condition: "(12)".into(),
+            tau: [s, t2],
+            enclosure: [f64::NEG_INFINITY, f64::INFINITY],
+        }),
+        message,
+    };
+    // κ = λmax(X)/λmin(X) for X ≻ 0 with A'X + XA ≺ 0 (both proven): ‖e^{Aw}‖₂² ≤ κ, w ≥ 0.
+    let Ok(x) = lyap_continuous(a, Mat::<f64>::identity(n, n).as_ref()) else {
+        return Ok(undecided(
+            "no Lyapunov matrix of A for the tail beyond the decay of every mode".into(),
+        ));
+    };
+    let (ai, xi) = (
+        IntervalMatrix::from_point(a)?,
+        IntervalMatrix::from_point(x.as_ref())?,
+    );
+    let lyapunov = ai
+        .transpose()
+        .checked_mul(&xi)?
+        .checked_add(&xi.checked_mul(&ai)?)?
+        .symmetrized()?;
+    let x_min = match (
+        is_verified_negative_definite(&lyapunov)?,
+        is_verified_positive_definite(&xi.symmetrized()?)?,
+    ) {
+        (Verdict::Proved { .. }, Verdict::Proved { bound }) => bound,
+        _ => {
+            return Ok(undecided(
+                "A'X + XA ≺ 0, X ≻ 0 could not be proven for the tail beyond the decay of \
+                 every mode"
+                    .into(),
+            ));
+        }
+    };
+    let x_max = lambda_max_enclosure(&xi.symmetrized()?)?.hi();
+    let p_max = lambda_max_enclosure(tail.p)?.hi();
+    let e = expm_enclosure(a, s, s, &EnclosureOptions::default())?;
+    let g = e
+        .enclosure
+        .checked_mul(tail.reset)?
+        .checked_mul(tail.delta)?
+        .norm_fro_up();
+    let point = |v: f64| Interval::point(v).unwrap_or(Interval::ENTIRE);
+    let growth = point(p_max) * (point(x_max) / point(x_min)) * point(g).sqr();
+    let margin = ((point(tail.ps_min) - growth) / point(tail.p_scale)).lo();
+    if margin.is_nan() || margin <= 0.0 {
+        return Ok(undecided(format!(
+            "the tail bound λmax(P)·κ·‖e^(AS)(I − LC)Δ‖² = {:.3e} is not below λmin(ΔPΔ) = {:.3e} \
+             (S = {s})",
+            growth.hi(),
+            tail.ps_min
+        )));
+    }
+    Ok(WindowProof {
+        status: ProofStatus::Proved,
+        pieces: 1,
+        margin_lower_bound: Some(margin),
+        enclosure_width: Some(e.rel_width),
+        failed_on: None,
+        message: String::new(),
+    })
 }
