@@ -215,8 +215,8 @@ pub fn compare(
 }
 
 /// Proves a design of `method` for the plant file rigorously ([`ObserverMethod::prove`] through
-/// [`sporadic_model::prove_within`]); a file the method does not apply to gives a
-/// `not_proved` proof with the reason.
+/// [`sporadic_model::prove_within`]); a file the method does not apply to gives an
+/// `inconclusive` proof with the reason (nothing was shown to fail).
 pub fn prove(
     file: &PlantFile,
     method: &dyn ObserverMethod,
@@ -232,7 +232,7 @@ pub fn prove(
             other => other,
         },
         Err((_, reason)) => Ok(Proof::not_attempted(
-            ProofStatus::NotProved,
+            ProofStatus::Inconclusive,
             format!("{} does not apply: {reason}", method.id()),
         )),
     }

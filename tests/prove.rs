@@ -145,6 +145,23 @@ fn verify_of_a_spoiled_gain_is_not_certified_and_not_proved() {
 }
 
 #[test]
+fn a_method_that_does_not_apply_proves_nothing_and_disproves_nothing() {
+    // rabehi2021 needs disturbance bounds, which this file lacks.
+    let o = sporadic(&[
+        "design",
+        &example("ferrante2016-example2.toml"),
+        "--method",
+        "rabehi2021",
+        "--prove",
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let d = report(&o);
+    assert!(d.status.is_not_applicable());
+    assert_eq!(d.proof.unwrap().status, ProofStatus::Inconclusive);
+}
+
+#[test]
 fn bad_gain_files_are_input_errors() {
     let plant = example("ferrante2016-example2.toml");
     for (name, text, needle) in [

@@ -335,7 +335,8 @@ pub fn design_within(
 
 /// [`ObserverMethod::prove`] within [`ProofOptions::time_limit`], timed: a design that is
 /// not certified is `not_proved` without a proof attempt (its condition already failed, or it
-/// has no gains to prove), and a proof that is stopped by the budget is `inconclusive`.
+/// has no gains to prove), one the method does not apply to is `inconclusive`, and a proof
+/// that is stopped by the budget is `inconclusive`.
 pub fn prove_within(
     method: &dyn ObserverMethod,
     plant: &Plant,
@@ -344,8 +345,14 @@ pub fn prove_within(
 ) -> Result<Proof, MethodError> {
     let start = Instant::now();
     if !design.status.is_certified() {
+        // A method that does not apply has shown nothing failing: nothing is decided.
+        let status = if design.status.is_not_applicable() {
+            ProofStatus::Inconclusive
+        } else {
+            ProofStatus::NotProved
+        };
         return Ok(Proof::not_attempted(
-            ProofStatus::NotProved,
+            status,
             format!(
                 "the design is {} ({}): there is no certified design to prove",
                 design.status,
