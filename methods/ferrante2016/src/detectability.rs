@@ -5,7 +5,7 @@
 //! The test is the PBH test on `e^{Av}`: for every eigenvalue `μ` of `e^{Av}` with `|μ| ≥ 1`, the
 //! matrix `[μI − e^{Av}; M]` must have full column rank. It is evaluated on a uniform grid of
 //! `[T1, T2]` (on a window longer than the decay of every mode of a Hurwitz `A`, uniform up to
-//! that decay and geometric beyond, see [`crate::grid`]) **plus every aliasing instant** of the non-decaying modes: two eigenvalues `λ ≠ λ'` of `A`
+//! that decay and geometric beyond, see the `grid` module) **plus every aliasing instant** of the non-decaying modes: two eigenvalues `λ ≠ λ'` of `A`
 //! with `Re λ = Re λ' ≥ 0` give the same eigenvalue of `e^{Av}` exactly when
 //! `v · |Im λ − Im λ'| ∈ 2πℕ`, and only at those isolated instants can the eigenspaces of `e^{Av}`
 //! merge and detectability be lost while `(A, M)` is detectable (a grid alone would miss them).
@@ -29,7 +29,7 @@ use sporadic_model::SamplingWindow;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DetectabilityOptions {
     /// Number of uniform grid points on `[T1, T2]` (the aliasing instants are added; see
-    /// [`crate::grid`] for long windows). Default 1001.
+    /// the `grid` module for long windows). Default 1001.
     pub grid_points: usize,
     /// Tolerances of the PBH test: smallest admissible margin `rank_tol` (default `1e-8`); eigenvalues
     /// of `e^{Av}` with `|μ| ≥ 1 − unit_circle_tol` are treated as non-decaying (default `1e-9`).

@@ -15,7 +15,7 @@
 //! * **time** ([`Coordinates::Gramian`] and [`Coordinates::Diagonal`]): the unit is
 //!   `k = min(T2, T1 + H)` ([`time_unit`]), `A₁ = kA`, window `[T1/k, T2/k]`, where
 //!   `H = 72/|α|` is the decay horizon of a Hurwitz `A` (spectral abscissa `α`;
-//!   [`crate::grid::decay_horizon`], `H = ∞` otherwise). Both `T2` and `T1 + H` are
+//!   `grid::decay_horizon`, `H = ∞` otherwise). Both `T2` and `T1 + H` are
 //!   similarity-invariant and scale as `1/c` under `(A, window) → (cA, window/c)`, so the normal
 //!   form is the same for every equivalent problem. Every window up to the decay of all modes
 //!   has `k = T2` (window `[T1/T2, 1]`); on a longer one (issue 22: `[1, 10¹⁵]` for `λ = −1, −2`)
@@ -178,7 +178,7 @@ fn power_of_two(x: f64) -> f64 {
 }
 
 /// The time unit of the normal forms: `min(T2, T1 + H)` with `H` the decay horizon of a
-/// Hurwitz `A` ([`crate::grid::decay_horizon`]; `T2` when `A` is not Hurwitz). See the module
+/// Hurwitz `A` (`grid::decay_horizon`; `T2` when `A` is not Hurwitz). See the module
 /// docs.
 pub fn time_unit(plant: &Plant, window: &SamplingWindow) -> f64 {
     let (t1, t2) = (window.t1(), window.t2());

@@ -14,8 +14,8 @@
 //! the piece is bisected ([`sporadic_model::prove_on_window`]).
 //!
 //! **Long windows** (issue 22). For a Hurwitz `A` and a window longer than the decay of every
-//! mode (`T2 > S = T1 + 72/|α|`, [`crate::grid`]), the pieces above cover `[T1, S]` only, and the
-//! tail `[S, T2]` is proved at once ([`prove_tail`]): with `X ≻ 0` solving `A'X + XA = −I`
+//! mode (`T2 > S = T1 + 72/|α|`, the `grid` module), the pieces above cover `[T1, S]` only, and the
+//! tail `[S, T2]` is proved at once (`prove_tail`): with `X ≻ 0` solving `A'X + XA = −I`
 //! (both properties proven in interval arithmetic), `‖e^{Aw}‖₂² ≤ κ = λmax(X)/λmin(X)` for every
 //! `w ≥ 0`, so for every `v ≥ S`, writing `e^{Av} = e^{A(v−S)}e^{AS}`,
 //! `λmax(Δ Q(v) Δ) ≤ λmax(P)·κ·‖e^{AS}(I − LC)Δ‖₂² − λmin(ΔPΔ)`, which is negative when `e^{AS}`
