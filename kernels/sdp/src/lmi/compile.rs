@@ -23,7 +23,7 @@ use super::expr::{Expr, Param, Var, VarKind};
 use super::model::{ConstraintData, ConstraintId, ConstraintKind, Model, Sense, check_finite};
 use super::solution::{self, LmiSolution};
 use crate::problem::{Block, BlockData, BlockKind, Problem, SparseSym};
-use crate::{Settings, Solver};
+use crate::{Settings, Solver, Status};
 
 /// Options of [`Model::solve`] / [`Model::compile`] (objective mode).
 #[derive(Debug, Clone)]
@@ -89,6 +89,13 @@ pub struct FeasibilityOptions {
     pub margin_cap: f64,
     /// Normalisation of every variable without an override (default `Norm(1.0)`).
     pub default_normalisation: Normalisation,
+    /// Relative accuracy asked of a positive optimal margin `t*` (default `1e-7`). The solver's
+    /// stopping rule is relative to `1 + |⟨C,X⟩| + |bᵀy|`, so a margin far below 1 (the observer
+    /// LMIs' `t*` are often `1e-4`) is only accurate to `tol_gap / t*` after the first solve;
+    /// when the duality gap and complementarity at the returned point exceed
+    /// `margin_accuracy · t*`, the solve continues from that point with `tol_gap` and `tol_feas`
+    /// tightened by the missing factor (never below `1e-14`). `1.0` or more turns this off.
+    pub margin_accuracy: f64,
     overrides: Vec<(u64, usize, Normalisation)>,
 }
 
@@ -98,6 +105,7 @@ impl Default for FeasibilityOptions {
             solve: SolveOptions::default(),
             margin_cap: 1.0,
             default_normalisation: Normalisation::Norm(1.0),
+            margin_accuracy: 1e-7,
             overrides: Vec::new(),
         }
     }
@@ -115,8 +123,14 @@ impl FeasibilityOptions {
 
 #[derive(Debug, Clone)]
 pub(crate) enum Mode {
-    Optimize { strict_margin: f64 },
-    Margin { cap: f64, norms: Vec<Normalisation> },
+    Optimize {
+        strict_margin: f64,
+    },
+    Margin {
+        cap: f64,
+        norms: Vec<Normalisation>,
+        accuracy: f64,
+    },
 }
 
 /// Counters of the work done by a [`Compiled`] model (to check that re-solves reuse structure).
@@ -132,6 +146,8 @@ pub struct CompileStats {
     pub analyses: usize,
     /// Solver runs.
     pub solves: usize,
+    /// Continuations of a margin solve to reach [`FeasibilityOptions::margin_accuracy`].
+    pub refinements: usize,
 }
 
 /// A normalisation constraint of the margin problem (kept to judge whether it is active).
@@ -234,6 +250,12 @@ impl Model {
                 options.margin_cap
             )));
         }
+        if !(options.margin_accuracy > 0.0 && options.margin_accuracy.is_finite()) {
+            return Err(ModelError::InvalidArgument(format!(
+                "margin_accuracy must be finite and > 0, got {}",
+                options.margin_accuracy
+            )));
+        }
         let mut norms = vec![options.default_normalisation; self.vars.len()];
         for &(model, index, n) in &options.overrides {
             if model != self.id {
@@ -263,6 +285,7 @@ impl Model {
         let mode = Mode::Margin {
             cap: options.margin_cap,
             norms,
+            accuracy: options.margin_accuracy,
         };
         Compiled::new(self.clone(), mode, options.solve.clone())
     }
@@ -626,6 +649,7 @@ impl Compiled {
         if let Mode::Margin {
             cap,
             norms: per_var,
+            ..
         } = &self.mode
         {
             lp.push_row(*cap, &[(m - 1, -1.0)]);
@@ -767,9 +791,53 @@ impl Compiled {
             self.solver = Some((solver, problem.clone()));
         }
         let (solver, _) = self.solver.as_mut().expect("created above");
-        let sdp = solver.solve(problem)?;
+        let mut sdp = solver.solve(problem)?;
         self.stats.solves += 1;
+        if let Some(tight) = self.margin_refinement(&sdp) {
+            let (solver, _) = self.solver.as_mut().expect("created above");
+            solver.set_settings(tight)?;
+            let refined = solver.solve_from(problem, &sdp.point());
+            solver.set_settings(self.options.settings.clone())?;
+            let refined = refined?;
+            self.stats.refinements += 1;
+            if refined.status == Status::Optimal {
+                let first = sdp.iterations;
+                sdp = refined;
+                sdp.iterations += first;
+            }
+        }
         solution::finish(self, sdp)
+    }
+
+    /// Tightened settings that bring a positive optimal margin to the relative accuracy
+    /// [`FeasibilityOptions::margin_accuracy`], or `None` when `sdp` already meets it (or is not
+    /// an optimal margin solve with `0 < t* < margin_cap`).
+    ///
+    /// `t*` lies between the two objectives up to the infeasibilities, so `|⟨C,X⟩ − bᵀy|` and
+    /// `⟨X,S⟩` bound its error; both must be below `accuracy · t*`, i.e. the relative measures
+    /// below `accuracy · t* / (1 + |⟨C,X⟩| + |bᵀy|)`, and the feasibility tolerance is tightened
+    /// by the same factor.
+    fn margin_refinement(&self, sdp: &crate::Solution) -> Option<Settings> {
+        const FLOOR: f64 = 1e-14;
+        let (Mode::Margin { cap, accuracy, .. }, Some(t_col)) = (&self.mode, self.t_col) else {
+            return None;
+        };
+        let t = sdp.y[t_col];
+        if sdp.status != Status::Optimal || !(t > 0.0 && t < *cap) {
+            return None;
+        }
+        let s = &self.options.settings;
+        let scale = 1.0 + sdp.primal_objective.abs() + sdp.dual_objective.abs();
+        let need = (accuracy * t / scale).max(FLOOR);
+        let achieved = sdp.measures.rel_gap.max(sdp.measures.dimacs[5].abs());
+        if achieved <= need || need >= s.tol_gap {
+            return None;
+        }
+        let factor = need / s.tol_gap;
+        let mut tight = s.clone();
+        tight.tol_gap = need;
+        tight.tol_feas = (s.tol_feas * factor).max(FLOOR);
+        Some(tight)
     }
 }
 

@@ -113,7 +113,7 @@ pub enum ModelError {
     /// The equality constraints have no common solution.
     #[error(
         "equality constraints are inconsistent: after elimination a row of `{constraint}` \
-         reduces to 0 = {residual:e}"
+         reduces to 0 = {residual:.3e}"
     )]
     InconsistentEqualities {
         /// A constraint contributing the inconsistent row.

@@ -302,7 +302,7 @@ pub(crate) fn finish(c: &Compiled, sdp: Solution) -> Result<LmiSolution, ModelEr
         (!strict.is_empty()).then(|| strict.iter().map(|r| r.tolerance).fold(0.0, f64::max));
     let failure = verification.first_failure().map(|r| {
         format!(
-            "constraint `{}` fails verification: {} = {:e} against tolerance {:e}",
+            "constraint `{}` fails verification: {} = {:.3e} against tolerance {:.3e}",
             r.name,
             match r.kind {
                 ConstraintKind::Matrix => "λ_min",
@@ -321,7 +321,7 @@ pub(crate) fn finish(c: &Compiled, sdp: Solution) -> Result<LmiSolution, ModelEr
                 .iter()
                 .zip(&c.strict_margins)
                 .filter(|(r, e)| r.strict && **e != *strict_margin)
-                .map(|(r, e)| format!("`{}` with {e:e}", r.name))
+                .map(|(r, e)| format!("`{}` with {e:.3e}", r.name))
                 .collect();
             let raised_note = if raised.is_empty() {
                 String::new()
@@ -334,10 +334,10 @@ pub(crate) fn finish(c: &Compiled, sdp: Solution) -> Result<LmiSolution, ModelEr
             let strict_note = match (strict.is_empty(), raised.is_empty()) {
                 (true, _) => String::new(),
                 (false, true) => {
-                    format!(" (strict constraints were imposed as ⪰ {strict_margin:e}·I)")
+                    format!(" (strict constraints were imposed as ⪰ {strict_margin:.3e}·I)")
                 }
                 (false, false) => format!(
-                    " (strict constraints were imposed as ⪰ ε·I with ε = {strict_margin:e}, \
+                    " (strict constraints were imposed as ⪰ ε·I with ε = {strict_margin:.3e}, \
                      raised to twice the verification tolerance for {})",
                     raised.join(", ")
                 ),
@@ -363,7 +363,7 @@ pub(crate) fn finish(c: &Compiled, sdp: Solution) -> Result<LmiSolution, ModelEr
                 (Status::AlmostOptimal, None) => (
                     Outcome::Feasible,
                     format!(
-                        "almost optimal (solved to reduced accuracy: largest DIMACS error {:e}); \
+                        "almost optimal (solved to reduced accuracy: largest DIMACS error {:.3e}); \
                          every constraint verified at the returned point{raised_note}",
                         sdp.measures.dimacs_max()
                     ),
@@ -382,12 +382,13 @@ pub(crate) fn finish(c: &Compiled, sdp: Solution) -> Result<LmiSolution, ModelEr
                 (s, None) => (
                     Outcome::Inconclusive,
                     format!(
-                        "solver stopped with {s:?}; the returned point is verified feasible but optimality is not established"
+                        "solver stopped with {}; the returned point is verified feasible but optimality is not established",
+                        s.as_str()
                     ),
                 ),
                 (s, Some(f)) => (
                     Outcome::Inconclusive,
-                    format!("solver stopped with {s:?}; {f}"),
+                    format!("solver stopped with {}; {f}", s.as_str()),
                 ),
             }
         }
@@ -416,7 +417,7 @@ pub(crate) fn finish(c: &Compiled, sdp: Solution) -> Result<LmiSolution, ModelEr
                     Outcome::Feasible,
                     match margin {
                         Some(t) => format!(
-                            "strictly feasible: margin t* = {t:e}; every constraint verified"
+                            "strictly feasible: margin t* = {t:.4e}; every constraint verified"
                         ),
                         None => "feasible; every constraint verified".to_string(),
                     },
@@ -440,19 +441,28 @@ pub(crate) fn finish(c: &Compiled, sdp: Solution) -> Result<LmiSolution, ModelEr
                         (
                             Outcome::Infeasible,
                             format!(
-                                "not strictly feasible: the maximal common margin t* = {t:e} is at or below \
-                                 the verification threshold {thr:e}"
+                                "not strictly feasible: the maximal common margin t* = {t:.4e} is at or below \
+                                 the verification threshold {thr:.3e}"
                             ),
                         )
                     } else {
                         (
                             Outcome::Inconclusive,
-                            format!("maximal margin t* = {t:e} ≤ {thr:e}, but {}", artefact()),
+                            format!(
+                                "maximal margin t* = {t:.4e} ≤ {thr:.3e}, but {}",
+                                artefact()
+                            ),
                         )
                     }
                 }
-                (s, Some(f), _, _) => (Outcome::Inconclusive, format!("solver status {s:?}; {f}")),
-                (s, None, _, _) => (Outcome::Inconclusive, format!("solver status {s:?}")),
+                (s, Some(f), _, _) => (
+                    Outcome::Inconclusive,
+                    format!("solver status {}; {f}", s.as_str()),
+                ),
+                (s, None, _, _) => (
+                    Outcome::Inconclusive,
+                    format!("solver status {}", s.as_str()),
+                ),
             }
         }
     };

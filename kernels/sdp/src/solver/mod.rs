@@ -231,6 +231,16 @@ impl Solver {
         &self.settings
     }
 
+    /// Replaces the settings (e.g. tighter tolerances to continue a solve with
+    /// [`Solver::solve_from`]), keeping the analysis and workspaces. The thread count is fixed
+    /// at [`Solver::new`]; `settings.threads` is ignored here. Errors as for [`Solver::new`] on
+    /// invalid settings.
+    pub fn set_settings(&mut self, settings: Settings) -> Result<(), SdpError> {
+        check_settings(&settings)?;
+        self.settings = settings;
+        Ok(())
+    }
+
     /// Solves `problem`, which must have the analysed block layout and a sparsity pattern
     /// contained in the analysed one (otherwise [`SdpError::Structure`]).
     pub fn solve(&mut self, problem: &Problem) -> Result<Solution, SdpError> {
