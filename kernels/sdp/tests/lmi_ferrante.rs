@@ -120,3 +120,36 @@ fn free_design_returns_gain_in_feasible_interval() {
         "L = {l} outside (0.6321206, 1.3678794)"
     );
 }
+
+/// Margins of LMI (41) with a fixed gain reach `1e-7` relative accuracy at the default settings
+/// (`FeasibilityOptions::margin_accuracy`), against a run at `tol_gap = tol_feas = 1e-13`
+/// whose DIMACS errors are checked to be below `1e-11`. Near the end of the feasible gain
+/// interval (`L = 0.6322`, 1e-4 inside it) the margin is `2.7e-5`, and the default stopping rule
+/// alone (relative to `1 + |objective|`) leaves it off by `7e-5` relative.
+#[test]
+fn fixed_gain_margins_are_accurate_to_1e7_relative() {
+    for l in [0.7321206, 0.6322] {
+        let margin = |opts: &FeasibilityOptions| {
+            let mut d = lmi41();
+            d.model
+                .constrain(d.j.equals(l * &d.f).named("J = F L"))
+                .unwrap();
+            let sol = d.model.feasibility(opts).unwrap();
+            assert_eq!(sol.outcome, Outcome::Feasible, "L = {l}: {}", sol.reason);
+            (sol.margin.unwrap(), sol.sdp.measures.dimacs_max())
+        };
+        let mut tight = FeasibilityOptions::default();
+        tight.solve.settings.tol_gap = 1e-13;
+        tight.solve.settings.tol_feas = 1e-13;
+        let (t_ref, kkt) = margin(&tight);
+        assert!(
+            kkt < 1e-11,
+            "L = {l}: reference DIMACS errors up to {kkt:e}"
+        );
+        let (t, _) = margin(&FeasibilityOptions::default());
+        assert!(
+            (t - t_ref).abs() <= 1e-7 * t_ref,
+            "L = {l}: t* = {t:e} against the reference {t_ref:e}"
+        );
+    }
+}
