@@ -7,40 +7,8 @@ use sporadic::model::{
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-fn sporadic(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_sporadic"))
-        .args(args)
-        .env_remove("RUST_BACKTRACE")
-        .output()
-        .expect("run the sporadic binary")
-}
-
-fn example(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("examples")
-        .join(name)
-        .display()
-        .to_string()
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sporadic-cli-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
-
-/// The exit code of a run (panics if the process was killed by a signal).
-fn code(o: &Output) -> i32 {
-    o.status.code().expect("exit code")
-}
+mod common;
+use common::{code, example, scratch, sporadic, stderr, stdout};
 
 /// A failing run: non-zero exit, a one-line `error:` message containing `needle`, no panic.
 fn assert_clean_failure(o: &Output, needle: &str) {

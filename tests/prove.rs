@@ -3,30 +3,10 @@
 //! and bad gain files.
 
 use sporadic::model::{DesignReport, ProofStatus};
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn sporadic(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_sporadic"))
-        .args(args)
-        .env_remove("RUST_BACKTRACE")
-        .output()
-        .expect("run the sporadic binary")
-}
-
-fn example(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("examples")
-        .join(name)
-        .display()
-        .to_string()
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sporadic-prove-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
+mod common;
+use common::{example, scratch, sporadic};
 
 fn report(o: &Output) -> DesignReport {
     serde_json::from_slice(&o.stdout).unwrap_or_else(|e| {
