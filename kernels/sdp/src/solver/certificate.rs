@@ -167,7 +167,7 @@ fn gram_solver(problem: &Problem) -> SchurSolver {
             }
         }
     }
-    let mut solver = SchurSolver::new(m, faer::Par::Seq);
+    let mut solver = SchurSolver::new(m);
     solver.factorize(&g);
     solver
 }

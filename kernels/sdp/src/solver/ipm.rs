@@ -2,7 +2,7 @@
 
 use std::time::Instant;
 
-use faer::{Mat, Par};
+use faer::Mat;
 
 use super::blockops::{BlockMats, Factored, Factors, c_dense, factor_all, inner, step_and_factor};
 use super::certificate::InfeasibilityCertificate;
@@ -27,8 +27,6 @@ pub(crate) struct Workspace {
     pub linsys: SchurSolver,
     /// Least-squares form of the Newton system, allocated the first time it is needed.
     pub lsq: Option<LeastSquares>,
-    /// Parallelism of the dense factorisations.
-    pub par: Par,
 }
 
 /// How the Newton systems are currently solved (see [`super::lsq`]).
@@ -429,7 +427,7 @@ pub(crate) fn run(
                 }
                 Mode::LeastSquares => {
                     if ws.lsq.is_none() {
-                        ws.lsq = LeastSquares::new(an, ws.par);
+                        ws.lsq = LeastSquares::new(an);
                     }
                     if !ws
                         .lsq

@@ -39,19 +39,17 @@ pub(crate) struct SchurSolver {
     factor: Factor,
     /// Regularisation `ρ` used by the last factorisation (`0` if none; `NaN` for LBLᵀ).
     pub regularization: f64,
-    par: Par,
 }
 
 impl SchurSolver {
-    /// Workspaces for an `m×m` system; `par` is used for the factorisation and triangular solves.
-    pub(crate) fn new(m: usize, par: Par) -> Self {
+    /// Workspaces for an `m×m` system.
+    pub(crate) fn new(m: usize) -> Self {
         Self {
             m_full: Mat::zeros(m, m),
             d: vec![1.0; m],
             l: Mat::zeros(m, m),
             factor: Factor::Llt,
             regularization: 0.0,
-            par,
         }
     }
 
@@ -65,14 +63,14 @@ impl SchurSolver {
         }
         let mut mem = faer::dyn_stack::MemBuffer::new(cholesky_in_place_scratch::<f64>(
             m,
-            self.par,
+            Par::Seq,
             Default::default(),
         ));
         let stack = faer::dyn_stack::MemStack::new(&mut mem);
         let ok = cholesky_in_place(
             self.l.as_mut(),
             LltRegularization::default(),
-            self.par,
+            Par::Seq,
             stack,
             Default::default(),
         )
@@ -118,8 +116,8 @@ impl SchurSolver {
         let mut z = Mat::from_fn(m, 1, |i, _| self.d[i] * r[i]);
         match &self.factor {
             Factor::Llt => {
-                solve_lower_triangular_in_place(self.l.as_ref(), z.as_mut(), self.par);
-                solve_upper_triangular_in_place(self.l.transpose(), z.as_mut(), self.par);
+                solve_lower_triangular_in_place(self.l.as_ref(), z.as_mut(), Par::Seq);
+                solve_upper_triangular_in_place(self.l.transpose(), z.as_mut(), Par::Seq);
             }
             Factor::Lblt(f) => z = f.solve(&z),
         }

@@ -128,7 +128,6 @@ pub(crate) struct LeastSquares {
     qr: Mat<f64>,
     /// Block Householder factors.
     coeff: Mat<f64>,
-    par: Par,
 }
 
 fn support_of(rows: &[usize], cols: &[usize]) -> Vec<usize> {
@@ -141,7 +140,7 @@ fn support_of(rows: &[usize], cols: &[usize]) -> Vec<usize> {
 impl LeastSquares {
     /// Workspaces for `an`, or `None` when `K` would exceed the memory budget or cannot have full
     /// column rank (fewer scaled rows than constraints).
-    pub(crate) fn new(an: &Analysis, par: Par) -> Option<Self> {
+    pub(crate) fn new(an: &Analysis) -> Option<Self> {
         let m = an.m;
         let mut offsets = Vec::with_capacity(an.blocks.len());
         let mut rows = 0usize;
@@ -179,7 +178,6 @@ impl LeastSquares {
             supports,
             qr: Mat::zeros(rows + m, m),
             coeff: Mat::zeros(block, m),
-            par,
         })
     }
 
@@ -232,13 +230,13 @@ impl LeastSquares {
             rows,
             m,
             block,
-            self.par,
+            Par::Seq,
             Default::default(),
         ));
         qr_in_place(
             self.qr.as_mut(),
             self.coeff.as_mut(),
-            self.par,
+            Par::Seq,
             MemStack::new(&mut mem),
             Default::default(),
         );
@@ -315,7 +313,7 @@ impl LeastSquares {
             self.coeff.as_ref(),
             Conj::No,
             MatMut::from_column_major_slice_mut(v, self.rows + self.m, 1),
-            self.par,
+            Par::Seq,
             MemStack::new(&mut mem),
         );
     }
@@ -333,7 +331,7 @@ impl LeastSquares {
             self.coeff.as_ref(),
             Conj::No,
             MatMut::from_column_major_slice_mut(v, self.rows + self.m, 1),
-            self.par,
+            Par::Seq,
             MemStack::new(&mut mem),
         );
     }
@@ -344,7 +342,7 @@ impl LeastSquares {
         solve_lower_triangular_in_place(
             r.transpose(),
             MatMut::from_column_major_slice_mut(v, self.m, 1),
-            self.par,
+            Par::Seq,
         );
     }
 
@@ -354,7 +352,7 @@ impl LeastSquares {
         solve_upper_triangular_in_place(
             r,
             MatMut::from_column_major_slice_mut(v, self.m, 1),
-            self.par,
+            Par::Seq,
         );
     }
 

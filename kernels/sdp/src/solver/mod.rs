@@ -92,7 +92,7 @@ mod structure;
 use std::fmt;
 use std::sync::Arc;
 
-use faer::{Mat, Par};
+use faer::Mat;
 
 pub use certificate::InfeasibilityCertificate;
 pub use point::{Point, dimacs_errors, point_measures};
@@ -120,9 +120,6 @@ pub fn solve_from(
 ) -> Result<Solution, SdpError> {
     Solver::new(problem, settings.clone())?.solve_from(problem, start)
 }
-
-/// Smallest Schur dimension for which the dense Cholesky uses several threads.
-const PARALLEL_CHOLESKY_MIN: usize = 192;
 
 /// Largest per-iteration work estimate ([`Analysis::work_estimate`], in flops) for which
 /// `Settings::threads == 0` runs the solve on the calling thread: below it, handing every
@@ -201,22 +198,11 @@ impl Solver {
         } else {
             None
         };
-        let threads = match (&pool, analysis.exec) {
-            (_, Exec::Sequential) => 1,
-            (Some(p), _) => p.current_num_threads(),
-            (None, _) => rayon::current_num_threads(),
-        };
         let m = analysis.m;
-        let par = if m >= PARALLEL_CHOLESKY_MIN && threads > 1 {
-            Par::rayon(threads)
-        } else {
-            Par::Seq
-        };
         let workspace = Workspace {
             schur: Mat::zeros(m, m),
-            linsys: SchurSolver::new(m, par),
+            linsys: SchurSolver::new(m),
             lsq: None,
-            par,
         };
         Ok(Solver {
             settings,

@@ -7,6 +7,14 @@
 //! loop on the caller's thread ([`Exec::Sequential`]); the others run on rayon
 //! ([`Exec::Parallel`]). Every loop writes each result slot from exactly one iteration, so both
 //! give bitwise identical results.
+//!
+//! The dense factorisations and solves of the whole system (Cholesky of the Schur matrix in
+//! `linsys`, Householder QR in `lsq`) run on the calling thread (faer `Par::Seq`) whatever the
+//! thread count. faer's parallel kernels split their work by the number of threads, so their
+//! rounding — and with it the iterates — would depend on it (gpp250-1 took 17 iterations on two
+//! threads, 19 on one); and they synchronise by spinning at barriers, which on a machine shared
+//! with other work costs far more than it saves (gpp250-1: 23.6 s on two threads, 58% of the
+//! samples spinning in faer's barrier, against 5.9 s on one).
 
 use rayon::prelude::*;
 
