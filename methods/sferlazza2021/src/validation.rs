@@ -260,12 +260,35 @@ pub struct SensorValidation {
     pub min_is_exact: bool,
     /// Number of full eigenvalue computations performed.
     pub eigen_evaluations: u64,
+    /// `Some(k)`: (48) was proven for every `τ` of the window in interval arithmetic, on `k`
+    /// pieces ([`crate::design::DesignOptions::proof_pieces`]), and no grid was run: `points`
+    /// is 0, `spacing` that of the (49) grid it replaced, `min_eigenvalue` is μ (the proof
+    /// shows `λ_min(Ξ_σ(τ)) > μ` at every τ, not by how much) and `argmin_tau` NaN.
+    pub proof_pieces: Option<usize>,
 }
 
 impl SensorValidation {
     /// Whether (48) holds on every point.
     pub fn passed(&self) -> bool {
         self.failures == 0
+    }
+
+    /// The validation of sensor `sigma` at level μ by a proof of (48) over its whole window on
+    /// `pieces` pieces, in place of the grid of spacing `spacing` (see
+    /// [`SensorValidation::proof_pieces`]).
+    pub fn proven(sigma: usize, mu: f64, spacing: f64, pieces: usize) -> Self {
+        Self {
+            sigma,
+            mu,
+            points: 0,
+            spacing,
+            failures: 0,
+            min_eigenvalue: mu,
+            argmin_tau: f64::NAN,
+            min_is_exact: false,
+            eigen_evaluations: 0,
+            proof_pieces: Some(pieces),
+        }
     }
 }
 
@@ -788,6 +811,7 @@ impl XiFamily {
             argmin_tau: tau,
             min_is_exact: failures > 0,
             eigen_evaluations: res.iter().map(|c| c.eig).sum(),
+            proof_pieces: None,
         })
     }
 
