@@ -67,9 +67,10 @@ pub struct DesignOptions {
 
 /// Grid points of (49) per piece of the budget of a proof of (48)
 /// ([`DesignOptions::proof_pieces`]): a piece costs a few interval exponentials and verified
-/// definiteness tests, about as much as this many grid points, so an attempt that fails costs
-/// at most about the grid it would have replaced.
-pub const PROOF_POINTS_PER_PIECE: usize = 1024;
+/// definiteness tests, about as much as this many grid points (measured on the corpus: ≈ 3·10³
+/// pieces/s against ≈ 6·10⁶ grid points/s on two cores), so an attempt that fails costs at
+/// most about the grid it would have replaced.
+pub const PROOF_POINTS_PER_PIECE: usize = 2048;
 
 /// Smallest piece budget with which a proof of (48) is attempted (the number of pieces the
 /// subdivision starts with): below it the grid is cheaper.

@@ -404,7 +404,7 @@ pub const SEARCH_SCREEN_POINTS: usize = 2048;
 
 /// Largest number of pieces of the proof of (48) over a window that a probe of the window
 /// search tries before running the (49) grid ([`DesignOptions::proof_pieces`]).
-pub const SEARCH_PROOF_PIECES: usize = 4096;
+pub const SEARCH_PROOF_PIECES: usize = 16384;
 
 /// Largest number of grid tuples of the Proposition 1 screen in a probe of the window search
 /// (the aliasing tuples come on top); a design's own screen uses
