@@ -553,3 +553,58 @@ pub(crate) fn prove_validation(
         &mut |a, b| cond.check(a, b, 1.0),
     )
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::plant::test_util::{rr, win};
+    use crate::validation::{UniformGrid, XiFamily, validate_naive};
+    use faer::mat;
+
+    /// The proof of (48) agrees with a fine grid: it is never `proved` at a level μ above the
+    /// grid minimum of `λ_min(Ξ_σ)`, and it is proved at levels below it (by `Ξ_σ − μI` or its
+    /// Schur complement, whichever holds on each piece). Two cases: two sensors whose `P_σ` fail
+    /// (44) somewhere, and a stable plant with `P = I`, for which `Ξ(τ) ≻ 0` (its Schur
+    /// complement `Qᵀ(e^{−Aᵀτ}e^{−Aτ} − I)Q` is positive definite).
+    #[test]
+    fn validation_proof_agrees_with_the_grid() {
+        let two = rr(
+            mat![[0.0, 1.0, 0.0], [-2.0, -0.3, 1.0], [0.5, 0.0, -1.0]],
+            vec![
+                (mat![[1.0, 0.0, 0.0]], win(0.1, 0.9)),
+                (mat![[0.0, 0.0, 1.0]], win(0.2, 0.6)),
+            ],
+        )
+        .unwrap();
+        let p_two = vec![
+            mat![[3.0, 0.5, 0.1], [0.5, 2.0, -0.3], [0.1, -0.3, 1.5]],
+            mat![[2.0, -0.2, 0.0], [-0.2, 1.0, 0.4], [0.0, 0.4, 2.5]],
+        ];
+        let stable = rr(
+            mat![[-1.0, 0.2, 0.0], [0.0, -2.0, 0.5], [0.0, 0.0, -0.5]],
+            vec![(mat![[1.0, 0.0, 0.0]], win(0.1, 0.5))],
+        )
+        .unwrap();
+        let p_stable = vec![Mat::identity(3, 3)];
+        let mut proved = 0;
+        for (plant, p) in [(&two, &p_two), (&stable, &p_stable)] {
+            for sigma in 0..plant.num_sensors() {
+                let fam = XiFamily::new(plant, p, sigma).unwrap();
+                let w = plant.sensor(sigma).unwrap().window();
+                let grid = UniformGrid::covering(w, 1e-4, 1e9).unwrap();
+                let (_, lmin, _) = validate_naive(&fam, grid, 0.0).unwrap();
+                for mu in [lmin + 1e-3, lmin + 0.1, 1.0] {
+                    if let Ok(w) = prove_validation(plant, p, sigma, mu, 4096) {
+                        assert_ne!(w.status, ProofStatus::Proved, "σ = {sigma}, μ = {mu}");
+                    }
+                }
+                if lmin > 0.0 {
+                    let w = prove_validation(plant, p, sigma, 0.5 * lmin, 4096).unwrap();
+                    assert_eq!(w.status, ProofStatus::Proved, "σ = {sigma}: {}", w.message);
+                    proved += 1;
+                }
+            }
+        }
+        assert!(proved >= 1);
+    }
+}
