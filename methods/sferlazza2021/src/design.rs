@@ -17,7 +17,7 @@
 use std::time::{Duration, Instant};
 
 use faer::Mat;
-use sporadic_model::{ProofStatus, SolverStats};
+use sporadic_model::SolverStats;
 use sporadic_sdp::lmi::SolveOptions;
 
 use crate::detectability::{DetectabilityOptions, DetectabilityReport, require_detectable};
@@ -25,10 +25,10 @@ use crate::error::{Error, check_at_least, check_positive};
 use crate::exponential_bound::{BoundOptions, CertifiedBound, exponential_bound};
 use crate::gain::GainSchedule;
 use crate::plant::RoundRobinPlant;
-use crate::prove::prove_validation;
 use crate::synthesis::{Synthesis, default_solve_options};
 use crate::validation::{
     GridPolicy, SensorValidation, UniformGrid, ValidationOptions, XiFamily, grid_spacing,
+    validate_window,
 };
 use sporadic_linalg::InputError;
 
@@ -57,24 +57,12 @@ pub struct DesignOptions {
     /// [`DetectabilityOptions::default`].
     pub detectability: Option<DetectabilityOptions>,
     /// Before a sensor's (49) grid is run, try to prove (48) for every `τ` of its window in
-    /// interval arithmetic ([`crate::prove`]) with at most this many pieces, and at most one
-    /// piece per [`PROOF_POINTS_PER_PIECE`] points of the grid (no attempt below
-    /// [`MIN_PROOF_PIECES`]). A proof decides the validation in place of the grid (it implies
+    /// interval arithmetic ([`crate::prove`]) with at most this many pieces
+    /// ([`crate::validation::validate_window`]). A proof decides the validation in place of the grid (it implies
     /// (48) at every grid point); otherwise the grid decides, as in the paper. `None`: the
     /// grid only. Default `None` (the window search of [`crate::Sferlazza2021`] sets it).
     pub proof_pieces: Option<usize>,
 }
-
-/// Grid points of (49) per piece of the budget of a proof of (48)
-/// ([`DesignOptions::proof_pieces`]): a piece costs a few interval exponentials and verified
-/// definiteness tests, about as much as this many grid points (measured on the corpus: ≈ 3·10³
-/// pieces/s against ≈ 6·10⁶ grid points/s on two cores), so an attempt that fails costs at
-/// most about the grid it would have replaced.
-pub const PROOF_POINTS_PER_PIECE: usize = 2048;
-
-/// Smallest piece budget with which a proof of (48) is attempted (the number of pieces the
-/// subdivision starts with): below it the grid is cheaper.
-pub const MIN_PROOF_PIECES: usize = 16;
 
 impl DesignOptions {
     /// Checks every field; the error names the offending one.
@@ -416,22 +404,16 @@ impl DesignLoop {
             grids
                 .iter()
                 .zip(&families)
-                .enumerate()
-                .map(|(s, (g, f))| {
-                    let budget = self
-                        .settings
-                        .proof_pieces
-                        .map_or(0, |k| k.min(g.points / PROOF_POINTS_PER_PIECE));
-                    if budget >= MIN_PROOF_PIECES {
-                        // A proof that cannot be attempted (a failing interval kernel) leaves
-                        // the decision to the grid, like one that does not succeed.
-                        if let Ok(w) = prove_validation(&self.plant, &res.p, s, mu, budget)
-                            && w.status == ProofStatus::Proved
-                        {
-                            return Ok(SensorValidation::proven(s, mu, g.spacing, w.pieces));
-                        }
-                    }
-                    f.validate_grid(*g, mu, &self.settings.validation)
+                .map(|(g, f)| {
+                    validate_window(
+                        f,
+                        &self.plant,
+                        &res.p,
+                        *g,
+                        mu,
+                        self.settings.proof_pieces,
+                        &self.settings.validation,
+                    )
                 })
                 .collect()
         };

@@ -37,7 +37,7 @@ use crate::plant::{RoundRobinPlant, window_grid};
 use crate::prove::{GAIN_TOLERANCE, gain_mismatch, prove_design};
 use crate::simulation::{SimulationOptions, simulate_error};
 use crate::validation::{GridPolicy, XiFamily};
-use crate::validation::{UniformGrid, grid_spacing};
+use crate::validation::{UniformGrid, grid_spacing, validate_window};
 use sporadic_linalg::balance::{balancing_scales, unbalance_form, unbalance_gain};
 
 const ID: &str = "sferlazza2021";
@@ -293,8 +293,10 @@ impl ObserverMethod for Sferlazza2021 {
 
     /// Checks given gains and Lyapunov matrices: the certificate `P_1, …, P_N` (scaled so that
     /// `I ⪯ P_σ`, as in (47)) must pass the validation (48) at μ on the grid (49) of each window
-    /// (Step 1 run for β, γ), and the gains must be (45) of it at every listed `τ`. No
-    /// balancing: the check runs in the coordinates given.
+    /// (Step 1 run for β, γ), or a proof of (48) over the whole window, tried first on a large
+    /// grid (at most [`SEARCH_PROOF_PIECES`] pieces unless [`DesignOptions::proof_pieces`] says
+    /// otherwise; [`crate::validation::validate_window`]), and the gains must be (45) of it at
+    /// every listed `τ`. No balancing: the check runs in the coordinates given.
     fn verify(
         &self,
         plant: &Plant,
@@ -689,7 +691,15 @@ impl Sferlazza2021 {
             let grid =
                 UniformGrid::covering(sensor.window(), spacing, self.design.validation.max_points)?;
             let fam = XiFamily::new(rr, &normalised, s)?;
-            let v = fam.validate_grid(grid, mu, &self.design.validation)?;
+            let v = validate_window(
+                &fam,
+                rr,
+                &normalised,
+                grid,
+                mu,
+                Some(self.design.proof_pieces.unwrap_or(SEARCH_PROOF_PIECES)),
+                &self.design.validation,
+            )?;
             if !v.passed() {
                 return Ok(failed(
                     Some(v.argmin_tau),
@@ -707,23 +717,44 @@ impl Sferlazza2021 {
                 ));
             }
             margin = margin.min(v.min_eigenvalue / p_star);
-            report.checks.push(Check {
-                what: format!(
-                    "(48): λ_min(Ξ_{}(τ)) > μ = {} on the window {} of sensor {}",
-                    s + 1,
-                    significant(mu),
-                    sensor.window(),
-                    s + 1
-                ),
-                how: format!(
-                    "uniform grid of {} points, spacing {} (the design's grid policy, p* = {}), \
-                    the given P_σ scaled to I ⪯ P_σ; value: λ_min on a subsample",
-                    grid.points,
-                    significant(grid.spacing),
-                    significant(p_star)
-                ),
-                value: Some(v.min_eigenvalue),
-                passed: true,
+            report.checks.push(match v.proof_pieces {
+                Some(pieces) => Check {
+                    what: format!(
+                        "(48): λ_min(Ξ_{}(τ)) > μ = {} for every τ of the window {} of sensor {}",
+                        s + 1,
+                        significant(mu),
+                        sensor.window(),
+                        s + 1
+                    ),
+                    how: format!(
+                        "proven in interval arithmetic on {pieces} τ-pieces (crate::prove), in \
+                         place of the uniform grid of {} points, spacing {} (the design's grid \
+                         policy, p* = {}), which it implies; the given P_σ scaled to I ⪯ P_σ",
+                        grid.points,
+                        significant(grid.spacing),
+                        significant(p_star)
+                    ),
+                    value: None,
+                    passed: true,
+                },
+                None => Check {
+                    what: format!(
+                        "(48): λ_min(Ξ_{}(τ)) > μ = {} on the window {} of sensor {}",
+                        s + 1,
+                        significant(mu),
+                        sensor.window(),
+                        s + 1
+                    ),
+                    how: format!(
+                        "uniform grid of {} points, spacing {} (the design's grid policy, p* = \
+                         {}), the given P_σ scaled to I ⪯ P_σ; value: λ_min on a subsample",
+                        grid.points,
+                        significant(grid.spacing),
+                        significant(p_star)
+                    ),
+                    value: Some(v.min_eigenvalue),
+                    passed: true,
+                },
             });
         }
         report.checks.push(Check {

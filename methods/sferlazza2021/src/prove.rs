@@ -43,9 +43,11 @@
 //! The proof runs on the plant as the user gave it (the report's gains and certificate are in
 //! the user's coordinates).
 //!
-//! The same subdivision, with the condition shifted to `Ξ_σ(τ) ≻ μI`, proves the validation
-//! (48) of the design loop over a whole window in place of its grid (49)
-//! ([`crate::design::DesignOptions::proof_pieces`]).
+//! The same subdivision proves the validation (48) of the design loop, `Ξ_σ(τ) ≻ μI`, over a
+//! whole window in place of its grid (49) ([`crate::validation::validate_window`]): a piece
+//! holds by the chord bound on `Ξ_σ − μI` or on its Schur complement
+//! `QᵀΦ_σQ − μI − QᵀP_Γ(P_Γ − μI)⁻¹P_ΓQ` (`P_Γ − μI ≻ 0` proven), whose margin grows with
+//! `QᵀΦ_σQ` on long windows.
 
 use std::collections::HashMap;
 use std::time::Instant;
