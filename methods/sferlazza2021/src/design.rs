@@ -5,7 +5,9 @@
 //!    `{T_mσ, T_Mσ}`) → `(P*, p*)`.
 //! 3. **Analysis** ([`crate::validation`]): check `Ξ_σ(τ) ≻ μI` (48) on a grid of each window with
 //!    spacing from the [`GridPolicy`] ((49) by default). If every sensor passes, stop. Otherwise add the
-//!    worst point τ̄_σ of (50) to `T_σ` for every failing σ and go back to 2.
+//!    worst point τ̄_σ of (50) to `T_σ` for every failing σ and go back to 2. With
+//!    [`DesignOptions::proof_pieces`], a large grid is replaced by a proof of (48) for every τ of
+//!    the window ([`crate::prove`]) when one succeeds; the grid decides otherwise.
 //!
 //! Theorem 5: if (44) is feasible the loop ends after finitely many iterations. Failure exits:
 //! (47) infeasible ([`Error::Infeasible`], which certifies that (44) is infeasible), `max_iterations`
@@ -26,6 +28,7 @@ use crate::plant::RoundRobinPlant;
 use crate::synthesis::{Synthesis, default_solve_options};
 use crate::validation::{
     GridPolicy, SensorValidation, UniformGrid, ValidationOptions, XiFamily, grid_spacing,
+    validate_window,
 };
 use sporadic_linalg::InputError;
 
@@ -53,6 +56,12 @@ pub struct DesignOptions {
     /// Run the Proposition 1 screen first (`None`: skip). Default: the screen with
     /// [`DetectabilityOptions::default`].
     pub detectability: Option<DetectabilityOptions>,
+    /// Before a sensor's (49) grid is run, try to prove (48) for every `τ` of its window in
+    /// interval arithmetic ([`crate::prove`]) with at most this many pieces
+    /// ([`crate::validation::validate_window`]). A proof decides the validation in place of the grid (it implies
+    /// (48) at every grid point); otherwise the grid decides, as in the paper. `None`: the
+    /// grid only. Default `None` (the window search of [`crate::Sferlazza2021`] sets it).
+    pub proof_pieces: Option<usize>,
 }
 
 impl DesignOptions {
@@ -87,6 +96,9 @@ impl DesignOptions {
         if let Some(d) = &self.detectability {
             d.validate()?;
         }
+        if let Some(k) = self.proof_pieces {
+            check_at_least("proof_pieces", k, 1)?;
+        }
         Ok(())
     }
 }
@@ -102,6 +114,7 @@ impl Default for DesignOptions {
             fixed_bound: None,
             solve: default_solve_options(),
             detectability: Some(DetectabilityOptions::default()),
+            proof_pieces: None,
         }
     }
 }
@@ -181,7 +194,9 @@ impl Design {
     /// For each sensor, the exact minimum of `λ_min(Ξ_σ(τ))` of (44) over every point of the last
     /// validation grid (48), the one that passed. Validation itself only decides `λ_min > μ` at every
     /// point (its reported minimum is that of a subsample); this re-runs the grid at the level of that
-    /// subsample minimum, so that every point at or below it is evaluated exactly.
+    /// subsample minimum, so that every point at or below it is evaluated exactly. A sensor whose
+    /// validation was a proof over the whole window ([`SensorValidation::proof_pieces`]) gets μ,
+    /// the lower bound the proof shows, and no grid is run.
     ///
     /// # Errors
     /// Bad `options` or a failing kernel.
@@ -198,7 +213,7 @@ impl Design {
                 spacing: v.spacing,
                 points: v.points,
             };
-            let (min_eigenvalue, argmin_tau) = if v.min_is_exact {
+            let (min_eigenvalue, argmin_tau) = if v.min_is_exact || v.proof_pieces.is_some() {
                 (v.min_eigenvalue, v.argmin_tau)
             } else {
                 let fam = XiFamily::new(plant, &self.p, s)?;
@@ -215,6 +230,7 @@ impl Design {
                 grid,
                 min_eigenvalue,
                 argmin_tau,
+                proof_pieces: v.proof_pieces,
             });
         }
         Ok(out)
@@ -252,6 +268,10 @@ pub struct GridMinimum {
     pub min_eigenvalue: f64,
     /// Where it is attained.
     pub argmin_tau: f64,
+    /// `Some(k)`: the validation was a proof of (48) over the whole window on `k` pieces, and
+    /// `min_eigenvalue` is μ, a lower bound of `λ_min(Ξ_σ(τ))` at every τ of the window
+    /// (`argmin_tau` NaN; see [`SensorValidation::proof_pieces`]).
+    pub proof_pieces: Option<usize>,
 }
 
 /// The loop as a state machine, for callers that want to watch or drive it step by step.
@@ -329,8 +349,9 @@ impl DesignLoop {
     /// coarse worst points (50) are added and the step ends, not passed, without the full grid.
     /// Otherwise (every sensor passes the screen, or a coarse worst point is already in `T_σ`)
     /// the step validates the same `P_σ` on the full grid of the policy exactly as
-    /// [`DesignLoop::step`] does; so a step reports `true` only after the full validation (48)
-    /// on the (49) grid. The screen saves the full grid on every iteration whose `P_σ` fails
+    /// [`DesignLoop::step`] does (or by a proof over the window, [`DesignOptions::proof_pieces`]);
+    /// so a step reports `true` only after the full validation (48) on the (49) grid or on every
+    /// τ of the window. The screen saves the full grid on every iteration whose `P_σ` fails
     /// on the coarse grid (the window search runs many such iterations); it changes which τ̄
     /// are added, hence the iterates, but not the acceptance test.
     ///
@@ -377,6 +398,25 @@ impl DesignLoop {
                 .map(|(g, f)| f.validate_grid(*g, mu, &self.settings.validation))
                 .collect()
         };
+        // The full validation: a proof of (48) over the window where the grid is large enough
+        // for one to pay off (DesignOptions::proof_pieces), the grid otherwise.
+        let validate_full = |grids: &[UniformGrid]| -> Result<Vec<SensorValidation>, Error> {
+            grids
+                .iter()
+                .zip(&families)
+                .map(|(g, f)| {
+                    validate_window(
+                        f,
+                        &self.plant,
+                        &res.p,
+                        *g,
+                        mu,
+                        self.settings.proof_pieces,
+                        &self.settings.validation,
+                    )
+                })
+                .collect()
+        };
         let stalled = |v: &SensorValidation| {
             let tol = 0.5 * v.spacing.max(f64::EPSILON * v.argmin_tau.abs());
             points[v.sigma]
@@ -408,7 +448,7 @@ impl DesignLoop {
         }
         let sensors = match screened {
             Some(v) => v,
-            None => validate(&grids)?,
+            None => validate_full(&grids)?,
         };
         let validation_time = t1.elapsed();
         let mut added = vec![None; sensors.len()];

@@ -42,6 +42,12 @@
 //!
 //! The proof runs on the plant as the user gave it (the report's gains and certificate are in
 //! the user's coordinates).
+//!
+//! The same subdivision proves the validation (48) of the design loop, `Ξ_σ(τ) ≻ μI`, over a
+//! whole window in place of its grid (49) ([`crate::validation::validate_window`]): a piece
+//! holds by the chord bound on `Ξ_σ − μI` or on its Schur complement
+//! `QᵀΦ_σQ − μI − QᵀP_Γ(P_Γ − μI)⁻¹P_ΓQ` (`P_Γ − μI ≻ 0` proven), whose margin grows with
+//! `QᵀΦ_σQ` on long windows.
 
 use std::collections::HashMap;
 use std::time::Instant;
@@ -67,7 +73,7 @@ const INITIAL_PIECES: usize = 16;
 /// the same gain (rounding of the design's balanced coordinates mapped back).
 pub(crate) const GAIN_TOLERANCE: f64 = 1e-6;
 
-/// The interval data of (44) for one sensor.
+/// The interval data of (44), or of the validation (48), for one sensor.
 struct SensorCondition {
     neg_a: Mat<f64>,
     a: IntervalMatrix,
@@ -77,16 +83,32 @@ struct SensorCondition {
     p_next: IntervalMatrix,
     /// `P_Γ Q`.
     off: IntervalMatrix,
-    /// Rigorous lower bounds `ℓ(τ)` of `λ_min(Ξ_σ(τ))` already computed (`None`: not proven
-    /// positive), by the bits of τ.
-    ends: HashMap<u64, Option<f64>>,
+    /// The level μ of the condition `Ξ_σ(τ) ≻ μI`: 0 for (44), μ for (48).
+    mu: f64,
+    /// For the validation (48) (`P_Γ − μI ≻ 0` proven): an enclosure of the constant
+    /// `QᵀP_Γ(P_Γ − μI)⁻¹P_ΓQ`, so that `Ξ_σ(τ) − μI ≻ 0` is also tested on its Schur complement
+    /// `QᵀΦ_σ(τ)Q − R_μ`, `R_μ = μI + QᵀP_Γ(P_Γ − μI)⁻¹P_ΓQ`. `None` for (44).
+    coupling: Option<IntervalMatrix>,
+    /// Rigorous lower bounds `ℓ(τ)` of `λ_min(Ξ_σ(τ) − μI)` and of `λ_min` of its Schur
+    /// complement already computed (`None`: not proven positive, or no Schur complement), by
+    /// the bits of τ.
+    ends: HashMap<u64, [Option<f64>; 2]>,
 }
 
 fn point(m: &Mat<f64>) -> Result<IntervalMatrix, IntervalError> {
     IntervalMatrix::from_point(m.as_ref())
 }
 
+/// A rigorous lower bound of `λ_min(x)` when `x` is proven positive definite.
+fn proven_lower(x: &IntervalMatrix) -> Result<Option<f64>, Error> {
+    Ok(match is_verified_positive_definite(x)? {
+        Verdict::Proved { bound } => Some(bound),
+        Verdict::NotProved => None,
+    })
+}
+
 impl SensorCondition {
+    /// The condition (44) `Ξ_σ(τ) ≻ 0` for sensor `sigma` and the certificate `p`.
     fn new(plant: &RoundRobinPlant, p: &[Mat<f64>], sigma: usize) -> Result<Self, Error> {
         let sensor = plant.sensor(sigma)?;
         let c = point(&sensor.c().to_owned())?;
@@ -122,48 +144,103 @@ impl SensorCondition {
             p: point(&p[sigma])?,
             p_next,
             off,
+            mu: 0.0,
+            coupling: None,
             ends: HashMap::new(),
         })
+    }
+
+    /// The validation condition (48) `Ξ_σ(τ) ≻ μI` (see `coupling`).
+    ///
+    /// # Errors
+    /// `P_Γ − μI` not proven positive definite (then (48) fails at every τ: it is a principal
+    /// block of `Ξ_σ(τ) − μI`) or without a verified inverse, or a failing kernel.
+    fn shifted(
+        plant: &RoundRobinPlant,
+        p: &[Mat<f64>],
+        sigma: usize,
+        mu: f64,
+    ) -> Result<Self, Error> {
+        let mut c = Self::new(plant, p, sigma)?;
+        let n = c.p_next.nrows();
+        let shifted = c
+            .p_next
+            .checked_sub(&IntervalMatrix::identity(n).scale(Interval::point(mu)?))?
+            .symmetrized()?;
+        let not_definite = || {
+            Error::invalid(format!(
+                "P_Γ − μI of sensor {} is not proven positive definite",
+                sigma + 1
+            ))
+        };
+        if proven_lower(&shifted)?.is_none() {
+            return Err(not_definite());
+        }
+        let inv = shifted.verified_inverse()?.ok_or_else(not_definite)?;
+        c.mu = mu;
+        if c.r() > 0 {
+            c.coupling = Some(
+                c.off
+                    .transpose()
+                    .checked_mul(&inv.checked_mul(&c.off)?)?
+                    .symmetrized()?,
+            );
+        }
+        Ok(c)
     }
 
     fn r(&self) -> usize {
         self.q.ncols()
     }
 
-    /// Encloses `Ξ_σ(τ)` of (44) for τ ∈ [t0, t1].
+    /// Encloses `Ξ_σ(τ) − μI` ((44) with μ = 0) for τ ∈ [t0, t1].
     fn xi(&self, t0: f64, t1: f64) -> Result<IntervalMatrix, Error> {
         let (n, r) = (self.p_next.nrows(), self.r());
-        if r == 0 {
-            return Ok(self.p_next.clone());
-        }
-        let e = expm_enclosure(self.neg_a.as_ref(), t0, t1, &one_piece())?.enclosure;
-        let eq = e.checked_mul(&self.q)?;
-        let top = eq.transpose().checked_mul(&self.p.checked_mul(&eq)?)?;
-        let x = IntervalMatrix::from_fn(r + n, r + n, |i, j| match (i < r, j < r) {
-            (true, true) => top.get(i, j),
-            (false, true) => self.off.get(i - r, j),
-            (true, false) => self.off.get(j - r, i),
-            (false, false) => self.p_next.get(i - r, j - r),
-        });
+        let x = if r == 0 {
+            self.p_next.clone()
+        } else {
+            let e = expm_enclosure(self.neg_a.as_ref(), t0, t1, &one_piece())?.enclosure;
+            let eq = e.checked_mul(&self.q)?;
+            let top = eq.transpose().checked_mul(&self.p.checked_mul(&eq)?)?;
+            IntervalMatrix::from_fn(r + n, r + n, |i, j| match (i < r, j < r) {
+                (true, true) => top.get(i, j),
+                (false, true) => self.off.get(i - r, j),
+                (true, false) => self.off.get(j - r, i),
+                (false, false) => self.p_next.get(i - r, j - r),
+            })
+        };
+        let x = if self.mu == 0.0 {
+            x
+        } else {
+            x.checked_sub(&IntervalMatrix::identity(r + n).scale(Interval::point(self.mu)?))?
+        };
         Ok(x.symmetrized()?)
     }
 
-    /// `ℓ(τ)`: a rigorous lower bound of `λ_min(Ξ_σ(τ))`, or `None` when it is not proven
-    /// positive.
-    fn end(&mut self, tau: f64) -> Result<Option<f64>, Error> {
+    /// `[ℓ(τ), ℓ_S(τ)]`: rigorous lower bounds of `λ_min(Ξ_σ(τ) − μI)` and, for (48), of
+    /// `λ_min(QᵀΦ_σ(τ)Q − R_μ)` (the top block of `Ξ_σ(τ) − μI` minus `coupling`); `None` when
+    /// not proven positive.
+    fn end(&mut self, tau: f64) -> Result<[Option<f64>; 2], Error> {
         if let Some(&l) = self.ends.get(&tau.to_bits()) {
             return Ok(l);
         }
-        let l = match is_verified_positive_definite(&self.xi(tau, tau)?)? {
-            Verdict::Proved { bound } => Some(bound),
-            Verdict::NotProved => None,
+        let x = self.xi(tau, tau)?;
+        let schur = match &self.coupling {
+            Some(k) => {
+                let r = self.r();
+                let top = IntervalMatrix::from_fn(r, r, |i, j| x.get(i, j));
+                proven_lower(&top.checked_sub(k)?.symmetrized()?)?
+            }
+            None => None,
         };
+        let l = [proven_lower(&x)?, schur];
         self.ends.insert(tau.to_bits(), l);
         Ok(l)
     }
 
     /// `ρ = (b − a)²/8 · sup_{[a,b]} ‖QᵀΦ_σ''Q‖₂` (rounded up), and the relative width of the
-    /// hull of `e^{−Aτ}` over the piece.
+    /// hull of `e^{−Aτ}` over the piece (the only τ-dependent block of either matrix is
+    /// `QᵀΦ_σQ`).
     fn remainder(&self, a: f64, b: f64) -> Result<(f64, f64), Error> {
         if self.r() == 0 {
             return Ok((0.0, 0.0));
@@ -186,42 +263,58 @@ impl SensorCondition {
         Ok((rho, e.rel_width()))
     }
 
-    /// Enclosure of `λ_max(−Ξ_σ(τ))` (the decisive quantity: (44) needs it below 0).
+    /// Enclosure of `λ_max(−(Ξ_σ(τ) − μI))` (the decisive quantity: the condition needs it
+    /// below 0).
     fn decisive(&self, tau: f64) -> Result<Interval, Error> {
         let x = self.xi(tau, tau)?;
         Ok(lambda_max_enclosure(&x.scale(Interval::point(-1.0)?))?)
     }
 
-    /// The check of one piece, with the bounds divided by `scale` (rounded outward).
+    /// The check of the condition on one piece, with the bounds divided by `scale` (rounded
+    /// outward).
+    ///
+    /// Both matrices (`Ξ_σ − μI`, and for (48) its Schur complement) vary with τ only through
+    /// `QᵀΦ_σQ`, so the chord bound `min(ℓ(a), ℓ(b)) − ρ` holds for either; the piece holds if
+    /// it is positive for one of them. An undecided piece reports an enclosure of the decisive
+    /// quantity's maximum over the piece: from its value at the midpoint up to the chord bound
+    /// (negated) when an end pair is proven, else up to the enclosures at the ends. Its width
+    /// shrinks with the piece while the variation over the piece decides, and stops shrinking
+    /// once rounding does, which is what the driver's stall test needs.
     fn check(&mut self, a: f64, b: f64, scale: f64) -> Result<PieceCheck, Error> {
         let norm = |x: f64| -> Result<Interval, Error> {
             Ok(Interval::point(x)? / Interval::point(scale)?)
         };
         let (la, lb) = (self.end(a)?, self.end(b)?);
-        if let (Some(la), Some(lb)) = (la, lb) {
+        let chord = (0..2)
+            .filter_map(|k| Some(la[k]?.min(lb[k]?)))
+            .reduce(f64::max);
+        let mut upper = f64::NEG_INFINITY;
+        if let Some(m) = chord {
             let (rho, width) = self.remainder(a, b)?;
-            let lower = (Interval::point(la.min(lb))? - Interval::point(rho)?).lo();
+            let lower = (Interval::point(m)? - Interval::point(rho)?).lo();
             if lower > 0.0 {
                 return Ok(PieceCheck::Holds {
                     margin_lower_bound: norm(lower)?.lo(),
                     enclosure_width: width,
                 });
             }
+            upper = -lower;
         }
         for (t, l) in [(a, la), (b, lb)] {
-            if l.is_none() {
+            if l.iter().all(Option::is_none) {
                 let d = self.decisive(t)?;
                 if d.lo() >= 0.0 {
                     return Ok(PieceCheck::Fails {
                         enclosure: [norm(d.lo())?.lo(), norm(d.hi())?.hi()],
                     });
                 }
+                upper = upper.max(d.hi());
             }
         }
         let mid = a + 0.5 * (b - a);
         let d = self.decisive(mid)?;
         Ok(PieceCheck::Undecided {
-            enclosure: [norm(d.lo())?.lo(), norm(d.hi())?.hi()],
+            enclosure: [norm(d.lo())?.lo(), norm(upper.max(d.hi()))?.hi()],
         })
     }
 }
@@ -423,4 +516,97 @@ pub fn prove_design(
         parts,
         start.elapsed().as_secs_f64(),
     ))
+}
+
+/// Tries to prove the validation condition (48), `Ξ_σ(τ) ≻ μI`, for **every** `τ` of sensor
+/// σ's window (not only on the grid (49)), for the Lyapunov matrices `p` of the synthesis (47)
+/// (scaled `I ⪯ P_σ`), by the adaptive subdivision of [`prove_design`] with at most
+/// `max_pieces` pieces. With `P_Γ − μI ≻ 0` proven, a piece holds by the chord bound on
+/// `Ξ_σ(τ) − μI` or on its Schur complement `QᵀΦ_σ(τ)Q − R_μ`,
+/// `R_μ = μI + QᵀP_Γ(P_Γ − μI)⁻¹P_ΓQ` (the form of the grid's test): the first's margin stays
+/// below `λ_min(P_Γ)` while `QᵀΦ_σQ` grows (long windows, fast stable modes), the second's
+/// grows with it, and either may be the larger. A `proved` result implies (48) at every point
+/// of any grid of the window, so it decides the validation step of §5.3 in place of the grid;
+/// any other result (a failing point, the piece or time budget) leaves the decision to the
+/// grid. Its margin lower bound is that of one of the two forms, not of `λ_min(Ξ_σ(τ))`.
+///
+/// # Errors
+/// A failing kernel (e.g. `C_σC_σᵀ` not proven nonsingular, `P_Γ − μI` not proven positive
+/// definite).
+pub(crate) fn prove_validation(
+    plant: &RoundRobinPlant,
+    p: &[Mat<f64>],
+    sigma: usize,
+    mu: f64,
+    max_pieces: usize,
+) -> Result<WindowProof, Error> {
+    let mut cond = SensorCondition::shifted(plant, p, sigma, mu)?;
+    let w = plant.sensor(sigma)?.window();
+    let options = ProofOptions {
+        max_pieces,
+        time_limit: None,
+    };
+    prove_on_window(
+        &format!("(48), sensor {}", sigma + 1),
+        w.t1(),
+        w.t2(),
+        INITIAL_PIECES,
+        &options,
+        &mut |a, b| cond.check(a, b, 1.0),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::plant::test_util::{rr, win};
+    use crate::validation::{UniformGrid, XiFamily, validate_naive};
+    use faer::mat;
+
+    /// The proof of (48) agrees with a fine grid: it is never `proved` at a level μ above the
+    /// grid minimum of `λ_min(Ξ_σ)`, and it is proved at levels below it (by `Ξ_σ − μI` or its
+    /// Schur complement, whichever holds on each piece). Two cases: two sensors whose `P_σ` fail
+    /// (44) somewhere, and a stable plant with `P = I`, for which `Ξ(τ) ≻ 0` (its Schur
+    /// complement `Qᵀ(e^{−Aᵀτ}e^{−Aτ} − I)Q` is positive definite).
+    #[test]
+    fn validation_proof_agrees_with_the_grid() {
+        let two = rr(
+            mat![[0.0, 1.0, 0.0], [-2.0, -0.3, 1.0], [0.5, 0.0, -1.0]],
+            vec![
+                (mat![[1.0, 0.0, 0.0]], win(0.1, 0.9)),
+                (mat![[0.0, 0.0, 1.0]], win(0.2, 0.6)),
+            ],
+        )
+        .unwrap();
+        let p_two = vec![
+            mat![[3.0, 0.5, 0.1], [0.5, 2.0, -0.3], [0.1, -0.3, 1.5]],
+            mat![[2.0, -0.2, 0.0], [-0.2, 1.0, 0.4], [0.0, 0.4, 2.5]],
+        ];
+        let stable = rr(
+            mat![[-1.0, 0.2, 0.0], [0.0, -2.0, 0.5], [0.0, 0.0, -0.5]],
+            vec![(mat![[1.0, 0.0, 0.0]], win(0.1, 0.5))],
+        )
+        .unwrap();
+        let p_stable = vec![Mat::identity(3, 3)];
+        let mut proved = 0;
+        for (plant, p) in [(&two, &p_two), (&stable, &p_stable)] {
+            for sigma in 0..plant.num_sensors() {
+                let fam = XiFamily::new(plant, p, sigma).unwrap();
+                let w = plant.sensor(sigma).unwrap().window();
+                let grid = UniformGrid::covering(w, 1e-4, 1e9).unwrap();
+                let (_, lmin, _) = validate_naive(&fam, grid, 0.0).unwrap();
+                for mu in [lmin + 1e-3, lmin + 0.1, 1.0] {
+                    if let Ok(w) = prove_validation(plant, p, sigma, mu, 4096) {
+                        assert_ne!(w.status, ProofStatus::Proved, "σ = {sigma}, μ = {mu}");
+                    }
+                }
+                if lmin > 0.0 {
+                    let w = prove_validation(plant, p, sigma, 0.5 * lmin, 4096).unwrap();
+                    assert_eq!(w.status, ProofStatus::Proved, "σ = {sigma}: {}", w.message);
+                    proved += 1;
+                }
+            }
+        }
+        assert!(proved >= 1);
+    }
 }

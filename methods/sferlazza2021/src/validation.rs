@@ -47,7 +47,8 @@ use sporadic_linalg::{expm_scaled, expm_stepper, min_eigenvalue};
 use crate::error::{Error, check_at_least};
 use crate::gain::check_sym;
 use crate::plant::RoundRobinPlant;
-use sporadic_model::SamplingWindow;
+use crate::prove::prove_validation;
+use sporadic_model::{ProofStatus, SamplingWindow};
 
 /// How the validation grid spacing `τ_{k+1} − τ_k` is chosen.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -260,12 +261,35 @@ pub struct SensorValidation {
     pub min_is_exact: bool,
     /// Number of full eigenvalue computations performed.
     pub eigen_evaluations: u64,
+    /// `Some(k)`: (48) was proven for every `τ` of the window in interval arithmetic, on `k`
+    /// pieces ([`crate::design::DesignOptions::proof_pieces`]), and no grid was run: `points`
+    /// is 0, `spacing` that of the (49) grid it replaced, `min_eigenvalue` is μ (the proof
+    /// shows `λ_min(Ξ_σ(τ)) > μ` at every τ, not by how much) and `argmin_tau` NaN.
+    pub proof_pieces: Option<usize>,
 }
 
 impl SensorValidation {
     /// Whether (48) holds on every point.
     pub fn passed(&self) -> bool {
         self.failures == 0
+    }
+
+    /// The validation of sensor `sigma` at level μ by a proof of (48) over its whole window on
+    /// `pieces` pieces, in place of the grid of spacing `spacing` (see
+    /// [`SensorValidation::proof_pieces`]).
+    pub fn proven(sigma: usize, mu: f64, spacing: f64, pieces: usize) -> Self {
+        Self {
+            sigma,
+            mu,
+            points: 0,
+            spacing,
+            failures: 0,
+            min_eigenvalue: mu,
+            argmin_tau: f64::NAN,
+            min_is_exact: false,
+            eigen_evaluations: 0,
+            proof_pieces: Some(pieces),
+        }
     }
 }
 
@@ -788,6 +812,7 @@ impl XiFamily {
             argmin_tau: tau,
             min_is_exact: failures > 0,
             eigen_evaluations: res.iter().map(|c| c.eig).sum(),
+            proof_pieces: None,
         })
     }
 
@@ -825,6 +850,54 @@ impl XiFamily {
     ) -> Result<SensorValidation, Error> {
         self.run(Source::Points(taus), mu, settings)
     }
+}
+
+/// Grid points of (49) per piece of the budget of a proof of (48)
+/// ([`validate_window`]): a piece costs a few interval exponentials and verified
+/// definiteness tests, about as much as this many grid points (measured on the corpus: ≈ 3·10³
+/// pieces/s against ≈ 6·10⁶ grid points/s on two cores), so an attempt that fails costs at
+/// most about the grid it would have replaced.
+pub const PROOF_POINTS_PER_PIECE: usize = 2048;
+
+/// Smallest piece budget with which a proof of (48) is attempted (the number of pieces the
+/// subdivision starts with): below it the grid is cheaper.
+pub const MIN_PROOF_PIECES: usize = 16;
+
+/// Validates (48) for one sensor, as the design loop and the check of a given certificate do:
+/// with `proof_pieces = Some(k)` and a grid of at least [`MIN_PROOF_PIECES`] ×
+/// [`PROOF_POINTS_PER_PIECE`] points, first by a proof of (48) for every `τ` of the window in
+/// interval arithmetic ([`crate::prove`], at most `k` pieces and one per
+/// [`PROOF_POINTS_PER_PIECE`] grid points), which implies (48) at every point of the grid and
+/// decides in its place ([`SensorValidation::proven`]); otherwise, or when that proof does not
+/// succeed, on the grid ([`XiFamily::validate_grid`]), which then decides and finds the worst
+/// point (50). `family` is that of `p` and the sensor of `grid`.
+///
+/// # Errors
+/// As [`XiFamily::validate_grid`].
+pub fn validate_window(
+    family: &XiFamily,
+    plant: &RoundRobinPlant,
+    p: &[Mat<f64>],
+    grid: UniformGrid,
+    mu: f64,
+    proof_pieces: Option<usize>,
+    settings: &ValidationOptions,
+) -> Result<SensorValidation, Error> {
+    let budget = proof_pieces.map_or(0, |k| k.min(grid.points / PROOF_POINTS_PER_PIECE));
+    // A proof that cannot be attempted (a failing interval kernel) leaves the decision to the
+    // grid, like one that does not succeed.
+    if budget >= MIN_PROOF_PIECES
+        && let Ok(w) = prove_validation(plant, p, family.sigma, mu, budget)
+        && w.status == ProofStatus::Proved
+    {
+        return Ok(SensorValidation::proven(
+            family.sigma,
+            mu,
+            grid.spacing,
+            w.pieces,
+        ));
+    }
+    family.validate_grid(grid, mu, settings)
 }
 
 /// Reference implementation for benchmarks and tests: one fresh exponential and one full symmetric
