@@ -175,36 +175,52 @@ pub struct Analysis {
     pub size: LmiSize,
 }
 
-/// Builds (or re-uses, when the vertex count fits) the margin-problem instance and solves it.
+/// Builds (or re-uses, when one of the cached instances fits the vertex count and the sign of
+/// the remainder) the margin-problem instance of LMI (41) and solves it.
 fn solve_on(
     plant: &Plant,
     embedding: &Embedding,
     gain: GainTerm,
-    options: &DesignOptions,
+    (options, form): (&DesignOptions, LmiForm),
     cache: &mut LmiCache,
 ) -> Result<LmiResult, Error> {
     let vertices = embedding.vertices();
     let delta = embedding.remainder_bound();
-    let lmi = match cache.take() {
-        Some(mut lmi) if lmi.fits(plant, vertices.len(), delta) => {
+    let reusable = cache
+        .iter()
+        .position(|lmi| lmi.fits(plant, vertices.len(), delta, form));
+    let lmi = match reusable {
+        Some(k) => {
+            let mut lmi = cache.remove(k);
             lmi.set_data(plant, vertices, delta)?;
             lmi
         }
-        _ => Lmi41::new(
+        None => Lmi41::new(
             plant,
             vertices,
             delta,
             gain,
-            options.form,
+            form,
             Objective::Margin(&options.lmi),
         )?,
     };
-    cache.insert(lmi).solve()
+    if cache.len() >= CACHED_INSTANCES {
+        cache.remove(0);
+    }
+    cache.push(lmi);
+    let last = cache.len() - 1;
+    cache[last].solve()
 }
 
-/// A compiled LMI (41) kept across the probes of a window search (re-used with new vertices
-/// and a new output matrix while the orders and the vertex count match).
-pub(crate) type LmiCache = Option<Lmi41>;
+/// Compiled instances of LMI (41) kept by a window search: one per form of the problem tried
+/// at every probe (the data as given, the Gramian and the diagonal normal forms of
+/// [`crate::normalise`]), whose embeddings have in general different vertex counts.
+const CACHED_INSTANCES: usize = 3;
+
+/// Compiled LMIs (41) kept across the probes of a window search (each re-used with new vertices
+/// and a new output matrix while the orders, the vertex count and the sign of the remainder
+/// match; at most [`CACHED_INSTANCES`], the least recently used dropped first).
+pub(crate) type LmiCache = Vec<Lmi41>;
 
 fn certificate_of(r: &LmiResult) -> Certificate {
     Certificate {
@@ -222,7 +238,7 @@ pub fn design(
     window: &SamplingWindow,
     options: &DesignOptions,
 ) -> Result<Design, Error> {
-    design_cached(plant, window, options, &mut None)
+    design_cached(plant, window, options, &mut Vec::new())
 }
 
 /// [`design`] with a re-usable compiled LMI (used by the window searches: the vertex count of the
@@ -381,7 +397,16 @@ fn attempt(
             embedding.remainder_bound()
         ))));
     }
-    let mut r = solve_on(&np, &embedding, GainTerm::Free, options, cache)?;
+    // The problem as given is solved in the form of the options (by default (41) as printed,
+    // the paper's construction); a normal form, which is not in the paper, in the equivalent
+    // reduced form (vertex-wise Schur complement, order 2n, or 3n with a remainder, instead of
+    // 3n or 4n; see `crate::lmi`), which has the same feasible set and costs a fraction.
+    let form = if scaling.is_identity() {
+        options.form
+    } else {
+        LmiForm::Reduced
+    };
+    let mut r = solve_on(&np, &embedding, GainTerm::Free, (options, form), cache)?;
     if !r.feasible && r.margin.is_some_and(|t| t > 0.0) && strictly_negative(&np, &embedding, &r) {
         r.feasible = true;
     }
@@ -538,8 +563,8 @@ pub fn analyse(
         plant,
         &embedding,
         GainTerm::Fixed(l.to_owned()),
-        options,
-        &mut None,
+        (options, options.form),
+        &mut Vec::new(),
     )?;
     let (certificate, verification) = if r.feasible {
         let v = verify(plant, window, l, r.p.as_ref(), &options.verify)?;

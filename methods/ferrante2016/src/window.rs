@@ -44,7 +44,7 @@ pub fn largest_t2(
     search: &WindowSearchOptions,
 ) -> Result<WindowSearch, Error> {
     design.validate()?;
-    let mut cache = None;
+    let mut cache = Vec::new();
     let mut run = |t2: f64| -> Result<Verdict, Error> {
         let window = SamplingWindow::new(t1, t2)?;
         Ok(probe(plant, &window, design, &mut cache)?.0)
@@ -62,7 +62,7 @@ pub fn smallest_t1(
     search: &WindowSearchOptions,
 ) -> Result<WindowSearch, Error> {
     design.validate()?;
-    let mut cache = None;
+    let mut cache = Vec::new();
     let mut run = |t1: f64| -> Result<Verdict, Error> {
         let window = SamplingWindow::new(t1, t2)?;
         Ok(probe(plant, &window, design, &mut cache)?.0)
