@@ -273,6 +273,53 @@ pub(crate) fn design_cached(
     result
 }
 
+/// Why the robust form of LMI (41) is infeasible without solving it (`None` when this is not
+/// shown, e.g. without a remainder or when `C` has no kernel). The robust form implies (41),
+/// hence (36) and `(I − LC)'X'PX(I − LC) ≺ P` of (12) with `L = F⁻¹J`, at every
+/// `X = X₀ + Δ` with `X₀` in the hull of the vertices and `‖Δ‖₂ ≤ δ` (the remainder), so every
+/// such `X(I − LC)` would be Schur. For a unit `z` with `Cz = 0`, `(I − LC)z = z`, and
+/// `Δ = (z − X₀z)z'` gives `Xz = z`, an eigenvalue `1`, with `‖Δ‖₂ = ‖(I − X₀)z‖`. So when
+/// `δ ≥ σ_min((I − X₀)Z)` (`Z` an orthonormal basis of the kernel of `C`) at some vertex or at
+/// the centre of the vertices, the LMI is infeasible; the test asks for twice that, to stay
+/// clear of rounding. A normal form of a badly conditioned problem can have such a
+/// remainder (e.g. `10¹³` for `‖e^{Av}‖ ≈ 1`), whose margin problem would only run to the
+/// iteration limit.
+fn remainder_too_large(plant: &Plant, embedding: &Embedding) -> Option<String> {
+    let delta = embedding.remainder_bound();
+    if delta == 0.0 {
+        return None;
+    }
+    let z = sporadic_linalg::null_space(plant.c()).ok()?;
+    if z.ncols() == 0 {
+        return None;
+    }
+    let vertices = embedding.vertices();
+    let n = plant.n();
+    let centre = Mat::from_fn(n, n, |i, j| {
+        vertices.iter().map(|x| x[(i, j)]).sum::<f64>() / vertices.len() as f64
+    });
+    let distance = |x: &Mat<f64>| {
+        let d = (Mat::<f64>::identity(n, n) - x) * &z;
+        d.singular_values()
+            .ok()
+            .and_then(|s| s.last().copied())
+            .unwrap_or(f64::INFINITY)
+    };
+    let nearest = vertices
+        .iter()
+        .chain(std::iter::once(&centre))
+        .map(distance)
+        .fold(f64::INFINITY, f64::min);
+    (delta >= 2.0 * nearest).then(|| {
+        format!(
+            "the remainder bound {delta:e} of the embedding of e^(Av) is at least twice the \
+             distance {nearest:e} from the hull of its vertices to a matrix X with Xz = z for a \
+             z in the kernel of C: the robust form of LMI (41) would make X(I − LC) Schur \
+             there, which its eigenvalue 1 forbids"
+        )
+    })
+}
+
 /// Whether LMI (41) holds at the solver's point `(P, F, J)` at every vertex by more than what
 /// rounding and the embedding's own error can explain: `λmax(Φ_i) < −τ` with
 /// `τ = 2‖P‖₂·max(ε_rec, 64u)·max_i‖X_i‖_F + 64u·3n·s` (`ε_rec` the relative reconstruction
@@ -396,6 +443,12 @@ fn attempt(
             "the remainder bound of the embedding of e^(Av) is {}",
             embedding.remainder_bound()
         ))));
+    }
+    if let Some(reason) = remainder_too_large(&np, &embedding) {
+        return Err(Error::Infeasible {
+            margin: None,
+            reason,
+        });
     }
     // The problem as given is solved in the form of the options (by default (41) as printed,
     // the paper's construction); a normal form, which is not in the paper, in the equivalent
