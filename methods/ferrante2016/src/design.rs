@@ -14,6 +14,10 @@
 //! `‖P‖₂ ≤ 1`, hence to the coordinates) is accepted when every vertex LMI of (41) is negative
 //! definite by more than rounding and the embedding's reconstruction error can explain
 //! (`strictly_negative`); the grid check of (12) on the user's data is made in every case.
+//! The normal forms (not in the paper) are solved in the equivalent reduced form of
+//! [`LmiForm::Reduced`] (order `2n`, or `3n` with a remainder, instead of `3n` or `4n`), and a
+//! form whose embedding remainder makes the robust (41) infeasible on its face
+//! (`remainder_too_large`) is refused without a solve.
 //!
 //! **Analysis** ([`analyse`]): the same LMI with `J = FL` for a given `L` (linear in `P`, `F`), i.e.
 //! (36) at the vertices; certifies e.g. the gain published for Example 2.
@@ -186,12 +190,13 @@ fn solve_on(
 ) -> Result<LmiResult, Error> {
     let vertices = embedding.vertices();
     let delta = embedding.remainder_bound();
-    let reusable = cache
+    let lmis = &mut cache.lmis;
+    let reusable = lmis
         .iter()
         .position(|lmi| lmi.fits(plant, vertices.len(), delta, form));
     let lmi = match reusable {
         Some(k) => {
-            let mut lmi = cache.remove(k);
+            let mut lmi = lmis.remove(k);
             lmi.set_data(plant, vertices, delta)?;
             lmi
         }
@@ -204,12 +209,12 @@ fn solve_on(
             Objective::Margin(&options.lmi),
         )?,
     };
-    if cache.len() >= CACHED_INSTANCES {
-        cache.remove(0);
+    if lmis.len() >= CACHED_INSTANCES {
+        lmis.remove(0);
     }
-    cache.push(lmi);
-    let last = cache.len() - 1;
-    cache[last].solve()
+    lmis.push(lmi);
+    let last = lmis.len() - 1;
+    lmis[last].solve()
 }
 
 /// Compiled instances of LMI (41) kept by a window search: one per form of the problem tried
@@ -217,10 +222,16 @@ fn solve_on(
 /// [`crate::normalise`]), whose embeddings have in general different vertex counts.
 const CACHED_INSTANCES: usize = 3;
 
-/// Compiled LMIs (41) kept across the probes of a window search (each re-used with new vertices
-/// and a new output matrix while the orders, the vertex count and the sign of the remainder
-/// match; at most [`CACHED_INSTANCES`], the least recently used dropped first).
-pub(crate) type LmiCache = Vec<Lmi41>;
+/// What a window search keeps across its probes.
+#[derive(Default)]
+pub(crate) struct LmiCache {
+    /// Compiled LMIs (41), each re-used with new vertices and a new output matrix while the
+    /// orders, the vertex count, the sign of the remainder and the form match; at most
+    /// [`CACHED_INSTANCES`], the least recently used dropped first.
+    lmis: Vec<Lmi41>,
+    /// The normal form that certified the last certified probe, tried first at the next one.
+    preferred: Option<normalise::Coordinates>,
+}
 
 fn certificate_of(r: &LmiResult) -> Certificate {
     Certificate {
@@ -238,11 +249,11 @@ pub fn design(
     window: &SamplingWindow,
     options: &DesignOptions,
 ) -> Result<Design, Error> {
-    design_cached(plant, window, options, &mut Vec::new())
+    design_cached(plant, window, options, &mut LmiCache::default())
 }
 
-/// [`design`] with a re-usable compiled LMI (used by the window searches: the vertex count of the
-/// residue box does not depend on the window, so every probe re-solves the same compiled model).
+/// [`design`] with re-usable compiled LMIs and the form that certified last (used by the window
+/// searches, see [`crate::window`]).
 pub(crate) fn design_cached(
     plant: &Plant,
     window: &SamplingWindow,
@@ -258,17 +269,38 @@ pub(crate) fn design_cached(
     // of the user's data, the diagonal form for every change of units. The verdict (certified
     // when any of them is) does not depend on the order, only which certificate is returned.
     let context = (start, &detectability);
+    // In a window search the normal form that certified the previous probe is tried first: a
+    // nearby window is most often certified by the same form, and the others are then not
+    // solved. Its failure is no verdict (the verdict and the reason reported are those of the
+    // loop below, which skips it).
+    let preferred = cache
+        .preferred
+        .and_then(|c| forms.iter().position(|s| s.coordinates == c));
+    if let Some(k) = preferred
+        && let Ok(d) = attempt(plant, window, options, cache, &forms[k], context)
+    {
+        return Ok(d);
+    }
     let given = normalise::Scaling::identity(plant.n(), plant.q());
     let mut result = attempt(plant, window, options, cache, &given, context);
-    for scaling in &forms {
+    for (k, scaling) in forms.iter().enumerate() {
+        if Some(k) == preferred {
+            continue;
+        }
         result = match result {
             // Any failure of a normal form (even a numerical one that is no verdict) leaves
             // the verdict of the problem as given.
             Err(e) if e.reason().is_some() => {
                 attempt(plant, window, options, cache, scaling, context).map_err(|_| e)
             }
-            done => return done,
+            done => {
+                result = done;
+                break;
+            }
         };
+    }
+    if let Ok(d) = &result {
+        cache.preferred = Some(d.scaling.coordinates);
     }
     result
 }
@@ -617,7 +649,7 @@ pub fn analyse(
         &embedding,
         GainTerm::Fixed(l.to_owned()),
         (options, options.form),
-        &mut Vec::new(),
+        &mut LmiCache::default(),
     )?;
     let (certificate, verification) = if r.feasible {
         let v = verify(plant, window, l, r.p.as_ref(), &options.verify)?;

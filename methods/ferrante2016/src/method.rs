@@ -1,6 +1,6 @@
 //! The [`ObserverMethod`] contract for Ferrante et al. (2016): design by Corollary 1 (LMI (41) at
 //! the vertices of a polytopic embedding of `e^{Av}`), largest window by the shared search with
-//! one compiled LMI re-used across the probes, and simulation of the error system (5).
+//! compiled LMIs re-used across the probes, and simulation of the error system (5).
 
 use std::time::Instant;
 
@@ -18,7 +18,7 @@ use sporadic_sim::{Adversarial, JumpMap, Periodic, SamplingRule, SimOptions, Uni
 /// Candidate intervals of the worst-case sampling scenario's greedy adversary.
 const WORST_CASE_GRID: usize = 64;
 
-use crate::design::{Design, DesignOptions, design};
+use crate::design::{Design, DesignOptions, LmiCache, design};
 use crate::error::Error;
 use crate::normalise::Coordinates;
 use crate::prove::prove_condition12;
@@ -412,8 +412,8 @@ impl ObserverMethod for Ferrante2016 {
         }
     }
 
-    /// The shared [`largest_window_with`] with a probe that re-solves one compiled LMI (41) (the vertex
-    /// count of the residue box does not depend on the window), reported exactly as
+    /// The shared [`largest_window_with`] with a probe that re-solves compiled LMIs (41) (see
+    /// [`crate::window`]), reported exactly as
     /// [`sporadic_model::default_largest_window`] reports it.
     fn largest_window(
         &self,
@@ -434,7 +434,7 @@ impl ObserverMethod for Ferrante2016 {
         }
         let p = self.plant_of(plant)?;
         self.design.validate().map_err(invalid)?;
-        let mut cache = Vec::new();
+        let mut cache = LmiCache::default();
         let mut run = |s: &Sampling| -> Result<DesignReport, MethodError> {
             let probe_start = Instant::now();
             let Sampling::Synchronous(window) = s else {
