@@ -50,8 +50,8 @@ pub use hull::{HullDistance, hull_distance};
 pub use interval::Interval;
 pub use jacobian::{JacobianPolytope, jacobian_polytope, lipschitz_box};
 pub use residue::{
-    Contour, EigenCluster, ExpansionTerm, ResidueExpansion, ResidueOptions, TruncatedExpansion,
-    residue_embedding,
+    CHECK_DECAY_EXPONENTS, Contour, EigenCluster, ExpansionTerm, ResidueExpansion, ResidueOptions,
+    TruncatedExpansion, residue_embedding,
 };
 pub use split::{EmbeddingMethod, embed, embed_split};
 pub use taylor::{TaylorOptions, TaylorOrder, taylor_embedding, taylor_weights, truncation_tail};

@@ -14,6 +14,10 @@
 //! `‖P‖₂ ≤ 1`, hence to the coordinates) is accepted when every vertex LMI of (41) is negative
 //! definite by more than rounding and the embedding's reconstruction error can explain
 //! (`strictly_negative`); the grid check of (12) on the user's data is made in every case.
+//! The normal forms (not in the paper) are solved in the equivalent reduced form of
+//! [`LmiForm::Reduced`] (order `2n`, or `3n` with a remainder, instead of `3n` or `4n`), and a
+//! form whose embedding remainder makes the robust (41) infeasible on its face
+//! (`remainder_too_large`) is refused without a solve.
 //!
 //! **Analysis** ([`analyse`]): the same LMI with `J = FL` for a given `L` (linear in `P`, `F`), i.e.
 //! (36) at the vertices; certifies e.g. the gain published for Example 2.
@@ -175,36 +179,59 @@ pub struct Analysis {
     pub size: LmiSize,
 }
 
-/// Builds (or re-uses, when the vertex count fits) the margin-problem instance and solves it.
+/// Builds (or re-uses, when one of the cached instances fits the vertex count and the sign of
+/// the remainder) the margin-problem instance of LMI (41) and solves it.
 fn solve_on(
     plant: &Plant,
     embedding: &Embedding,
     gain: GainTerm,
-    options: &DesignOptions,
+    (options, form): (&DesignOptions, LmiForm),
     cache: &mut LmiCache,
 ) -> Result<LmiResult, Error> {
     let vertices = embedding.vertices();
     let delta = embedding.remainder_bound();
-    let lmi = match cache.take() {
-        Some(mut lmi) if lmi.fits(plant, vertices.len(), delta) => {
+    let lmis = &mut cache.lmis;
+    let reusable = lmis
+        .iter()
+        .position(|lmi| lmi.fits(plant, vertices.len(), delta, form));
+    let lmi = match reusable {
+        Some(k) => {
+            let mut lmi = lmis.remove(k);
             lmi.set_data(plant, vertices, delta)?;
             lmi
         }
-        _ => Lmi41::new(
+        None => Lmi41::new(
             plant,
             vertices,
             delta,
             gain,
-            options.form,
+            form,
             Objective::Margin(&options.lmi),
         )?,
     };
-    cache.insert(lmi).solve()
+    if lmis.len() >= CACHED_INSTANCES {
+        lmis.remove(0);
+    }
+    lmis.push(lmi);
+    let last = lmis.len() - 1;
+    lmis[last].solve()
 }
 
-/// A compiled LMI (41) kept across the probes of a window search (re-used with new vertices
-/// and a new output matrix while the orders and the vertex count match).
-pub(crate) type LmiCache = Option<Lmi41>;
+/// Compiled instances of LMI (41) kept by a window search: one per form of the problem tried
+/// at every probe (the data as given, the Gramian and the diagonal normal forms of
+/// [`crate::normalise`]), whose embeddings have in general different vertex counts.
+const CACHED_INSTANCES: usize = 3;
+
+/// What a window search keeps across its probes.
+#[derive(Default)]
+pub(crate) struct LmiCache {
+    /// Compiled LMIs (41), each re-used with new vertices and a new output matrix while the
+    /// orders, the vertex count, the sign of the remainder and the form match; at most
+    /// [`CACHED_INSTANCES`], the least recently used dropped first.
+    lmis: Vec<Lmi41>,
+    /// The normal form that certified the last certified probe, tried first at the next one.
+    preferred: Option<normalise::Coordinates>,
+}
 
 fn certificate_of(r: &LmiResult) -> Certificate {
     Certificate {
@@ -222,11 +249,11 @@ pub fn design(
     window: &SamplingWindow,
     options: &DesignOptions,
 ) -> Result<Design, Error> {
-    design_cached(plant, window, options, &mut None)
+    design_cached(plant, window, options, &mut LmiCache::default())
 }
 
-/// [`design`] with a re-usable compiled LMI (used by the window searches: the vertex count of the
-/// residue box does not depend on the window, so every probe re-solves the same compiled model).
+/// [`design`] with re-usable compiled LMIs and the form that certified last (used by the window
+/// searches, see [`crate::window`]).
 pub(crate) fn design_cached(
     plant: &Plant,
     window: &SamplingWindow,
@@ -242,19 +269,87 @@ pub(crate) fn design_cached(
     // of the user's data, the diagonal form for every change of units. The verdict (certified
     // when any of them is) does not depend on the order, only which certificate is returned.
     let context = (start, &detectability);
+    // In a window search the normal form that certified the previous probe is tried first: a
+    // nearby window is most often certified by the same form, and the others are then not
+    // solved. Its failure is no verdict (the verdict and the reason reported are those of the
+    // loop below, which skips it).
+    let preferred = cache
+        .preferred
+        .and_then(|c| forms.iter().position(|s| s.coordinates == c));
+    if let Some(k) = preferred
+        && let Ok(d) = attempt(plant, window, options, cache, &forms[k], context)
+    {
+        return Ok(d);
+    }
     let given = normalise::Scaling::identity(plant.n(), plant.q());
     let mut result = attempt(plant, window, options, cache, &given, context);
-    for scaling in &forms {
+    for (k, scaling) in forms.iter().enumerate() {
+        if Some(k) == preferred {
+            continue;
+        }
         result = match result {
             // Any failure of a normal form (even a numerical one that is no verdict) leaves
             // the verdict of the problem as given.
             Err(e) if e.reason().is_some() => {
                 attempt(plant, window, options, cache, scaling, context).map_err(|_| e)
             }
-            done => return done,
+            done => {
+                result = done;
+                break;
+            }
         };
     }
+    if let Ok(d) = &result {
+        cache.preferred = Some(d.scaling.coordinates);
+    }
     result
+}
+
+/// Why the robust form of LMI (41) is infeasible without solving it (`None` when this is not
+/// shown, e.g. without a remainder or when `C` has no kernel). The robust form implies (41),
+/// hence (36) and `(I − LC)'X'PX(I − LC) ≺ P` of (12) with `L = F⁻¹J`, at every
+/// `X = X₀ + Δ` with `X₀` in the hull of the vertices and `‖Δ‖₂ ≤ δ` (the remainder), so every
+/// such `X(I − LC)` would be Schur. For a unit `z` with `Cz = 0`, `(I − LC)z = z`, and
+/// `Δ = (z − X₀z)z'` gives `Xz = z`, an eigenvalue `1`, with `‖Δ‖₂ = ‖(I − X₀)z‖`. So when
+/// `δ ≥ σ_min((I − X₀)Z)` (`Z` an orthonormal basis of the kernel of `C`) at some vertex or at
+/// the centre of the vertices, the LMI is infeasible; the test asks for twice that, to stay
+/// clear of rounding. A normal form of a badly conditioned problem can have such a
+/// remainder (e.g. `10¹³` for `‖e^{Av}‖ ≈ 1`), whose margin problem would only run to the
+/// iteration limit.
+fn remainder_too_large(plant: &Plant, embedding: &Embedding) -> Option<String> {
+    let delta = embedding.remainder_bound();
+    if delta == 0.0 {
+        return None;
+    }
+    let z = sporadic_linalg::null_space(plant.c()).ok()?;
+    if z.ncols() == 0 {
+        return None;
+    }
+    let vertices = embedding.vertices();
+    let n = plant.n();
+    let centre = Mat::from_fn(n, n, |i, j| {
+        vertices.iter().map(|x| x[(i, j)]).sum::<f64>() / vertices.len() as f64
+    });
+    let distance = |x: &Mat<f64>| {
+        let d = (Mat::<f64>::identity(n, n) - x) * &z;
+        d.singular_values()
+            .ok()
+            .and_then(|s| s.last().copied())
+            .unwrap_or(f64::INFINITY)
+    };
+    let nearest = vertices
+        .iter()
+        .chain(std::iter::once(&centre))
+        .map(distance)
+        .fold(f64::INFINITY, f64::min);
+    (delta >= 2.0 * nearest).then(|| {
+        format!(
+            "the remainder bound {delta:e} of the embedding of e^(Av) is at least twice the \
+             distance {nearest:e} from the hull of its vertices to a matrix X with Xz = z for a \
+             z in the kernel of C: the robust form of LMI (41) would make X(I − LC) Schur \
+             there, which its eigenvalue 1 forbids"
+        )
+    })
 }
 
 /// Whether LMI (41) holds at the solver's point `(P, F, J)` at every vertex by more than what
@@ -381,7 +476,22 @@ fn attempt(
             embedding.remainder_bound()
         ))));
     }
-    let mut r = solve_on(&np, &embedding, GainTerm::Free, options, cache)?;
+    if let Some(reason) = remainder_too_large(&np, &embedding) {
+        return Err(Error::Infeasible {
+            margin: None,
+            reason,
+        });
+    }
+    // The problem as given is solved in the form of the options (by default (41) as printed,
+    // the paper's construction); a normal form, which is not in the paper, in the equivalent
+    // reduced form (vertex-wise Schur complement, order 2n, or 3n with a remainder, instead of
+    // 3n or 4n; see `crate::lmi`), which has the same feasible set and costs a fraction.
+    let form = if scaling.is_identity() {
+        options.form
+    } else {
+        LmiForm::Reduced
+    };
+    let mut r = solve_on(&np, &embedding, GainTerm::Free, (options, form), cache)?;
     if !r.feasible && r.margin.is_some_and(|t| t > 0.0) && strictly_negative(&np, &embedding, &r) {
         r.feasible = true;
     }
@@ -538,8 +648,8 @@ pub fn analyse(
         plant,
         &embedding,
         GainTerm::Fixed(l.to_owned()),
-        options,
-        &mut None,
+        (options, options.form),
+        &mut LmiCache::default(),
     )?;
     let (certificate, verification) = if r.feasible {
         let v = verify(plant, window, l, r.p.as_ref(), &options.verify)?;

@@ -45,7 +45,14 @@
 //! vertex, with blocks of order `2n` instead of `3n` (cheaper interior-point iterations). The vertex
 //! argument stays valid because `E ↦ E'PE` is matrix-convex for `P ≻ 0`:
 //! `(Σμ_i X_i)'P(Σμ_i X_i) ⪯ Σμ_i X_i'PX_i`. Only the margin `t*` is measured on different matrices.
-//! Embeddings with a remainder always use the robust (41) form above.
+//! With a remainder, the same Schur complement of the robust form (with respect to its `(3,3)`
+//! block `−P`) gives the equivalent robust reduced LMI, of order `3n` instead of `4n`:
+//!
+//! ```text
+//! [ X_i'P X_i − He(F) + μδ²I   F − JM    X_i'P   ]
+//! [ (F − JM)'                  −P        0       ]  ≺ 0.
+//! [ P X_i                      0         P − μI  ]
+//! ```
 
 use sporadic_linalg::InputError;
 use sporadic_model::SolverStats;
@@ -139,6 +146,7 @@ pub(crate) struct Lmi41 {
     gain: GainValue,
     mu: Option<Var>,
     block_size: usize,
+    form: LmiForm,
     min_trace: bool,
 }
 
@@ -185,6 +193,14 @@ impl Lmi41 {
             let px = &p * &x;
             let corner = -f.expr().he();
             let phi = match (&mu, &delta_param) {
+                (Some(mu), Some(d2)) if form == LmiForm::Reduced => {
+                    let corner = x.t() * &p * &x + corner + (mu * d2) * Expr::identity(n);
+                    Expr::sym_blocks(&[
+                        vec![Some(corner), None, None],
+                        vec![Some(coupling.t()), Some(-&p), None],
+                        vec![Some(px), None, Some(p.expr() - mu * Expr::identity(n))],
+                    ])
+                }
                 (Some(mu), Some(d2)) => {
                     let corner = corner + (mu * d2) * Expr::identity(n);
                     Expr::sym_blocks(&[
@@ -227,22 +243,24 @@ impl Lmi41 {
             gain,
             mu,
             block_size: n * match (robust, form) {
-                (true, _) => 4,
+                (true, LmiForm::Corollary1) => 4,
+                (true, LmiForm::Reduced) | (false, LmiForm::Corollary1) => 3,
                 (false, LmiForm::Reduced) => 2,
-                (false, LmiForm::Corollary1) => 3,
             },
+            form,
             min_trace,
         })
     }
 
-    /// Whether a design (free gain) for `plant` with a vertex set of this size and remainder can
-    /// reuse this instance.
-    pub fn fits(&self, plant: &Plant, count: usize, delta: f64) -> bool {
+    /// Whether a design (free gain) for `plant` with a vertex set of this size and remainder, in
+    /// this form, can reuse this instance.
+    pub fn fits(&self, plant: &Plant, count: usize, delta: f64, form: LmiForm) -> bool {
         self.output.is_some()
             && self.order == plant.n()
             && self.gain_columns() == Some(plant.q())
             && self.vertices.len() == count
             && (delta > 0.0) == self.delta.is_some()
+            && self.form == form
     }
 
     /// Number of outputs of the free gain `J` (`None` for a fixed gain).
@@ -260,7 +278,7 @@ impl Lmi41 {
         vertices: &[Mat<f64>],
         delta: f64,
     ) -> Result<(), Error> {
-        if !self.fits(plant, vertices.len(), delta) {
+        if !self.fits(plant, vertices.len(), delta, self.form) {
             return Err(InputError::mismatch(
                 "vertex count of a re-solved LMI (41)",
                 self.vertices.len(),

@@ -1,6 +1,6 @@
 //! The [`ObserverMethod`] contract for Ferrante et al. (2016): design by Corollary 1 (LMI (41) at
 //! the vertices of a polytopic embedding of `e^{Av}`), largest window by the shared search with
-//! one compiled LMI re-used across the probes, and simulation of the error system (5).
+//! compiled LMIs re-used across the probes, and simulation of the error system (5).
 
 use std::time::Instant;
 
@@ -18,9 +18,8 @@ use sporadic_sim::{Adversarial, JumpMap, Periodic, SamplingRule, SimOptions, Uni
 /// Candidate intervals of the worst-case sampling scenario's greedy adversary.
 const WORST_CASE_GRID: usize = 64;
 
-use crate::design::{Design, DesignOptions, design};
+use crate::design::{Design, DesignOptions, LmiCache, design};
 use crate::error::Error;
-use crate::lmi::LmiForm;
 use crate::normalise::Coordinates;
 use crate::prove::prove_condition12;
 use crate::simulation::simulate_error;
@@ -213,10 +212,17 @@ fn not_a_verdict(e: Error) -> MethodError {
 /// What the margin of a design is, with the normalisation of `options`.
 fn margin_definition(options: &DesignOptions, d: &Design) -> String {
     let robust = d.certificate.robust_multiplier.is_some();
-    let form = match (robust, options.form) {
-        (true, _) => "the robust 4n × 4n form of (41) (embedding with a remainder)",
-        (false, LmiForm::Reduced) => "the reduced 2n × 2n form (39) of (41)",
-        (false, LmiForm::Corollary1) => "the 3n × 3n matrix of (41) as printed",
+    // The order of the vertex LMIs tells the form solved (a normal form is solved in the
+    // reduced form whatever `options.form`, see `crate::design`).
+    let reduced = d.size.block_size < if robust { 4 } else { 3 } * d.l.nrows();
+    let form = match (robust, reduced) {
+        (true, false) => "the robust 4n × 4n form of (41) (embedding with a remainder)",
+        (true, true) => {
+            "the robust reduced 3n × 3n form of (41) (embedding with a remainder, Schur \
+             complement of the robust form with respect to its (3,3) block −P)"
+        }
+        (false, true) => "the reduced 2n × 2n form (39) of (41)",
+        (false, false) => "the 3n × 3n matrix of (41) as printed",
     };
     let norm = match options.lmi.default_normalisation {
         Normalisation::Norm(r) => format!(
@@ -406,8 +412,8 @@ impl ObserverMethod for Ferrante2016 {
         }
     }
 
-    /// The shared [`largest_window_with`] with a probe that re-solves one compiled LMI (41) (the vertex
-    /// count of the residue box does not depend on the window), reported exactly as
+    /// The shared [`largest_window_with`] with a probe that re-solves compiled LMIs (41) (see
+    /// [`crate::window`]), reported exactly as
     /// [`sporadic_model::default_largest_window`] reports it.
     fn largest_window(
         &self,
@@ -428,7 +434,7 @@ impl ObserverMethod for Ferrante2016 {
         }
         let p = self.plant_of(plant)?;
         self.design.validate().map_err(invalid)?;
-        let mut cache = None;
+        let mut cache = LmiCache::default();
         let mut run = |s: &Sampling| -> Result<DesignReport, MethodError> {
             let probe_start = Instant::now();
             let Sampling::Synchronous(window) = s else {

@@ -4,9 +4,11 @@
 //!
 //! Both are thin code over the shared window search of `sporadic-model`
 //! ([`search_upper`] / [`search_lower`]); the only thing added here is the probe, which re-solves
-//! one compiled instance of LMI (41) with the new vertices whenever their number allows it (the
-//! residue box has the same number of vertices on every window of a plant), instead of building
-//! the model anew at every probe.
+//! a compiled instance of LMI (41) per form of the problem (as given, and each normal form of
+//! [`crate::normalise`]) with the new vertices whenever their number allows it (the residue box
+//! of a form mostly keeps its number of vertices from one window to the next), instead of
+//! building the model anew at every probe, and tries first the form that certified the previous
+//! probe (the verdict does not depend on the order).
 //!
 //! With the default [`WindowSearchOptions`] (`Scan { points: 6 }`, `Relative(4e-3)`) the search
 //! probes the periodic window, then 6 geometrically spaced values up to the limit, and bisects at
@@ -44,7 +46,7 @@ pub fn largest_t2(
     search: &WindowSearchOptions,
 ) -> Result<WindowSearch, Error> {
     design.validate()?;
-    let mut cache = None;
+    let mut cache = LmiCache::default();
     let mut run = |t2: f64| -> Result<Verdict, Error> {
         let window = SamplingWindow::new(t1, t2)?;
         Ok(probe(plant, &window, design, &mut cache)?.0)
@@ -62,7 +64,7 @@ pub fn smallest_t1(
     search: &WindowSearchOptions,
 ) -> Result<WindowSearch, Error> {
     design.validate()?;
-    let mut cache = None;
+    let mut cache = LmiCache::default();
     let mut run = |t1: f64| -> Result<Verdict, Error> {
         let window = SamplingWindow::new(t1, t2)?;
         Ok(probe(plant, &window, design, &mut cache)?.0)

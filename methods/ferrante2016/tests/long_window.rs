@@ -136,3 +136,24 @@ fn long_window_time_scaling() {
         assert!(r.is_ok(), "k = {k}: {:?}", r.err());
     }
 }
+
+/// Issue 22: a lightly damped oscillator (`A = [[0, 1], [−1, −0.01]]`, position measured) on
+/// `[0.1, T2]` up to the largest double is certified within 10 s. The residue box of §4.1 is
+/// the same for every `T2` beyond the decay of both modes, and so is the certificate; the
+/// embedding's self-check used to step an equally spaced grid of the whole window, whose step
+/// `e^{Ah}` overflowed for `T2` above about `10¹⁷` (a numerical failure instead of a verdict).
+#[test]
+fn lightly_damped_oscillator_up_to_the_largest_double() {
+    let p = Plant::new(
+        mat![[0.0, 1.0], [-1.0, -0.01]].as_ref(),
+        mat![[1.0, 0.0]].as_ref(),
+    )
+    .unwrap();
+    for t2 in [1e15, 1e17, 1e18, 1e30, 1e100, 1e300, 1e308, f64::MAX] {
+        let (r, seconds) = run(&p, 0.1, t2);
+        let d = r.unwrap_or_else(|e| panic!("T2 = {t2:e}: {e}"));
+        assert!(d.embedding.containment().is_guaranteed(), "T2 = {t2:e}");
+        assert!(d.verification.passed(), "T2 = {t2:e}");
+        assert!(seconds < 10.0, "T2 = {t2:e}: {seconds} s");
+    }
+}
