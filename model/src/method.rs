@@ -536,6 +536,15 @@ pub fn largest_window_with<M: ObserverMethod + ?Sized>(
             });
             report.search_end = Some(crate::report::SearchEnd::BudgetExhausted);
             report.largest_certified_t2 = best.as_ref().map(|(t2, _)| *t2);
+            // The smallest failing T2 above the largest certified one, as a finished search
+            // reports it (a failure below it makes the verdicts non-monotone).
+            let certified_max = report.largest_certified_t2.unwrap_or(f64::NEG_INFINITY);
+            report.first_failing_t2 = made
+                .iter()
+                .filter(|p| !p.certified && p.t2 > certified_max)
+                .map(|p| p.t2)
+                .reduce(f64::min);
+            report.monotone = made.iter().all(|p| p.certified || p.t2 > certified_max);
             report.status = if best.is_some() {
                 Status::Certified
             } else {

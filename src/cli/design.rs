@@ -587,7 +587,16 @@ fn progress_printer() -> impl FnMut(&str, &Probe) {
 fn print_max_interval(r: &MaxIntervalReport) {
     println!("plant    {}", r.plant);
     println!("method   {}", r.method);
+    let budget = r.search_end == Some(SearchEnd::BudgetExhausted);
     match (r.largest_certified_t2, r.first_failing_t2) {
+        (Some(b), f) if budget => println!(
+            "result   largest certified T2 = {b:.6} when the time budget ran out ({}), T1 = {}",
+            f.map_or_else(
+                || "no failing T2 found yet".to_string(),
+                |f| format!("fails at {f:.6}")
+            ),
+            r.t1.unwrap_or(f64::NAN)
+        ),
         (Some(b), None) => println!(
             "result   certified up to the search limit: T2 = {b} (raise --limit to search further)"
         ),
@@ -722,10 +731,10 @@ fn print_compare(file: &PlantFile, report: &CompareReport) {
             None => "-".to_string(),
             Some(_) if own_rule => "-".to_string(),
             Some(r) => match (r.largest_certified_t2, r.first_failing_t2) {
-                (Some(b), Some(f)) => format!("{} (fails {})", significant(b), significant(f)),
-                (Some(b), None) if r.search_end == Some(SearchEnd::BudgetExhausted) => {
+                (Some(b), _) if r.search_end == Some(SearchEnd::BudgetExhausted) => {
                     format!("{} (out of time)", significant(b))
                 }
+                (Some(b), Some(f)) => format!("{} (fails {})", significant(b), significant(f)),
                 (Some(b), None) => format!("{} (= limit)", significant(b)),
                 (None, _) => "none".to_string(),
             },

@@ -304,3 +304,47 @@ fn simulation_of_a_certified_design_converges() {
         Err(MethodError::SimulationUnavailable { .. })
     ));
 }
+
+/// A search cut short by the budget reports the bracket it had: the largest certified `T2`,
+/// the smallest failing one above it, and whether the verdicts so far are monotone (the CLI
+/// once said "certified up to the search limit" for such a search).
+#[test]
+fn a_search_cut_short_keeps_its_first_failure() {
+    use sporadic_ferrante2016::sporadic_model::{Budget, budget, largest_window_with};
+    use std::sync::Arc;
+    use std::sync::atomic::{AtomicBool, Ordering};
+    let method = Ferrante2016::default();
+    let plant = oscillator();
+    let opts = MethodOptions::default();
+    let stop = Arc::new(AtomicBool::new(false));
+    let mut probes = 0;
+    // Scan of [0.5, 5]: 0.5, 0.73, 1.08, 1.58, 2.32 certified, 3.41 not (detectability is lost
+    // at π); the budget is cancelled as the seventh probe (the limit) starts, so that probe is
+    // no verdict.
+    let r = budget::within(Budget::unlimited().with_cancel(stop.clone()), || {
+        largest_window_with(
+            &method,
+            &plant,
+            &sync(0.5, 1.0),
+            5.0,
+            &WindowSearchOptions::default(),
+            &opts,
+            &mut |_| {},
+            &mut |s| {
+                probes += 1;
+                if probes == 7 {
+                    stop.store(true, Ordering::Relaxed);
+                }
+                method.design(&plant, s, &opts)
+            },
+        )
+    })
+    .unwrap();
+    assert_eq!(r.search_end, Some(SearchEnd::BudgetExhausted));
+    assert_eq!(r.probes.len(), 6);
+    let (best, fail) = (r.largest_certified_t2.unwrap(), r.first_failing_t2.unwrap());
+    assert!((best - 0.5 * 10f64.powf(4.0 / 6.0)).abs() < 1e-9, "{best}");
+    assert!((fail - 0.5 * 10f64.powf(5.0 / 6.0)).abs() < 1e-9, "{fail}");
+    assert!(r.monotone);
+    assert_eq!(r.status, Status::Certified);
+}
