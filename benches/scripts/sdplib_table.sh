@@ -20,10 +20,11 @@ command -v csdp >/dev/null || { echo "csdp not found (apt-get install -y coinor-
 cargo build --release --bin sporadic
 BIN=$(mktemp -d)/sporadic
 cp target/release/sporadic "$BIN"   # later rebuilds cannot change the binary under test
+COMMIT=$(git rev-parse --short HEAD)$(git diff --quiet HEAD -- . ':!benches/results' || echo "+changes")
 load_before=$(cut -d' ' -f1-3 /proc/loadavg)
 "$BIN" sdp bench "$SDPLIB" --vs-csdp --table "$OUT"
 {
-  echo "Measured by \`benches/scripts/sdplib_table.sh\` at commit $(git rev-parse --short HEAD)" \
+  echo "Measured by \`benches/scripts/sdplib_table.sh\` at commit $COMMIT" \
        "on $(date -u +%Y-%m-%d), $(nproc) cores ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs)), " \
        "csdp $(dpkg-query -W -f '${Version}' coinor-csdp 2>/dev/null || echo '(version unknown)');" \
        "load average before $load_before, after $(cut -d' ' -f1-3 /proc/loadavg)."
