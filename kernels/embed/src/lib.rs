@@ -50,7 +50,7 @@ pub use hull::{HullDistance, hull_distance};
 pub use interval::Interval;
 pub use jacobian::{JacobianPolytope, jacobian_polytope, lipschitz_box};
 pub use residue::{
-    CHECK_DECAY_EXPONENTS, Contour, EigenCluster, ExpansionTerm, ResidueExpansion, ResidueOptions,
+    Contour, DECAY_EXPONENTS, EigenCluster, ExpansionTerm, ResidueExpansion, ResidueOptions,
     TruncatedExpansion, residue_embedding,
 };
 pub use split::{EmbeddingMethod, embed, embed_split};

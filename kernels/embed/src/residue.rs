@@ -32,7 +32,7 @@
 //! **Self-check.** `Σ_c E_c = I` and `max_v ‖Σ_k c_k(v) N_k − e^{Av}‖_F / ‖e^{Av}‖_F` on a
 //! grid must both be below [`ResidueOptions::check_tolerance`] (default `1e-10`); otherwise the
 //! containment is not claimed (see [`crate::Containment`]). On a window of a Hurwitz `A` longer
-//! than the decay of every mode the grid ends at `S = T1 + 72/|α|` ([`CHECK_DECAY_EXPONENTS`]),
+//! than the decay of every mode the grid ends at `S = T1 + 72/|α|` ([`DECAY_EXPONENTS`]),
 //! and beyond it the whole expansion, `Σ_k max_{[S, T2]}|c_k|·‖N_k‖_F` from the exact ranges
 //! (43b), must be below the tolerance relative to the window's largest `‖e^{Av}‖_F`.
 
@@ -52,11 +52,13 @@ use crate::embedding::{Containment, Embedding, HULL_TOLERANCE, Method};
 use crate::interval::Interval;
 use sporadic_linalg::input::check_square_finite;
 
-/// Decay exponents `c` of the self-check's end ([`ResidueExpansion::embed`]): on a window of a
-/// Hurwitz `A` longer than `c/|α|`, the reconstruction is checked on a grid of `[T1, T1 + c/|α|]`
-/// and bounded through the coefficient ranges beyond (`e^{−72} ≈ 5·10⁻³²`: sixteen orders of
-/// magnitude below the unit roundoff for polynomial and non-normal factors).
-pub const CHECK_DECAY_EXPONENTS: f64 = 72.0;
+/// Decay exponents `c` of the decay horizon `c/|α|` of a Hurwitz `A` (spectral abscissa
+/// `α < 0`): beyond it every mode has decayed by `e^{−72} ≈ 5·10⁻³²`, sixteen orders of
+/// magnitude below the unit roundoff for polynomial (Jordan) and non-normal factors. On a
+/// longer window the residue embedding's reconstruction is checked on a grid of
+/// `[T1, T1 + c/|α|]` and bounded through the coefficient ranges beyond
+/// ([`ResidueExpansion::embed`]); methods use the same horizon for their own grids.
+pub const DECAY_EXPONENTS: f64 = 72.0;
 
 /// Tuning of the residue embedding. The defaults suit matrices up to `n ≈ 15`.
 #[derive(Debug, Clone, PartialEq)]
@@ -789,7 +791,7 @@ impl ResidueExpansion {
         self.truncate_with_scale(iv.t1(), iv.t2(), scale)
     }
 
-    /// The end `S` of the self-check grid on `iv`: `T1 + CHECK_DECAY_EXPONENTS/|α|` when `A` is
+    /// The end `S` of the self-check grid on `iv`: `T1 + DECAY_EXPONENTS/|α|` when `A` is
     /// Hurwitz (spectral abscissa `α < 0`) and this lies inside the window, `T2` otherwise.
     /// Beyond `S` every mode has decayed by `e^{−72}` (relative to `T1`), so an equally spaced
     /// grid of the whole window would only sample where `e^{Av}` is negligible, and on a
@@ -805,7 +807,7 @@ impl ResidueExpansion {
             .flat_map(|c| c.eigenvalues.iter())
             .map(|l| l.re)
             .fold(f64::NEG_INFINITY, f64::max);
-        let s = iv.t1() + CHECK_DECAY_EXPONENTS / -alpha;
+        let s = iv.t1() + DECAY_EXPONENTS / -alpha;
         if alpha < 0.0 && s.is_finite() && s < iv.t2() {
             s
         } else {

@@ -213,8 +213,7 @@ fn solve_on(
         lmis.remove(0);
     }
     lmis.push(lmi);
-    let last = lmis.len() - 1;
-    lmis[last].solve()
+    lmis.last_mut().expect("pushed above").solve()
 }
 
 /// Compiled instances of LMI (41) kept by a window search: one per form of the problem tried
@@ -344,8 +343,8 @@ fn remainder_too_large(plant: &Plant, embedding: &Embedding) -> Option<String> {
         .fold(f64::INFINITY, f64::min);
     (delta >= 2.0 * nearest).then(|| {
         format!(
-            "the remainder bound {delta:e} of the embedding of e^(Av) is at least twice the \
-             distance {nearest:e} from the hull of its vertices to a matrix X with Xz = z for a \
+            "the remainder bound {delta:.3e} of the embedding of e^(Av) is at least twice the \
+             distance {nearest:.3e} from the hull of its vertices to a matrix X with Xz = z for a \
              z in the kernel of C: the robust form of LMI (41) would make X(I − LC) Schur \
              there, which its eigenvalue 1 forbids"
         )

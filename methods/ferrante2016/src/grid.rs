@@ -24,9 +24,9 @@ use sporadic_linalg::{expm_scaled, expm_stepper, golden_section};
 use crate::error::Error;
 use sporadic_model::SamplingWindow;
 
-/// Decay exponents `c` of [`decay_horizon`]: `e^{−c} ≈ 5·10⁻³²` leaves sixteen orders of
-/// magnitude below the unit roundoff for polynomial (Jordan) and non-normal factors.
-pub const DECAY_EXPONENTS: f64 = 72.0;
+// The decay exponents of `decay_horizon` are the embedding's own: its self-check grid ends at
+// the same horizon.
+pub use sporadic_embed::DECAY_EXPONENTS;
 
 /// `DECAY_EXPONENTS/|α|` for a Hurwitz `A` with spectral abscissa `α = max Re λ(A) < 0`; `None`
 /// when `A` is not Hurwitz (or its eigenvalues cannot be computed).
