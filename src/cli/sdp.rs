@@ -309,7 +309,9 @@ fn solve(
 
 /// Optimal values from SDPLIB's README table: lines `| name | m | n | ... | optimum |` or
 /// whitespace-separated `name m n ... optimum`; the last numeric-looking field that parses as a
-/// float is taken as the optimum. Infeasible problems have no value.
+/// float is taken as the optimum. Infeasible problems have no value. A footnote of the form
+/// ``The optimal objective value for `name` was found to be `value` `` replaces the table's
+/// value (SDPLIB 1.2's README corrects qap10, printed `-1.093e+01`, to `-1.093e+03` this way).
 fn read_optima(dir: &Path) -> BTreeMap<String, f64> {
     let mut optima = BTreeMap::new();
     let Ok(text) = std::fs::read_to_string(dir.join("README-SDPLIB.md")) else {
@@ -333,7 +335,21 @@ fn read_optima(dir: &Path) -> BTreeMap<String, f64> {
             optima.insert((*name).to_string(), v);
         }
     }
+    for line in text.lines() {
+        if let Some((name, value)) = corrected_optimum(line) {
+            optima.insert(name.to_string(), value);
+        }
+    }
     optima
+}
+
+/// The problem and value of a README footnote
+/// ``… optimal objective value for `name` was found to be `value` …``.
+fn corrected_optimum(line: &str) -> Option<(&str, f64)> {
+    let rest = line.split_once("optimal objective value for `")?.1;
+    let (name, rest) = rest.split_once('`')?;
+    let value = rest.split_once("found to be `")?.1.split_once('`')?.0;
+    Some((name, value.parse().ok()?))
 }
 
 /// Most runs of one program on one problem in `sdp bench` (see `sdp bench --help`).
@@ -673,4 +689,30 @@ fn write_table(
         std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_readme_footnote_corrects_the_table() {
+        let dir = std::env::temp_dir().join(format!("sporadic-optima-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        for name in ["qap10", "qap9"] {
+            std::fs::write(dir.join(format!("{name}.dat-s")), "").unwrap();
+        }
+        std::fs::write(
+            dir.join("README-SDPLIB.md"),
+            "| qap9 | 748 | 82 | -1.409e+03 | 9 |\n\
+             | qap10 | 1021 | 101 | -1.093e+01 | 9, 14 |\n\
+             14. The optimal objective value for `qap10` was found to be `-1.093e+03`\n",
+        )
+        .unwrap();
+        let optima = read_optima(&dir);
+        std::fs::remove_dir_all(&dir).unwrap();
+        assert_eq!(optima.get("qap9"), Some(&-1409.0));
+        assert_eq!(optima.get("qap10"), Some(&-1093.0));
+        assert_eq!(corrected_optimum("14. no value here"), None);
+    }
 }
