@@ -417,7 +417,7 @@ pub(crate) fn finish(c: &Compiled, sdp: Solution) -> Result<LmiSolution, ModelEr
                     Outcome::Feasible,
                     match margin {
                         Some(t) => format!(
-                            "strictly feasible: margin t* = {t:.4e}; every constraint verified"
+                            "strictly feasible: margin t* = {t:.3e}; every constraint verified"
                         ),
                         None => "feasible; every constraint verified".to_string(),
                     },
@@ -441,7 +441,7 @@ pub(crate) fn finish(c: &Compiled, sdp: Solution) -> Result<LmiSolution, ModelEr
                         (
                             Outcome::Infeasible,
                             format!(
-                                "not strictly feasible: the maximal common margin t* = {t:.4e} is at or below \
+                                "not strictly feasible: the maximal common margin t* = {t:.3e} is at or below \
                                  the verification threshold {thr:.3e}"
                             ),
                         )
@@ -449,7 +449,7 @@ pub(crate) fn finish(c: &Compiled, sdp: Solution) -> Result<LmiSolution, ModelEr
                         (
                             Outcome::Inconclusive,
                             format!(
-                                "maximal margin t* = {t:.4e} ≤ {thr:.3e}, but {}",
+                                "maximal margin t* = {t:.3e} ≤ {thr:.3e}, but {}",
                                 artefact()
                             ),
                         )
