@@ -27,8 +27,8 @@ use crate::gain::GainSchedule;
 use crate::plant::RoundRobinPlant;
 use crate::synthesis::{Synthesis, default_solve_options};
 use crate::validation::{
-    GridPolicy, SensorValidation, UniformGrid, ValidationOptions, XiFamily, grid_spacing,
-    validate_window,
+    GridPolicy, MIN_PROOF_PIECES, SensorValidation, UniformGrid, ValidationOptions, WindowGrid,
+    XiFamily, grid_spacing, validate_window,
 };
 use sporadic_linalg::InputError;
 
@@ -375,19 +375,26 @@ impl DesignLoop {
                 res.p_star,
                 &self.bound.bound,
             )?;
-            let grid = UniformGrid::covering(
+            let grid = WindowGrid::covering(
                 self.plant.sensor(s)?.window(),
                 spacing,
                 self.settings.validation.max_points,
-            )
-            .map_err(|e| match e {
-                Error::GridTooLarge { points, cap, .. } => Error::GridTooLarge {
+            )?;
+            // A grid above the cap is decided only by a proof of (48) over the window
+            // (validate_window); without one, the step ends here, before any grid is run.
+            if let WindowGrid::OverCap { points, cap, .. } = grid
+                && self
+                    .settings
+                    .proof_pieces
+                    .is_none_or(|k| k < MIN_PROOF_PIECES)
+            {
+                return Err(Error::GridTooLarge {
                     sigma: s + 1,
                     points,
                     cap,
-                },
-                other => other,
-            })?;
+                    proof: String::new(),
+                });
+            }
             grids.push(grid);
             families.push(XiFamily::new(&self.plant, &res.p, s)?);
         }
@@ -400,7 +407,7 @@ impl DesignLoop {
         };
         // The full validation: a proof of (48) over the window where the grid is large enough
         // for one to pay off (DesignOptions::proof_pieces), the grid otherwise.
-        let validate_full = |grids: &[UniformGrid]| -> Result<Vec<SensorValidation>, Error> {
+        let validate_full = |grids: &[WindowGrid]| -> Result<Vec<SensorValidation>, Error> {
             grids
                 .iter()
                 .zip(&families)
@@ -431,14 +438,17 @@ impl DesignLoop {
                 .map(|(g, sensor)| {
                     let w = sensor.window();
                     let h = (w.t2() - w.t1()) / (k.max(2) - 1) as f64;
-                    if g.points <= k || !(h > g.spacing) {
-                        Ok(*g)
-                    } else {
-                        UniformGrid::covering(w, h, self.settings.validation.max_points)
+                    match g {
+                        WindowGrid::Grid(g) if g.points <= k || !(h > g.spacing) => Ok(*g),
+                        _ => UniformGrid::covering(w, h, self.settings.validation.max_points),
                     }
                 })
                 .collect::<Result<_, _>>()?;
-            if coarse != grids {
+            if coarse
+                .iter()
+                .zip(&grids)
+                .any(|(c, g)| WindowGrid::Grid(*c) != *g)
+            {
                 let v = validate(&coarse)?;
                 let failing: Vec<&SensorValidation> = v.iter().filter(|v| !v.passed()).collect();
                 if !failing.is_empty() && !failing.iter().any(|v| stalled(v)) {

@@ -137,8 +137,11 @@ pub enum Error {
         /// What was running.
         during: &'static str,
     },
-    /// The validation grid would exceed the configured cap.
-    #[error("sensor {sigma}: validation grid needs {points:.3e} points, above the cap {cap:.3e}")]
+    /// The validation grid would exceed the configured cap (and no proof of (48) over the
+    /// window decided in its place).
+    #[error(
+        "sensor {sigma}: validation grid needs {points:.3e} points, above the cap {cap:.3e}{proof}"
+    )]
     GridTooLarge {
         /// Sensor (1-based).
         sigma: usize,
@@ -146,6 +149,9 @@ pub enum Error {
         points: f64,
         /// Configured cap.
         cap: f64,
+        /// How the proof of (48) tried in place of the grid ended, as a clause of the message
+        /// starting with "; " (empty when none was tried).
+        proof: String,
     },
 }
 

@@ -37,7 +37,7 @@ use crate::plant::{RoundRobinPlant, window_grid};
 use crate::prove::{GAIN_TOLERANCE, gain_mismatch, prove_design};
 use crate::simulation::{SimulationOptions, simulate_error};
 use crate::validation::{GridPolicy, XiFamily};
-use crate::validation::{UniformGrid, grid_spacing, validate_window};
+use crate::validation::{WindowGrid, grid_spacing, validate_window};
 use sporadic_linalg::balance::{balancing_scales, unbalance_form, unbalance_gain};
 
 const ID: &str = "sferlazza2021";
@@ -177,6 +177,17 @@ fn verdict(e: Error) -> Result<Reason, MethodError> {
         | Error::RankDeficientOutput { .. }
         | Error::InvalidComplement { .. } => return Err(invalid(e)),
     })
+}
+
+/// The number of points of a (49) grid for a message: exact when it is run, with the cap when
+/// it is above it.
+fn grid_points(grid: &WindowGrid) -> String {
+    match grid {
+        WindowGrid::Grid(g) => format!("{} points", g.points),
+        WindowGrid::OverCap { points, cap, .. } => {
+            format!("{points:.3e} points (above the cap {cap:.3e}, not run)")
+        }
+    }
 }
 
 fn invalid_input(e: impl std::error::Error + Send + Sync + 'static) -> MethodError {
@@ -689,7 +700,7 @@ impl Sferlazza2021 {
         for (s, sensor) in rr.sensors().iter().enumerate() {
             let spacing = grid_spacing(rr, s, self.design.grid, mu, p_star, &bound.bound)?;
             let grid =
-                UniformGrid::covering(sensor.window(), spacing, self.design.validation.max_points)?;
+                WindowGrid::covering(sensor.window(), spacing, self.design.validation.max_points)?;
             let fam = XiFamily::new(rr, &normalised, s)?;
             let v = validate_window(
                 &fam,
@@ -701,18 +712,28 @@ impl Sferlazza2021 {
                 &self.design.validation,
             )?;
             if !v.passed() {
+                let at = match grid {
+                    WindowGrid::Grid(g) => format!(
+                        "grid of {} points, spacing {}",
+                        g.points,
+                        significant(g.spacing)
+                    ),
+                    WindowGrid::OverCap { points, cap, .. } => format!(
+                        "an end of a τ-piece where the proof of (48) over the window, tried in \
+                         place of the uniform grid of {points:.3e} points above the cap \
+                         {cap:.3e}, shows in interval arithmetic that it fails"
+                    ),
+                };
                 return Ok(failed(
                     Some(v.argmin_tau),
                     format!(
-                        "(48) fails for sensor {}: λ_min(Ξ_{}(τ)) = {} ≤ μ = {} at τ = {} (grid of \
-                        {} points, spacing {}; P_σ scaled to I ⪯ P_σ)",
+                        "(48) fails for sensor {}: λ_min(Ξ_{}(τ)) = {} ≤ μ = {} at τ = {} ({at}; \
+                         P_σ scaled to I ⪯ P_σ)",
                         s + 1,
                         s + 1,
                         significant(v.min_eigenvalue),
                         significant(mu),
                         significant(v.argmin_tau),
-                        grid.points,
-                        significant(grid.spacing)
                     ),
                 ));
             }
@@ -728,10 +749,10 @@ impl Sferlazza2021 {
                     ),
                     how: format!(
                         "proven in interval arithmetic on {pieces} τ-pieces (crate::prove), in \
-                         place of the uniform grid of {} points, spacing {} (the design's grid \
+                         place of the uniform grid of {}, spacing {} (the design's grid \
                          policy, p* = {}), which it implies; the given P_σ scaled to I ⪯ P_σ",
-                        grid.points,
-                        significant(grid.spacing),
+                        grid_points(&grid),
+                        significant(grid.spacing()),
                         significant(p_star)
                     ),
                     value: None,
@@ -746,10 +767,10 @@ impl Sferlazza2021 {
                         s + 1
                     ),
                     how: format!(
-                        "uniform grid of {} points, spacing {} (the design's grid policy, p* = \
-                         {}), the given P_σ scaled to I ⪯ P_σ; value: λ_min on a subsample",
-                        grid.points,
-                        significant(grid.spacing),
+                        "uniform grid of {}, spacing {} (the design's grid policy, p* = {}), \
+                         the given P_σ scaled to I ⪯ P_σ; value: λ_min on a subsample",
+                        grid_points(&grid),
+                        significant(grid.spacing()),
                         significant(p_star)
                     ),
                     value: Some(v.min_eigenvalue),
