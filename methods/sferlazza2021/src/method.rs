@@ -28,7 +28,7 @@ use sporadic_model::{
 };
 
 use crate::design::{Design, DesignOptions, design_screened};
-use crate::error::{Error, check_at_least};
+use crate::error::{Error, check_at_least, sig4, sig4_list};
 use crate::exponential_bound::exponential_bound;
 use crate::gain::GainSchedule;
 use crate::gain::check_sym;
@@ -188,6 +188,24 @@ fn grid_points(grid: &WindowGrid) -> String {
             format!("{points:.3e} points (above the cap {cap:.3e}, not run)")
         }
     }
+}
+
+/// The balancing scales (powers of 2) for messages, exactly: `(1, 2^-3, 2^5)`.
+fn powers_of_two(scales: &[f64]) -> String {
+    let items: Vec<String> = scales
+        .iter()
+        .map(|&d| {
+            let k = d.log2().round();
+            if d == 1.0 {
+                "1".to_string()
+            } else if d > 0.0 && k.exp2() == d {
+                format!("2^{k}")
+            } else {
+                sig4(d)
+            }
+        })
+        .collect();
+    format!("({})", items.join(", "))
 }
 
 fn invalid_input(e: impl std::error::Error + Send + Sync + 'static) -> MethodError {
@@ -611,8 +629,9 @@ impl Sferlazza2021 {
             norm: norms,
             report: SimulationReport {
                 setup: format!(
-                    "error system (53) without noise, x̃(0) = {x0:?} (|x̃(0)| = {}), sensors in \
+                    "error system (53) without noise, x̃(0) = {} (|x̃(0)| = {}), sensors in \
                      round-robin order, {rule}, horizon {} s",
+                    sig4_list(&x0),
                     significant(initial),
                     significant(horizon)
                 ),
@@ -621,8 +640,9 @@ impl Sferlazza2021 {
                 final_error: last,
                 result: format!(
                     "{} samples, |x̃| at the end = {last:.3e}, largest V⁺/V over the jumps = \
-                     {worst_ratio:.4} (V = x̃ᵀΦ_σ(τ)x̃ of (30) with ρ = 0)",
-                    run.jumps.len()
+                     {} (V = x̃ᵀΦ_σ(τ)x̃ of (30) with ρ = 0)",
+                    run.jumps.len(),
+                    sig4(worst_ratio)
                 ),
                 settling_time: None,
                 figure: None,
@@ -853,8 +873,9 @@ impl Sferlazza2021 {
         for (s, p) in d.p.iter().enumerate() {
             let coordinates = if balanced {
                 format!(
-                    " in the balanced coordinates x_b = D⁻¹x, D = diag{scales:?}, mapped back as \
-                     P_σ = D⁻¹P_bD⁻¹"
+                    " in the balanced coordinates x_b = D⁻¹x, D = diag{}, mapped back as \
+                     P_σ = D⁻¹P_bD⁻¹",
+                    powers_of_two(scales)
                 )
             } else {
                 String::new()
@@ -1028,10 +1049,11 @@ impl Sferlazza2021 {
         ));
         if balanced {
             report.notes.push(format!(
-                "designed in the balanced coordinates x_b = D⁻¹x with D = diag{scales:?} (powers of \
+                "designed in the balanced coordinates x_b = D⁻¹x with D = diag{} (powers of \
                  2, LAPACK gebal scaling of A; exact): the margin and the checks are those of the \
                  balanced plant, the gains K_σ = D·K_bσ and certificates P_σ = D⁻¹P_bσD⁻¹ are in \
-                 the plant's coordinates"
+                 the plant's coordinates",
+                powers_of_two(scales)
             ));
         }
         report.notes.push(format!(
@@ -1058,5 +1080,19 @@ impl Sferlazza2021 {
             ));
         }
         Ok(report)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The balancing scales print exactly, as powers of 2 (not `0.0009765625`).
+    #[test]
+    fn scales_print_as_powers_of_two() {
+        assert_eq!(
+            powers_of_two(&[1.0, 0.5, 1024.0, 2f64.powi(-10), 3.0]),
+            "(1, 2^-1, 2^10, 2^-10, 3)"
+        );
     }
 }

@@ -365,7 +365,8 @@ pub(crate) fn gain_mismatch(
             let w = sensor.window();
             if !(tau >= w.t1() && tau <= w.t2()) {
                 return Err(Error::invalid(format!(
-                    "gain {name} is listed at τ = {tau}, outside the window {w}"
+                    "gain {name} is listed at τ = {}, outside the window {w}",
+                    crate::error::sig4(tau)
                 )));
             }
             if (k.nrows(), k.ncols()) != (plant.n(), sensor.outputs()) {

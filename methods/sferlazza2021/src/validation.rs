@@ -44,7 +44,7 @@ use faer::{Mat, MatRef, Side};
 use rayon::prelude::*;
 use sporadic_linalg::{expm_scaled, expm_stepper, min_eigenvalue};
 
-use crate::error::{Error, check_at_least};
+use crate::error::{Error, check_at_least, sig4};
 use crate::gain::check_sym;
 use crate::plant::RoundRobinPlant;
 use crate::prove::prove_validation;
@@ -110,7 +110,9 @@ pub fn grid_spacing(
 ) -> Result<f64, Error> {
     if !(mu > 0.0 && mu.is_finite() && p_norm > 0.0 && p_norm.is_finite()) {
         return Err(Error::invalid(format!(
-            "grid spacing needs μ > 0 and p* > 0 (got μ = {mu}, p* = {p_norm})"
+            "grid spacing needs μ > 0 and p* > 0 (got μ = {}, p* = {})",
+            sig4(mu),
+            sig4(p_norm)
         )));
     }
     let sensor = plant.sensor(sigma)?;
@@ -134,7 +136,8 @@ pub fn grid_spacing(
         Ok(f64::MAX)
     } else {
         Err(Error::invalid(format!(
-            "grid spacing must be positive and finite (got {spacing})"
+            "grid spacing must be positive and finite (got {})",
+            sig4(spacing)
         )))
     }
 }
@@ -160,7 +163,8 @@ impl UniformGrid {
     pub fn covering(window: SamplingWindow, max_spacing: f64, cap: f64) -> Result<Self, Error> {
         if max_spacing.is_nan() || max_spacing <= 0.0 {
             return Err(Error::invalid(format!(
-                "grid spacing must be positive (got {max_spacing})"
+                "grid spacing must be positive (got {})",
+                sig4(max_spacing)
             )));
         }
         let width = window.t2() - window.t1();
@@ -833,7 +837,12 @@ impl XiFamily {
             || grid.spacing < 0.0
             || !grid.t_min.is_finite()
         {
-            return Err(Error::invalid(format!("invalid grid {grid:?}")));
+            return Err(Error::invalid(format!(
+                "invalid grid: {} points from τ = {}, spacing {}",
+                grid.points,
+                sig4(grid.t_min),
+                sig4(grid.spacing)
+            )));
         }
         self.run(Source::Grid(grid), mu, settings)
     }
