@@ -24,7 +24,7 @@ use sporadic_model::{
     Check, DesignReport, Gain, Margin, MaxIntervalReport, MethodError, MethodOptions, NamedMatrix,
     NotApplicable, ObserverMethod, Outputs, Plant, Probe, Proof, ProofOptions, Reason, Sampling,
     SamplingScenario, SamplingWindow, Scenario, SimulationReport, Trajectory, check_simulatable,
-    largest_window_with, significant,
+    largest_window_with,
 };
 
 use crate::design::{Design, DesignOptions, design_screened};
@@ -481,9 +481,9 @@ impl Sferlazza2021 {
                          stable mode with Re λ = {} and T_M = {}, so ‖e^(−A T_M)‖ ≥ e^{} > 1.8e308 \
                          (the formulation of (44) cannot represent such a fast mode over such a \
                          long interval)",
-                        significant(-alpha),
-                        significant(rr.t_max()),
-                        significant(alpha * rr.t_max())
+                        sig4(-alpha),
+                        sig4(rr.t_max()),
+                        sig4(alpha * rr.t_max())
                     ),
                 },
             );
@@ -632,8 +632,8 @@ impl Sferlazza2021 {
                     "error system (53) without noise, x̃(0) = {} (|x̃(0)| = {}), sensors in \
                      round-robin order, {rule}, horizon {} s",
                     sig4_list(&x0),
-                    significant(initial),
-                    significant(horizon)
+                    sig4(initial),
+                    sig4(horizon)
                 ),
                 samples: run.jumps.len(),
                 initial_error: initial,
@@ -683,7 +683,7 @@ impl Sferlazza2021 {
                 None,
                 format!(
                     "the certificate is not positive definite (smallest eigenvalue {})",
-                    significant(lo)
+                    sig4(lo)
                 ),
             ));
         }
@@ -694,9 +694,9 @@ impl Sferlazza2021 {
                     "the given gain K_{}(τ) at τ = {} is not (45) of the certificate P_{} \
                     (relative deviation {}): the certificate does not certify it",
                     s + 1,
-                    significant(tau),
+                    sig4(tau),
                     s + 1,
-                    significant(dev)
+                    sig4(dev)
                 ),
             ));
         }
@@ -733,11 +733,9 @@ impl Sferlazza2021 {
             )?;
             if !v.passed() {
                 let at = match grid {
-                    WindowGrid::Grid(g) => format!(
-                        "grid of {} points, spacing {}",
-                        g.points,
-                        significant(g.spacing)
-                    ),
+                    WindowGrid::Grid(g) => {
+                        format!("grid of {} points, spacing {}", g.points, sig4(g.spacing))
+                    }
                     WindowGrid::OverCap { points, cap, .. } => format!(
                         "an end of a τ-piece where the proof of (48) over the window, tried in \
                          place of the uniform grid of {points:.3e} points above the cap \
@@ -751,9 +749,9 @@ impl Sferlazza2021 {
                          P_σ scaled to I ⪯ P_σ)",
                         s + 1,
                         s + 1,
-                        significant(v.min_eigenvalue),
-                        significant(mu),
-                        significant(v.argmin_tau),
+                        sig4(v.min_eigenvalue),
+                        sig4(mu),
+                        sig4(v.argmin_tau),
                     ),
                 ));
             }
@@ -763,7 +761,7 @@ impl Sferlazza2021 {
                     what: format!(
                         "(48): λ_min(Ξ_{}(τ)) > μ = {} for every τ of the window {} of sensor {}",
                         s + 1,
-                        significant(mu),
+                        sig4(mu),
                         sensor.window(),
                         s + 1
                     ),
@@ -772,8 +770,8 @@ impl Sferlazza2021 {
                          place of the uniform grid of {}, spacing {} (the design's grid \
                          policy, p* = {}), which it implies; the given P_σ scaled to I ⪯ P_σ",
                         grid_points(&grid),
-                        significant(grid.spacing()),
-                        significant(p_star)
+                        sig4(grid.spacing()),
+                        sig4(p_star)
                     ),
                     value: None,
                     passed: true,
@@ -782,7 +780,7 @@ impl Sferlazza2021 {
                     what: format!(
                         "(48): λ_min(Ξ_{}(τ)) > μ = {} on the window {} of sensor {}",
                         s + 1,
-                        significant(mu),
+                        sig4(mu),
                         sensor.window(),
                         s + 1
                     ),
@@ -790,8 +788,8 @@ impl Sferlazza2021 {
                         "uniform grid of {}, spacing {} (the design's grid policy, p* = {}), \
                          the given P_σ scaled to I ⪯ P_σ; value: λ_min on a subsample",
                         grid_points(&grid),
-                        significant(grid.spacing()),
-                        significant(p_star)
+                        sig4(grid.spacing()),
+                        sig4(p_star)
                     ),
                     value: Some(v.min_eigenvalue),
                     passed: true,
@@ -887,7 +885,7 @@ impl Sferlazza2021 {
                     "Lyapunov matrix of sensor {} in (44), solution of (47): I ⪯ P_σ ⪯ p*·I with \
                      p* = {}{coordinates}; V = e^(−ρτ) x̃ᵀ e^(−Aᵀτ) P_σ e^(−Aτ) x̃ is (30)",
                     s + 1,
-                    significant(d.p_star)
+                    sig4(d.p_star)
                 ),
             ));
         }
@@ -940,8 +938,8 @@ impl Sferlazza2021 {
         report.checks.push(Check {
             what: format!(
                 "Step 1: ‖e^(−Aτ)‖₂ ≤ γe^(βτ) with β = {}, γ = {} (enters the grid spacing (49))",
-                significant(b.bound.beta),
-                significant(b.bound.gamma)
+                sig4(b.bound.beta),
+                sig4(b.bound.gamma)
             ),
             how: if b.lyapunov_margin.is_nan() {
                 "β, γ given in the options (not checked)".into()
@@ -954,7 +952,7 @@ impl Sferlazza2021 {
         let policy = match self.design.grid {
             GridPolicy::Paper => "spacing 2δ* of (49)".to_string(),
             GridPolicy::Rigorous => "the rigorous Lipschitz spacing".to_string(),
-            GridPolicy::Spacing(h) => format!("spacing at most {}", significant(h)),
+            GridPolicy::Spacing(h) => format!("spacing at most {}", sig4(h)),
         };
         for g in &minima {
             if let Some(pieces) = g.proof_pieces {
@@ -962,7 +960,7 @@ impl Sferlazza2021 {
                     what: format!(
                         "(48): λ_min(Ξ_{}(τ)) > μ = {} for every τ of the window {} of sensor {}",
                         g.sigma + 1,
-                        significant(mu),
+                        sig4(mu),
                         rr.sensor(g.sigma)?.window(),
                         g.sigma + 1
                     ),
@@ -972,7 +970,7 @@ impl Sferlazza2021 {
                          between the piece ends minus the second-order remainder, Rump's verified \
                          definiteness test, outward rounding), in place of the uniform grid of \
                          spacing {} ({policy}), which it implies",
-                        significant(g.grid.spacing)
+                        sig4(g.grid.spacing)
                     ),
                     value: None,
                     passed: true,
@@ -983,7 +981,7 @@ impl Sferlazza2021 {
                 what: format!(
                     "(48): λ_min(Ξ_{}(τ)) > μ = {} on the window {} of sensor {}",
                     g.sigma + 1,
-                    significant(mu),
+                    sig4(mu),
                     rr.sensor(g.sigma)?.window(),
                     g.sigma + 1
                 ),
@@ -992,8 +990,8 @@ impl Sferlazza2021 {
                      re-anchoring, Schur complement + Cholesky at each point, exact λ_min at every \
                      point at or below the minimum; value: min λ_min (at τ = {})",
                     g.grid.points,
-                    significant(g.grid.spacing),
-                    significant(g.argmin_tau)
+                    sig4(g.grid.spacing),
+                    sig4(g.argmin_tau)
                 ),
                 value: Some(g.min_eigenvalue),
                 passed: g.min_eigenvalue > mu,
@@ -1014,7 +1012,7 @@ impl Sferlazza2021 {
                 spot.len(),
                 self.schedule_points,
                 worst.0 + 1,
-                significant(worst.1)
+                sig4(worst.1)
             ),
             value: Some(worst.2),
             passed: worst.2 > 0.0,
@@ -1026,26 +1024,26 @@ impl Sferlazza2021 {
             });
         }
         // Notes.
-        let added: Vec<String> = d
-            .log
-            .iter()
-            .flat_map(|r| {
-                r.added.iter().enumerate().filter_map(move |(s, t)| {
-                    t.map(|t| format!("σ = {}: τ̄ = {}", s + 1, significant(t)))
+        let added: Vec<String> =
+            d.log
+                .iter()
+                .flat_map(|r| {
+                    r.added.iter().enumerate().filter_map(move |(s, t)| {
+                        t.map(|t| format!("σ = {}: τ̄ = {}", s + 1, sig4(t)))
+                    })
                 })
-            })
-            .collect();
+                .collect();
         report.notes.push(format!(
             "iterative refinement (§5.3) passed validation after {} synthesis SDP(s) (47) with μ = \
              {}; points τ̄ of (50) added: {}; final p* = {}",
             d.iterations(),
-            significant(mu),
+            sig4(mu),
             if added.is_empty() {
                 "none".to_string()
             } else {
                 added.join(", ")
             },
-            significant(d.p_star)
+            sig4(d.p_star)
         ));
         if balanced {
             report.notes.push(format!(

@@ -59,10 +59,10 @@ use sporadic_interval::{
 };
 use sporadic_model::{
     Gain, PieceCheck, Proof, ProofOptions, ProofPiece, ProofStatus, WindowProof, combine,
-    prove_on_window, significant,
+    prove_on_window,
 };
 
-use crate::error::Error;
+use crate::error::{Error, sig4};
 use crate::gain::GainSchedule;
 use crate::plant::RoundRobinPlant;
 
@@ -366,7 +366,7 @@ pub(crate) fn gain_mismatch(
             if !(tau >= w.t1() && tau <= w.t2()) {
                 return Err(Error::invalid(format!(
                     "gain {name} is listed at τ = {}, outside the window {w}",
-                    crate::error::sig4(tau)
+                    sig4(tau)
                 )));
             }
             if (k.nrows(), k.ncols()) != (plant.n(), sensor.outputs()) {
@@ -459,11 +459,11 @@ pub fn prove_design(
                  (relative deviation {}): the certificate does not certify it; λ_max(−M) of \
                  (37) for that gain there lies in [{}, {}]{}",
                 s + 1,
-                significant(tau),
+                sig4(tau),
                 s + 1,
-                significant(dev),
-                significant(d.lo()),
-                significant(d.hi()),
+                sig4(dev),
+                sig4(d.lo()),
+                sig4(d.hi()),
                 if disproved {
                     ", so V increases at that jump (rigorous disproof of (29))"
                 } else {
