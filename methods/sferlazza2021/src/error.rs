@@ -186,10 +186,10 @@ pub(crate) fn check_at_least(name: &str, k: usize, min: usize) -> Result<(), Inp
 }
 
 /// `x` rounded to 4 significant digits in its shortest form, for messages: plain decimals in
-/// `[1e-4, 1e6)`, exponent form outside.
+/// `[1e-3, 1e4)`, exponent form outside (`1.695e5`, not `169500`).
 pub(crate) fn sig4(x: f64) -> String {
     let r = format!("{x:.3e}").parse::<f64>().unwrap_or(x);
-    if r != 0.0 && r.is_finite() && !(1e-4..1e6).contains(&r.abs()) {
+    if r != 0.0 && r.is_finite() && !(1e-3..1e4).contains(&r.abs()) {
         format!("{r:e}")
     } else {
         format!("{r}")
@@ -233,6 +233,9 @@ mod tests {
         assert_eq!(sig4(std::f64::consts::PI), "3.142");
         assert_eq!(sig4(1.0 / 3.0e7), "3.333e-8");
         assert_eq!(sig4(-2.5e12), "-2.5e12");
+        assert_eq!(sig4(169_502.3), "1.695e5");
+        assert_eq!(sig4(9999.4), "9999");
+        assert_eq!(sig4(0.000_123_46), "1.235e-4");
         assert_eq!(sig4_list(&[0.1 + 0.2, 1.0 / 3.0]), "[0.3, 0.3333]");
         assert_eq!(sig4_complex(0.999_999_9, -0.123_456), "1−0.1235i");
         let e = Error::NotDetectable {

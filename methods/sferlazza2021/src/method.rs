@@ -805,12 +805,15 @@ impl Sferlazza2021 {
         report.margin = Some(Margin {
             value: margin,
             definition: "min over the sensors of λ_min(Ξ_σ(τ)) on a subsample of the validation \
-            grid (48)–(49), with the P_σ scaled to max_σ λ_max(P_σ) = 1"
+            grid (48)–(49), or μ for a sensor whose (48) is proven over the window in place of the \
+            grid (a lower bound of λ_min(Ξ_σ(τ)) at every τ), with the P_σ scaled to \
+            max_σ λ_max(P_σ) = 1"
                 .into(),
         });
         report.notes.push(
             "verification of given gains and certificate (no design): Step 1, the validation \
-            (48) on the grid (49) and the gain law (45), in the coordinates given"
+            (48) on the grid (49) or proven over the window in its place, and the gain law (45), \
+            in the coordinates given"
                 .into(),
         );
         Ok(report)
