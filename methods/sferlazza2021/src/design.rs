@@ -7,7 +7,10 @@
 //!    spacing from the [`GridPolicy`] ((49) by default). If every sensor passes, stop. Otherwise add the
 //!    worst point τ̄_σ of (50) to `T_σ` for every failing σ and go back to 2. With
 //!    [`DesignOptions::proof_pieces`], a large grid is replaced by a proof of (48) for every τ of
-//!    the window ([`crate::prove`]) when one succeeds; the grid decides otherwise.
+//!    the window ([`crate::prove`]) when one succeeds; the grid decides otherwise. A grid above
+//!    the cap ([`ValidationOptions::max_points`]) is never run: without `proof_pieces` the step
+//!    ends with [`Error::GridTooLarge`]; with it the proof decides alone (a disproof adds the
+//!    failing τ to `T_σ`, an undecided proof ends with [`Error::GridTooLarge`]).
 //!
 //! Theorem 5: if (44) is feasible the loop ends after finitely many iterations. Failure exits:
 //! (47) infeasible ([`Error::Infeasible`], which certifies that (44) is infeasible), `max_iterations`
@@ -59,8 +62,11 @@ pub struct DesignOptions {
     /// Before a sensor's (49) grid is run, try to prove (48) for every `τ` of its window in
     /// interval arithmetic ([`crate::prove`]) with at most this many pieces
     /// ([`crate::validation::validate_window`]). A proof decides the validation in place of the grid (it implies
-    /// (48) at every grid point); otherwise the grid decides, as in the paper. `None`: the
-    /// grid only. Default `None` (the window search of [`crate::Sferlazza2021`] sets it).
+    /// (48) at every grid point); otherwise the grid decides, as in the paper. A grid above
+    /// [`ValidationOptions::max_points`] is decided by the proof alone
+    /// ([`crate::validation::WindowGrid::OverCap`]). `None`: the grid only, and a grid above the
+    /// cap ends the step with [`Error::GridTooLarge`]. Default `None` (the window search of
+    /// [`crate::Sferlazza2021`] sets it).
     pub proof_pieces: Option<usize>,
 }
 

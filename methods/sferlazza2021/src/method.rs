@@ -323,8 +323,9 @@ impl ObserverMethod for Sferlazza2021 {
     /// Checks given gains and Lyapunov matrices: the certificate `P_1, …, P_N` (scaled so that
     /// `I ⪯ P_σ`, as in (47)) must pass the validation (48) at μ on the grid (49) of each window
     /// (Step 1 run for β, γ), or a proof of (48) over the whole window, tried first on a large
-    /// grid (at most [`SEARCH_PROOF_PIECES`] pieces unless [`DesignOptions::proof_pieces`] says
-    /// otherwise; [`crate::validation::validate_window`]), and the gains must be (45) of it at
+    /// grid and the only decision for a grid above the cap (at most [`SEARCH_PROOF_PIECES`]
+    /// pieces unless [`DesignOptions::proof_pieces`] says otherwise, the same rule as the window
+    /// search; [`crate::validation::validate_window`]), and the gains must be (45) of it at
     /// every listed `τ`. No balancing: the check runs in the coordinates given.
     fn verify(
         &self,
