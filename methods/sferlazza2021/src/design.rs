@@ -7,7 +7,10 @@
 //!    spacing from the [`GridPolicy`] ((49) by default). If every sensor passes, stop. Otherwise add the
 //!    worst point τ̄_σ of (50) to `T_σ` for every failing σ and go back to 2. With
 //!    [`DesignOptions::proof_pieces`], a large grid is replaced by a proof of (48) for every τ of
-//!    the window ([`crate::prove`]) when one succeeds; the grid decides otherwise.
+//!    the window ([`crate::prove`]) when one succeeds; the grid decides otherwise. A grid above
+//!    the cap ([`ValidationOptions::max_points`]) is never run: without `proof_pieces` the step
+//!    ends with [`Error::GridTooLarge`]; with it the proof decides alone (a disproof adds the
+//!    failing τ to `T_σ`, an undecided proof ends with [`Error::GridTooLarge`]).
 //!
 //! Theorem 5: if (44) is feasible the loop ends after finitely many iterations. Failure exits:
 //! (47) infeasible ([`Error::Infeasible`], which certifies that (44) is infeasible), `max_iterations`
@@ -27,8 +30,8 @@ use crate::gain::GainSchedule;
 use crate::plant::RoundRobinPlant;
 use crate::synthesis::{Synthesis, default_solve_options};
 use crate::validation::{
-    GridPolicy, SensorValidation, UniformGrid, ValidationOptions, XiFamily, grid_spacing,
-    validate_window,
+    GridPolicy, MIN_PROOF_PIECES, SensorValidation, UniformGrid, ValidationOptions, WindowGrid,
+    XiFamily, grid_spacing, validate_window,
 };
 use sporadic_linalg::InputError;
 
@@ -59,8 +62,11 @@ pub struct DesignOptions {
     /// Before a sensor's (49) grid is run, try to prove (48) for every `τ` of its window in
     /// interval arithmetic ([`crate::prove`]) with at most this many pieces
     /// ([`crate::validation::validate_window`]). A proof decides the validation in place of the grid (it implies
-    /// (48) at every grid point); otherwise the grid decides, as in the paper. `None`: the
-    /// grid only. Default `None` (the window search of [`crate::Sferlazza2021`] sets it).
+    /// (48) at every grid point); otherwise the grid decides, as in the paper. A grid above
+    /// [`ValidationOptions::max_points`] is decided by the proof alone
+    /// ([`crate::validation::WindowGrid::OverCap`]). `None`: the grid only, and a grid above the
+    /// cap ends the step with [`Error::GridTooLarge`]. Default `None` (the window search of
+    /// [`crate::Sferlazza2021`] sets it).
     pub proof_pieces: Option<usize>,
 }
 
@@ -375,19 +381,26 @@ impl DesignLoop {
                 res.p_star,
                 &self.bound.bound,
             )?;
-            let grid = UniformGrid::covering(
+            let grid = WindowGrid::covering(
                 self.plant.sensor(s)?.window(),
                 spacing,
                 self.settings.validation.max_points,
-            )
-            .map_err(|e| match e {
-                Error::GridTooLarge { points, cap, .. } => Error::GridTooLarge {
+            )?;
+            // A grid above the cap is decided only by a proof of (48) over the window
+            // (validate_window); without one, the step ends here, before any grid is run.
+            if let WindowGrid::OverCap { points, cap, .. } = grid
+                && self
+                    .settings
+                    .proof_pieces
+                    .is_none_or(|k| k < MIN_PROOF_PIECES)
+            {
+                return Err(Error::GridTooLarge {
                     sigma: s + 1,
                     points,
                     cap,
-                },
-                other => other,
-            })?;
+                    proof: String::new(),
+                });
+            }
             grids.push(grid);
             families.push(XiFamily::new(&self.plant, &res.p, s)?);
         }
@@ -400,7 +413,7 @@ impl DesignLoop {
         };
         // The full validation: a proof of (48) over the window where the grid is large enough
         // for one to pay off (DesignOptions::proof_pieces), the grid otherwise.
-        let validate_full = |grids: &[UniformGrid]| -> Result<Vec<SensorValidation>, Error> {
+        let validate_full = |grids: &[WindowGrid]| -> Result<Vec<SensorValidation>, Error> {
             grids
                 .iter()
                 .zip(&families)
@@ -431,14 +444,17 @@ impl DesignLoop {
                 .map(|(g, sensor)| {
                     let w = sensor.window();
                     let h = (w.t2() - w.t1()) / (k.max(2) - 1) as f64;
-                    if g.points <= k || !(h > g.spacing) {
-                        Ok(*g)
-                    } else {
-                        UniformGrid::covering(w, h, self.settings.validation.max_points)
+                    match g {
+                        WindowGrid::Grid(g) if g.points <= k || !(h > g.spacing) => Ok(*g),
+                        _ => UniformGrid::covering(w, h, self.settings.validation.max_points),
                     }
                 })
                 .collect::<Result<_, _>>()?;
-            if coarse != grids {
+            if coarse
+                .iter()
+                .zip(&grids)
+                .any(|(c, g)| WindowGrid::Grid(*c) != *g)
+            {
                 let v = validate(&coarse)?;
                 let failing: Vec<&SensorValidation> = v.iter().filter(|v| !v.passed()).collect();
                 if !failing.is_empty() && !failing.iter().any(|v| stalled(v)) {

@@ -99,7 +99,8 @@ pub fn pbh(
     }
     if intervals.iter().any(|t| !t.is_finite() || *t < 0.0) {
         return Err(Error::invalid(format!(
-            "intervals must be finite and nonnegative: {intervals:?}"
+            "intervals must be finite and nonnegative: {}",
+            crate::error::sig4_list(intervals)
         )));
     }
     let n = plant.n();

@@ -69,9 +69,11 @@ pub enum Error {
     },
     /// The necessary condition of Proposition 1 fails: `(C, e^{AT})` is not detectable.
     #[error(
-        "not detectable (Prop. 1): at intervals T = {intervals:?} the eigenvalue \
-         {eig_re:+.6e}{eig_im:+.6e}i of e^(AT) (modulus {modulus:.6}) has PBH margin \
-         {sigma_min:.3e} (σ_min of the block-normalised [λI − e^(AT); C])"
+        "not detectable (Prop. 1): at intervals T = {} the eigenvalue {} of e^(AT) (modulus \
+         {}) has PBH margin {sigma_min:.3e} (σ_min of the block-normalised [λI − e^(AT); C])",
+        sig4_list(intervals),
+        sig4_complex(*eig_re, *eig_im),
+        sig4(*modulus)
     )]
     NotDetectable {
         /// The inter-sample intervals `(T_1, …, T_N)` of the failing tuple.
@@ -118,8 +120,10 @@ pub enum Error {
     /// The worst point found by validation is already in the synthesis set: the SDP accuracy is too
     /// coarse compared with the margin μ.
     #[error(
-        "sensor {sigma}: worst τ = {tau} is already in the synthesis set (λ_min = {lambda:.3e} ≤ μ = {mu}); \
-         the SDP tolerance is too loose for this μ"
+        "sensor {sigma}: worst τ = {} is already in the synthesis set (λ_min = {lambda:.3e} ≤ μ = {}); \
+         the SDP tolerance is too loose for this μ",
+        sig4(*tau),
+        sig4(*mu)
     )]
     Stalled {
         /// Sensor (1-based).
@@ -137,8 +141,11 @@ pub enum Error {
         /// What was running.
         during: &'static str,
     },
-    /// The validation grid would exceed the configured cap.
-    #[error("sensor {sigma}: validation grid needs {points:.3e} points, above the cap {cap:.3e}")]
+    /// The validation grid would exceed the configured cap (and no proof of (48) over the
+    /// window decided in its place).
+    #[error(
+        "sensor {sigma}: validation grid needs {points:.3e} points, above the cap {cap:.3e}{proof}"
+    )]
     GridTooLarge {
         /// Sensor (1-based).
         sigma: usize,
@@ -146,6 +153,9 @@ pub enum Error {
         points: f64,
         /// Configured cap.
         cap: f64,
+        /// How the proof of (48) tried in place of the grid ended, as a clause of the message
+        /// starting with "; " (empty when none was tried).
+        proof: String,
     },
 }
 
@@ -175,6 +185,33 @@ pub(crate) fn check_at_least(name: &str, k: usize, min: usize) -> Result<(), Inp
     }
 }
 
+/// `x` rounded to 4 significant digits in its shortest form, for messages: plain decimals in
+/// `[1e-3, 1e4)`, exponent form outside (`1.695e5`, not `169500`).
+pub(crate) fn sig4(x: f64) -> String {
+    let r = format!("{x:.3e}").parse::<f64>().unwrap_or(x);
+    if r != 0.0 && r.is_finite() && !(1e-3..1e4).contains(&r.abs()) {
+        format!("{r:e}")
+    } else {
+        format!("{r}")
+    }
+}
+
+/// `re ± |im|i` with [`sig4`] (`re` alone when `im` is 0).
+pub(crate) fn sig4_complex(re: f64, im: f64) -> String {
+    if im == 0.0 {
+        sig4(re)
+    } else {
+        let sign = if im < 0.0 { '−' } else { '+' };
+        format!("{}{sign}{}i", sig4(re), sig4(im.abs()))
+    }
+}
+
+/// A list of numbers for messages, `[a, b, …]` with [`sig4`].
+pub(crate) fn sig4_list(xs: &[f64]) -> String {
+    let items: Vec<String> = xs.iter().map(|&x| sig4(x)).collect();
+    format!("[{}]", items.join(", "))
+}
+
 impl Error {
     pub(crate) fn invalid(msg: impl Into<String>) -> Self {
         Self::InvalidArgument(msg.into())
@@ -182,5 +219,48 @@ impl Error {
 
     pub(crate) fn numerical(msg: impl Into<String>) -> Self {
         Self::Numerical(msg.into())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Messages print floats with 4 significant digits, never a 17-digit float or a Debug form.
+    #[test]
+    fn messages_have_four_significant_digits() {
+        assert_eq!(sig4(0.1 + 0.2), "0.3");
+        assert_eq!(sig4(std::f64::consts::PI), "3.142");
+        assert_eq!(sig4(1.0 / 3.0e7), "3.333e-8");
+        assert_eq!(sig4(-2.5e12), "-2.5e12");
+        assert_eq!(sig4(169_502.3), "1.695e5");
+        assert_eq!(sig4(9999.4), "9999");
+        assert_eq!(sig4(0.000_123_46), "1.235e-4");
+        assert_eq!(sig4_list(&[0.1 + 0.2, 1.0 / 3.0]), "[0.3, 0.3333]");
+        assert_eq!(sig4_complex(0.999_999_9, -0.123_456), "1−0.1235i");
+        let e = Error::NotDetectable {
+            intervals: vec![std::f64::consts::FRAC_PI_3, 0.1 + 0.2],
+            eig_re: -0.999_999_7,
+            eig_im: 1.0 / 3.0e-3,
+            modulus: 1.000_000_1,
+            sigma_min: 1.234_567e-12,
+        };
+        assert_eq!(
+            e.to_string(),
+            "not detectable (Prop. 1): at intervals T = [1.047, 0.3] the eigenvalue -1+333.3i of \
+             e^(AT) (modulus 1) has PBH margin 1.235e-12 (σ_min of the block-normalised \
+             [λI − e^(AT); C])"
+        );
+        let e = Error::Stalled {
+            sigma: 2,
+            tau: 0.1 + 0.2,
+            lambda: 0.009_876_54,
+            mu: 0.01,
+        };
+        assert_eq!(
+            e.to_string(),
+            "sensor 2: worst τ = 0.3 is already in the synthesis set (λ_min = 9.877e-3 ≤ μ = \
+             0.01); the SDP tolerance is too loose for this μ"
+        );
     }
 }

@@ -57,7 +57,7 @@ impl BoundOptions {
             return Err(InputError::parameter(
                 "bound.offset_range (upper)",
                 hi,
-                format!("must exceed the lower end {lo}"),
+                format!("must exceed the lower end {}", crate::error::sig4(lo)),
             ));
         }
         Ok(())
@@ -167,7 +167,8 @@ pub fn exponential_bound(
     }
     if !(horizon > 0.0 && horizon.is_finite()) {
         return Err(Error::invalid(format!(
-            "horizon must be positive (got {horizon})"
+            "horizon must be positive (got {})",
+            crate::error::sig4(horizon)
         )));
     }
     settings.validate()?;

@@ -109,9 +109,10 @@ pub fn design(
         if !(l > mu) {
             return Err(Error::VerificationFailed {
                 what: format!(
-                    "λ_min(Ξ_{}(T_{})) of (23) (must exceed μ = {mu})",
+                    "λ_min(Ξ_{}(T_{})) of (23) (must exceed μ = {})",
                     s + 1,
-                    s + 1
+                    s + 1,
+                    crate::error::sig4(mu)
                 ),
                 value: l,
             });

@@ -87,7 +87,8 @@ pub use plant::{RoundRobinPlant, Sensor};
 pub use simulation::{ErrorTrajectory, JumpSample, SimulationOptions};
 pub use synthesis::{Synthesis, SynthesisResult};
 pub use validation::{
-    ExponentialBound, GridPolicy, SensorValidation, UniformGrid, ValidationOptions, XiFamily,
+    ExponentialBound, GridPolicy, SensorValidation, UniformGrid, ValidationOptions, WindowGrid,
+    XiFamily,
 };
 
 pub use faer;

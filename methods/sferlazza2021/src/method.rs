@@ -24,11 +24,11 @@ use sporadic_model::{
     Check, DesignReport, Gain, Margin, MaxIntervalReport, MethodError, MethodOptions, NamedMatrix,
     NotApplicable, ObserverMethod, Outputs, Plant, Probe, Proof, ProofOptions, Reason, Sampling,
     SamplingScenario, SamplingWindow, Scenario, SimulationReport, Trajectory, check_simulatable,
-    largest_window_with, significant,
+    largest_window_with,
 };
 
 use crate::design::{Design, DesignOptions, design_screened};
-use crate::error::{Error, check_at_least};
+use crate::error::{Error, check_at_least, sig4, sig4_list};
 use crate::exponential_bound::exponential_bound;
 use crate::gain::GainSchedule;
 use crate::gain::check_sym;
@@ -37,7 +37,7 @@ use crate::plant::{RoundRobinPlant, window_grid};
 use crate::prove::{GAIN_TOLERANCE, gain_mismatch, prove_design};
 use crate::simulation::{SimulationOptions, simulate_error};
 use crate::validation::{GridPolicy, XiFamily};
-use crate::validation::{UniformGrid, grid_spacing, validate_window};
+use crate::validation::{WindowGrid, grid_spacing, validate_window};
 use sporadic_linalg::balance::{balancing_scales, unbalance_form, unbalance_gain};
 
 const ID: &str = "sferlazza2021";
@@ -179,6 +179,35 @@ fn verdict(e: Error) -> Result<Reason, MethodError> {
     })
 }
 
+/// The number of points of a (49) grid for a message: exact when it is run, with the cap when
+/// it is above it.
+fn grid_points(grid: &WindowGrid) -> String {
+    match grid {
+        WindowGrid::Grid(g) => format!("{} points", g.points),
+        WindowGrid::OverCap { points, cap, .. } => {
+            format!("{points:.3e} points (above the cap {cap:.3e}, not run)")
+        }
+    }
+}
+
+/// The balancing scales (powers of 2) for messages, exactly: `(1, 2^-3, 2^5)`.
+fn powers_of_two(scales: &[f64]) -> String {
+    let items: Vec<String> = scales
+        .iter()
+        .map(|&d| {
+            let k = d.log2().round();
+            if d == 1.0 {
+                "1".to_string()
+            } else if d > 0.0 && k.exp2() == d {
+                format!("2^{k}")
+            } else {
+                sig4(d)
+            }
+        })
+        .collect();
+    format!("({})", items.join(", "))
+}
+
 fn invalid_input(e: impl std::error::Error + Send + Sync + 'static) -> MethodError {
     MethodError::InvalidInput {
         method: ID,
@@ -294,8 +323,9 @@ impl ObserverMethod for Sferlazza2021 {
     /// Checks given gains and Lyapunov matrices: the certificate `P_1, …, P_N` (scaled so that
     /// `I ⪯ P_σ`, as in (47)) must pass the validation (48) at μ on the grid (49) of each window
     /// (Step 1 run for β, γ), or a proof of (48) over the whole window, tried first on a large
-    /// grid (at most [`SEARCH_PROOF_PIECES`] pieces unless [`DesignOptions::proof_pieces`] says
-    /// otherwise; [`crate::validation::validate_window`]), and the gains must be (45) of it at
+    /// grid and the only decision for a grid above the cap (at most [`SEARCH_PROOF_PIECES`]
+    /// pieces unless [`DesignOptions::proof_pieces`] says otherwise, the same rule as the window
+    /// search; [`crate::validation::validate_window`]), and the gains must be (45) of it at
     /// every listed `τ`. No balancing: the check runs in the coordinates given.
     fn verify(
         &self,
@@ -452,9 +482,9 @@ impl Sferlazza2021 {
                          stable mode with Re λ = {} and T_M = {}, so ‖e^(−A T_M)‖ ≥ e^{} > 1.8e308 \
                          (the formulation of (44) cannot represent such a fast mode over such a \
                          long interval)",
-                        significant(-alpha),
-                        significant(rr.t_max()),
-                        significant(alpha * rr.t_max())
+                        sig4(-alpha),
+                        sig4(rr.t_max()),
+                        sig4(alpha * rr.t_max())
                     ),
                 },
             );
@@ -600,18 +630,20 @@ impl Sferlazza2021 {
             norm: norms,
             report: SimulationReport {
                 setup: format!(
-                    "error system (53) without noise, x̃(0) = {x0:?} (|x̃(0)| = {}), sensors in \
+                    "error system (53) without noise, x̃(0) = {} (|x̃(0)| = {}), sensors in \
                      round-robin order, {rule}, horizon {} s",
-                    significant(initial),
-                    significant(horizon)
+                    sig4_list(&x0),
+                    sig4(initial),
+                    sig4(horizon)
                 ),
                 samples: run.jumps.len(),
                 initial_error: initial,
                 final_error: last,
                 result: format!(
                     "{} samples, |x̃| at the end = {last:.3e}, largest V⁺/V over the jumps = \
-                     {worst_ratio:.4} (V = x̃ᵀΦ_σ(τ)x̃ of (30) with ρ = 0)",
-                    run.jumps.len()
+                     {} (V = x̃ᵀΦ_σ(τ)x̃ of (30) with ρ = 0)",
+                    run.jumps.len(),
+                    sig4(worst_ratio)
                 ),
                 settling_time: None,
                 figure: None,
@@ -652,7 +684,7 @@ impl Sferlazza2021 {
                 None,
                 format!(
                     "the certificate is not positive definite (smallest eigenvalue {})",
-                    significant(lo)
+                    sig4(lo)
                 ),
             ));
         }
@@ -663,9 +695,9 @@ impl Sferlazza2021 {
                     "the given gain K_{}(τ) at τ = {} is not (45) of the certificate P_{} \
                     (relative deviation {}): the certificate does not certify it",
                     s + 1,
-                    significant(tau),
+                    sig4(tau),
                     s + 1,
-                    significant(dev)
+                    sig4(dev)
                 ),
             ));
         }
@@ -689,7 +721,7 @@ impl Sferlazza2021 {
         for (s, sensor) in rr.sensors().iter().enumerate() {
             let spacing = grid_spacing(rr, s, self.design.grid, mu, p_star, &bound.bound)?;
             let grid =
-                UniformGrid::covering(sensor.window(), spacing, self.design.validation.max_points)?;
+                WindowGrid::covering(sensor.window(), spacing, self.design.validation.max_points)?;
             let fam = XiFamily::new(rr, &normalised, s)?;
             let v = validate_window(
                 &fam,
@@ -701,18 +733,26 @@ impl Sferlazza2021 {
                 &self.design.validation,
             )?;
             if !v.passed() {
+                let at = match grid {
+                    WindowGrid::Grid(g) => {
+                        format!("grid of {} points, spacing {}", g.points, sig4(g.spacing))
+                    }
+                    WindowGrid::OverCap { points, cap, .. } => format!(
+                        "an end of a τ-piece where the proof of (48) over the window, tried in \
+                         place of the uniform grid of {points:.3e} points above the cap \
+                         {cap:.3e}, shows in interval arithmetic that it fails"
+                    ),
+                };
                 return Ok(failed(
                     Some(v.argmin_tau),
                     format!(
-                        "(48) fails for sensor {}: λ_min(Ξ_{}(τ)) = {} ≤ μ = {} at τ = {} (grid of \
-                        {} points, spacing {}; P_σ scaled to I ⪯ P_σ)",
+                        "(48) fails for sensor {}: λ_min(Ξ_{}(τ)) = {} ≤ μ = {} at τ = {} ({at}; \
+                         P_σ scaled to I ⪯ P_σ)",
                         s + 1,
                         s + 1,
-                        significant(v.min_eigenvalue),
-                        significant(mu),
-                        significant(v.argmin_tau),
-                        grid.points,
-                        significant(grid.spacing)
+                        sig4(v.min_eigenvalue),
+                        sig4(mu),
+                        sig4(v.argmin_tau),
                     ),
                 ));
             }
@@ -722,17 +762,17 @@ impl Sferlazza2021 {
                     what: format!(
                         "(48): λ_min(Ξ_{}(τ)) > μ = {} for every τ of the window {} of sensor {}",
                         s + 1,
-                        significant(mu),
+                        sig4(mu),
                         sensor.window(),
                         s + 1
                     ),
                     how: format!(
                         "proven in interval arithmetic on {pieces} τ-pieces (crate::prove), in \
-                         place of the uniform grid of {} points, spacing {} (the design's grid \
+                         place of the uniform grid of {}, spacing {} (the design's grid \
                          policy, p* = {}), which it implies; the given P_σ scaled to I ⪯ P_σ",
-                        grid.points,
-                        significant(grid.spacing),
-                        significant(p_star)
+                        grid_points(&grid),
+                        sig4(grid.spacing()),
+                        sig4(p_star)
                     ),
                     value: None,
                     passed: true,
@@ -741,16 +781,16 @@ impl Sferlazza2021 {
                     what: format!(
                         "(48): λ_min(Ξ_{}(τ)) > μ = {} on the window {} of sensor {}",
                         s + 1,
-                        significant(mu),
+                        sig4(mu),
                         sensor.window(),
                         s + 1
                     ),
                     how: format!(
-                        "uniform grid of {} points, spacing {} (the design's grid policy, p* = \
-                         {}), the given P_σ scaled to I ⪯ P_σ; value: λ_min on a subsample",
-                        grid.points,
-                        significant(grid.spacing),
-                        significant(p_star)
+                        "uniform grid of {}, spacing {} (the design's grid policy, p* = {}), \
+                         the given P_σ scaled to I ⪯ P_σ; value: λ_min on a subsample",
+                        grid_points(&grid),
+                        sig4(grid.spacing()),
+                        sig4(p_star)
                     ),
                     value: Some(v.min_eigenvalue),
                     passed: true,
@@ -766,12 +806,15 @@ impl Sferlazza2021 {
         report.margin = Some(Margin {
             value: margin,
             definition: "min over the sensors of λ_min(Ξ_σ(τ)) on a subsample of the validation \
-            grid (48)–(49), with the P_σ scaled to max_σ λ_max(P_σ) = 1"
+            grid (48)–(49), or μ for a sensor whose (48) is proven over the window in place of the \
+            grid (a lower bound of λ_min(Ξ_σ(τ)) at every τ), with the P_σ scaled to \
+            max_σ λ_max(P_σ) = 1"
                 .into(),
         });
         report.notes.push(
             "verification of given gains and certificate (no design): Step 1, the validation \
-            (48) on the grid (49) and the gain law (45), in the coordinates given"
+            (48) on the grid (49) or proven over the window in its place, and the gain law (45), \
+            in the coordinates given"
                 .into(),
         );
         Ok(report)
@@ -832,8 +875,9 @@ impl Sferlazza2021 {
         for (s, p) in d.p.iter().enumerate() {
             let coordinates = if balanced {
                 format!(
-                    " in the balanced coordinates x_b = D⁻¹x, D = diag{scales:?}, mapped back as \
-                     P_σ = D⁻¹P_bD⁻¹"
+                    " in the balanced coordinates x_b = D⁻¹x, D = diag{}, mapped back as \
+                     P_σ = D⁻¹P_bD⁻¹",
+                    powers_of_two(scales)
                 )
             } else {
                 String::new()
@@ -845,7 +889,7 @@ impl Sferlazza2021 {
                     "Lyapunov matrix of sensor {} in (44), solution of (47): I ⪯ P_σ ⪯ p*·I with \
                      p* = {}{coordinates}; V = e^(−ρτ) x̃ᵀ e^(−Aᵀτ) P_σ e^(−Aτ) x̃ is (30)",
                     s + 1,
-                    significant(d.p_star)
+                    sig4(d.p_star)
                 ),
             ));
         }
@@ -898,8 +942,8 @@ impl Sferlazza2021 {
         report.checks.push(Check {
             what: format!(
                 "Step 1: ‖e^(−Aτ)‖₂ ≤ γe^(βτ) with β = {}, γ = {} (enters the grid spacing (49))",
-                significant(b.bound.beta),
-                significant(b.bound.gamma)
+                sig4(b.bound.beta),
+                sig4(b.bound.gamma)
             ),
             how: if b.lyapunov_margin.is_nan() {
                 "β, γ given in the options (not checked)".into()
@@ -912,7 +956,7 @@ impl Sferlazza2021 {
         let policy = match self.design.grid {
             GridPolicy::Paper => "spacing 2δ* of (49)".to_string(),
             GridPolicy::Rigorous => "the rigorous Lipschitz spacing".to_string(),
-            GridPolicy::Spacing(h) => format!("spacing at most {}", significant(h)),
+            GridPolicy::Spacing(h) => format!("spacing at most {}", sig4(h)),
         };
         for g in &minima {
             if let Some(pieces) = g.proof_pieces {
@@ -920,7 +964,7 @@ impl Sferlazza2021 {
                     what: format!(
                         "(48): λ_min(Ξ_{}(τ)) > μ = {} for every τ of the window {} of sensor {}",
                         g.sigma + 1,
-                        significant(mu),
+                        sig4(mu),
                         rr.sensor(g.sigma)?.window(),
                         g.sigma + 1
                     ),
@@ -930,7 +974,7 @@ impl Sferlazza2021 {
                          between the piece ends minus the second-order remainder, Rump's verified \
                          definiteness test, outward rounding), in place of the uniform grid of \
                          spacing {} ({policy}), which it implies",
-                        significant(g.grid.spacing)
+                        sig4(g.grid.spacing)
                     ),
                     value: None,
                     passed: true,
@@ -941,7 +985,7 @@ impl Sferlazza2021 {
                 what: format!(
                     "(48): λ_min(Ξ_{}(τ)) > μ = {} on the window {} of sensor {}",
                     g.sigma + 1,
-                    significant(mu),
+                    sig4(mu),
                     rr.sensor(g.sigma)?.window(),
                     g.sigma + 1
                 ),
@@ -950,8 +994,8 @@ impl Sferlazza2021 {
                      re-anchoring, Schur complement + Cholesky at each point, exact λ_min at every \
                      point at or below the minimum; value: min λ_min (at τ = {})",
                     g.grid.points,
-                    significant(g.grid.spacing),
-                    significant(g.argmin_tau)
+                    sig4(g.grid.spacing),
+                    sig4(g.argmin_tau)
                 ),
                 value: Some(g.min_eigenvalue),
                 passed: g.min_eigenvalue > mu,
@@ -972,7 +1016,7 @@ impl Sferlazza2021 {
                 spot.len(),
                 self.schedule_points,
                 worst.0 + 1,
-                significant(worst.1)
+                sig4(worst.1)
             ),
             value: Some(worst.2),
             passed: worst.2 > 0.0,
@@ -984,33 +1028,34 @@ impl Sferlazza2021 {
             });
         }
         // Notes.
-        let added: Vec<String> = d
-            .log
-            .iter()
-            .flat_map(|r| {
-                r.added.iter().enumerate().filter_map(move |(s, t)| {
-                    t.map(|t| format!("σ = {}: τ̄ = {}", s + 1, significant(t)))
+        let added: Vec<String> =
+            d.log
+                .iter()
+                .flat_map(|r| {
+                    r.added.iter().enumerate().filter_map(move |(s, t)| {
+                        t.map(|t| format!("σ = {}: τ̄ = {}", s + 1, sig4(t)))
+                    })
                 })
-            })
-            .collect();
+                .collect();
         report.notes.push(format!(
             "iterative refinement (§5.3) passed validation after {} synthesis SDP(s) (47) with μ = \
              {}; points τ̄ of (50) added: {}; final p* = {}",
             d.iterations(),
-            significant(mu),
+            sig4(mu),
             if added.is_empty() {
                 "none".to_string()
             } else {
                 added.join(", ")
             },
-            significant(d.p_star)
+            sig4(d.p_star)
         ));
         if balanced {
             report.notes.push(format!(
-                "designed in the balanced coordinates x_b = D⁻¹x with D = diag{scales:?} (powers of \
+                "designed in the balanced coordinates x_b = D⁻¹x with D = diag{} (powers of \
                  2, LAPACK gebal scaling of A; exact): the margin and the checks are those of the \
                  balanced plant, the gains K_σ = D·K_bσ and certificates P_σ = D⁻¹P_bσD⁻¹ are in \
-                 the plant's coordinates"
+                 the plant's coordinates",
+                powers_of_two(scales)
             ));
         }
         report.notes.push(format!(
@@ -1037,5 +1082,19 @@ impl Sferlazza2021 {
             ));
         }
         Ok(report)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The balancing scales print exactly, as powers of 2 (not `0.0009765625`).
+    #[test]
+    fn scales_print_as_powers_of_two() {
+        assert_eq!(
+            powers_of_two(&[1.0, 0.5, 1024.0, 2f64.powi(-10), 3.0]),
+            "(1, 2^-1, 2^10, 2^-10, 3)"
+        );
     }
 }

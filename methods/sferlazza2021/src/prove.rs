@@ -59,10 +59,10 @@ use sporadic_interval::{
 };
 use sporadic_model::{
     Gain, PieceCheck, Proof, ProofOptions, ProofPiece, ProofStatus, WindowProof, combine,
-    prove_on_window, significant,
+    prove_on_window,
 };
 
-use crate::error::Error;
+use crate::error::{Error, sig4};
 use crate::gain::GainSchedule;
 use crate::plant::RoundRobinPlant;
 
@@ -365,7 +365,8 @@ pub(crate) fn gain_mismatch(
             let w = sensor.window();
             if !(tau >= w.t1() && tau <= w.t2()) {
                 return Err(Error::invalid(format!(
-                    "gain {name} is listed at τ = {tau}, outside the window {w}"
+                    "gain {name} is listed at τ = {}, outside the window {w}",
+                    sig4(tau)
                 )));
             }
             if (k.nrows(), k.ncols()) != (plant.n(), sensor.outputs()) {
@@ -458,11 +459,11 @@ pub fn prove_design(
                  (relative deviation {}): the certificate does not certify it; λ_max(−M) of \
                  (37) for that gain there lies in [{}, {}]{}",
                 s + 1,
-                significant(tau),
+                sig4(tau),
                 s + 1,
-                significant(dev),
-                significant(d.lo()),
-                significant(d.hi()),
+                sig4(dev),
+                sig4(d.lo()),
+                sig4(d.hi()),
                 if disproved {
                     ", so V increases at that jump (rigorous disproof of (29))"
                 } else {

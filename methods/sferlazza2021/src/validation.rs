@@ -44,7 +44,7 @@ use faer::{Mat, MatRef, Side};
 use rayon::prelude::*;
 use sporadic_linalg::{expm_scaled, expm_stepper, min_eigenvalue};
 
-use crate::error::{Error, check_at_least};
+use crate::error::{Error, check_at_least, sig4};
 use crate::gain::check_sym;
 use crate::plant::RoundRobinPlant;
 use crate::prove::prove_validation;
@@ -110,7 +110,9 @@ pub fn grid_spacing(
 ) -> Result<f64, Error> {
     if !(mu > 0.0 && mu.is_finite() && p_norm > 0.0 && p_norm.is_finite()) {
         return Err(Error::invalid(format!(
-            "grid spacing needs μ > 0 and p* > 0 (got μ = {mu}, p* = {p_norm})"
+            "grid spacing needs μ > 0 and p* > 0 (got μ = {}, p* = {})",
+            sig4(mu),
+            sig4(p_norm)
         )));
     }
     let sensor = plant.sensor(sigma)?;
@@ -134,7 +136,8 @@ pub fn grid_spacing(
         Ok(f64::MAX)
     } else {
         Err(Error::invalid(format!(
-            "grid spacing must be positive and finite (got {spacing})"
+            "grid spacing must be positive and finite (got {})",
+            sig4(spacing)
         )))
     }
 }
@@ -160,7 +163,8 @@ impl UniformGrid {
     pub fn covering(window: SamplingWindow, max_spacing: f64, cap: f64) -> Result<Self, Error> {
         if max_spacing.is_nan() || max_spacing <= 0.0 {
             return Err(Error::invalid(format!(
-                "grid spacing must be positive (got {max_spacing})"
+                "grid spacing must be positive (got {})",
+                sig4(max_spacing)
             )));
         }
         let width = window.t2() - window.t1();
@@ -177,6 +181,7 @@ impl UniformGrid {
                 sigma: 0,
                 points: intervals + 1.0,
                 cap,
+                proof: String::new(),
             });
         }
         let intervals = intervals.max(1.0) as usize;
@@ -832,7 +837,12 @@ impl XiFamily {
             || grid.spacing < 0.0
             || !grid.t_min.is_finite()
         {
-            return Err(Error::invalid(format!("invalid grid {grid:?}")));
+            return Err(Error::invalid(format!(
+                "invalid grid: {} points from τ = {}, spacing {}",
+                grid.points,
+                sig4(grid.t_min),
+                sig4(grid.spacing)
+            )));
         }
         self.run(Source::Grid(grid), mu, settings)
     }
@@ -863,6 +873,59 @@ pub const PROOF_POINTS_PER_PIECE: usize = 2048;
 /// subdivision starts with): below it the grid is cheaper.
 pub const MIN_PROOF_PIECES: usize = 16;
 
+/// The (49) grid of a sensor's window, or, when it would have more points than the cap
+/// ([`ValidationOptions::max_points`]), its size.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum WindowGrid {
+    /// The grid, within the cap.
+    Grid(UniformGrid),
+    /// A grid above the cap: it is not run; only a proof of (48) over the window
+    /// ([`validate_window`]) can decide the validation.
+    OverCap {
+        /// The largest spacing allowed (that of the grid that is not run).
+        spacing: f64,
+        /// Points the grid would need.
+        points: f64,
+        /// The cap.
+        cap: f64,
+    },
+}
+
+impl WindowGrid {
+    /// [`UniformGrid::covering`], with a grid above the cap as [`WindowGrid::OverCap`] instead
+    /// of an error.
+    ///
+    /// # Errors
+    /// Non-positive spacing.
+    pub fn covering(window: SamplingWindow, max_spacing: f64, cap: f64) -> Result<Self, Error> {
+        match UniformGrid::covering(window, max_spacing, cap) {
+            Ok(g) => Ok(Self::Grid(g)),
+            Err(Error::GridTooLarge { points, cap, .. }) => Ok(Self::OverCap {
+                spacing: max_spacing,
+                points,
+                cap,
+            }),
+            Err(e) => Err(e),
+        }
+    }
+
+    /// Number of points of the grid (run or not).
+    pub fn points(&self) -> f64 {
+        match self {
+            Self::Grid(g) => g.points as f64,
+            Self::OverCap { points, .. } => *points,
+        }
+    }
+
+    /// Spacing of the grid (run or not).
+    pub fn spacing(&self) -> f64 {
+        match self {
+            Self::Grid(g) => g.spacing,
+            Self::OverCap { spacing, .. } => *spacing,
+        }
+    }
+}
+
 /// Validates (48) for one sensor, as the design loop and the check of a given certificate do:
 /// with `proof_pieces = Some(k)` and a grid of at least [`MIN_PROOF_PIECES`] ×
 /// [`PROOF_POINTS_PER_PIECE`] points, first by a proof of (48) for every `τ` of the window in
@@ -872,32 +935,94 @@ pub const MIN_PROOF_PIECES: usize = 16;
 /// succeed, on the grid ([`XiFamily::validate_grid`]), which then decides and finds the worst
 /// point (50). `family` is that of `p` and the sensor of `grid`.
 ///
+/// A grid above the cap ([`WindowGrid::OverCap`]) is never run: the proof (same piece budget)
+/// decides alone. When it shows that (48) fails at an end `τ` of a piece (a rigorous
+/// disproof), the validation fails there: one failing point, `points` 0, `min_eigenvalue` the
+/// floating-point `λ_min(Ξ_σ(τ))` at that `τ` (not the minimum over the window) and `argmin_tau`
+/// that `τ`. Otherwise (no proof attempted, or one that ran out of pieces or time, or could not
+/// be set up) the validation is undecided: [`Error::GridTooLarge`], whose message says how the
+/// proof ended.
+///
 /// # Errors
-/// As [`XiFamily::validate_grid`].
+/// As [`XiFamily::validate_grid`], and [`Error::GridTooLarge`] (sensor 1-based) for a grid above
+/// the cap that the proof does not decide.
 pub fn validate_window(
     family: &XiFamily,
     plant: &RoundRobinPlant,
     p: &[Mat<f64>],
-    grid: UniformGrid,
+    grid: WindowGrid,
     mu: f64,
     proof_pieces: Option<usize>,
     settings: &ValidationOptions,
 ) -> Result<SensorValidation, Error> {
-    let budget = proof_pieces.map_or(0, |k| k.min(grid.points / PROOF_POINTS_PER_PIECE));
+    // Saturating: a grid above the cap may have more points than a usize holds.
+    let per_piece = (grid.points() / PROOF_POINTS_PER_PIECE as f64).floor();
+    let budget = proof_pieces.map_or(0, |k| {
+        if per_piece >= k as f64 {
+            k
+        } else {
+            per_piece as usize
+        }
+    });
     // A proof that cannot be attempted (a failing interval kernel) leaves the decision to the
     // grid, like one that does not succeed.
-    if budget >= MIN_PROOF_PIECES
-        && let Ok(w) = prove_validation(plant, p, family.sigma, mu, budget)
+    let proof =
+        (budget >= MIN_PROOF_PIECES).then(|| prove_validation(plant, p, family.sigma, mu, budget));
+    if let Some(Ok(w)) = &proof
         && w.status == ProofStatus::Proved
     {
         return Ok(SensorValidation::proven(
             family.sigma,
             mu,
-            grid.spacing,
+            grid.spacing(),
             w.pieces,
         ));
     }
-    family.validate_grid(grid, mu, settings)
+    match grid {
+        WindowGrid::Grid(g) => family.validate_grid(g, mu, settings),
+        WindowGrid::OverCap { points, cap, .. } => {
+            let proof = match proof {
+                None => String::new(),
+                Some(Err(e)) => format!(
+                    "; the proof of (48) over the window in its place could not be set up ({e})"
+                ),
+                Some(Ok(w)) => {
+                    if w.status == ProofStatus::NotProved
+                        && let Some(piece) = &w.failed_on
+                    {
+                        // The piece fails at one of its ends: the one with the smaller λ_min.
+                        let [a, b] = piece.tau;
+                        let (la, lb) = (family.min_eigenvalue(a)?, family.min_eigenvalue(b)?);
+                        let (lambda, tau) = if lb < la { (lb, b) } else { (la, a) };
+                        return Ok(SensorValidation {
+                            sigma: family.sigma,
+                            mu,
+                            points: 0,
+                            spacing: grid.spacing(),
+                            failures: 1,
+                            min_eigenvalue: lambda,
+                            argmin_tau: tau,
+                            min_is_exact: false,
+                            eigen_evaluations: 2,
+                            proof_pieces: None,
+                        });
+                    }
+                    format!(
+                        "; the proof of (48) over the window in its place (at most {budget} \
+                         pieces) ended {}: {}",
+                        w.status.as_str(),
+                        w.message
+                    )
+                }
+            };
+            Err(Error::GridTooLarge {
+                sigma: family.sigma + 1,
+                points,
+                cap,
+                proof,
+            })
+        }
+    }
 }
 
 /// Reference implementation for benchmarks and tests: one fresh exponential and one full symmetric

@@ -184,3 +184,46 @@ fn proof_replaces_the_grid_without_changing_the_iterates() {
         );
     }
 }
+
+/// Issue 22: a (49) grid above the cap (here 10⁵ points against 4.4·10⁶) ends the step with
+/// `GridTooLarge` when no proof is allowed (the design command's paper grid, above), but with
+/// `proof_pieces` the proof of (48) over the window decides in its place: an iteration it
+/// disproves adds the failing τ (an end of the failing piece, where λ_min(Ξ_σ(τ)) ≤ μ), and the
+/// loop ends with every sensor proven.
+#[test]
+fn grid_above_the_cap_is_decided_by_the_proof() {
+    let plant = suspension().unwrap();
+    let s = DesignOptions {
+        validation: ValidationOptions {
+            max_points: 1e5,
+            ..ValidationOptions::default()
+        },
+        proof_pieces: Some(4096),
+        ..DesignOptions::default()
+    };
+    let mut lp = DesignLoop::new(&plant, &s).unwrap();
+    let mut passed = false;
+    let mut disproved = 0;
+    for _ in 0..10 {
+        passed = lp.step().unwrap();
+        let r = lp.log().last().unwrap();
+        disproved += r.added.iter().flatten().count();
+        println!("iteration {}: added {:?}", r.iteration, r.added);
+        for (sigma, v) in r.sensors.iter().enumerate() {
+            assert_eq!(v.points, 0, "no grid above the cap is run: {v:?}");
+            match r.added[sigma] {
+                Some(t) => {
+                    assert!(!v.passed() && v.min_eigenvalue <= 0.01, "{v:?}");
+                    let fam = XiFamily::new(&plant, &r.p, sigma).unwrap();
+                    assert!(fam.min_eigenvalue(t).unwrap() <= 0.01);
+                }
+                None => assert!(v.passed() && v.proof_pieces.is_some(), "{v:?}"),
+            }
+        }
+        if passed {
+            break;
+        }
+    }
+    assert!(passed);
+    assert!(disproved > 0, "no iteration was decided by a disproof");
+}

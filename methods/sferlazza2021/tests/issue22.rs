@@ -2,6 +2,7 @@
 //! corpus plants (matrices copied from `tests/corpus/*.toml`) and metamorphic tests (time scaling,
 //! diagonal state similarity, output scaling).
 
+use std::sync::OnceLock;
 use std::time::Instant;
 
 use faer::{Mat, mat};
@@ -250,12 +251,7 @@ fn quarter_car_corpus_certifies_within_budget() {
     assert!(secs < 25.0, "{secs} s");
 }
 
-/// `cart-pole.toml`: the window search ran out of its 25 s budget at T2 ≈ 0.25–0.48, the (49)
-/// grid of a probe reaching 10⁸–10⁹ points; with (48) proven over each window in place of the
-/// grid it reaches the limit (10 × the file's T2) well within 10 s, and the reported design
-/// says how its (48) was shown.
-#[test]
-fn cart_pole_window_search_reaches_the_limit_fast() {
+fn cart_pole() -> Plant {
     let a = mat![
         [0.0, 1.0, 0.0, 0.0],
         [0.0, -0.1, -0.98, 0.0],
@@ -263,23 +259,45 @@ fn cart_pole_window_search_reaches_the_limit_fast() {
         [0.0, 0.1, 21.56, 0.0]
     ];
     let c = mat![[1.0, 0.0, 0.0, 0.0]];
-    let plant = Plant::linear(a.as_ref(), None, c.as_ref()).unwrap();
-    let t = Instant::now();
-    let r = Sferlazza2021::default()
-        .largest_window(
-            &plant,
-            &Sampling::Synchronous(win(0.02, 0.09)),
-            0.9,
-            &MethodOptions::default(),
-            &mut |_| {},
-        )
-        .unwrap();
-    let secs = t.elapsed().as_secs_f64();
+    Plant::linear(a.as_ref(), None, c.as_ref()).unwrap()
+}
+
+/// The design the window search of `cart-pole.toml` certifies at its limit T2 = 0.9 (run once,
+/// shared by the tests below), with the search's time.
+fn cart_pole_search() -> &'static (sporadic_sferlazza2021::MaxIntervalReport, f64) {
+    static SEARCH: OnceLock<(sporadic_sferlazza2021::MaxIntervalReport, f64)> = OnceLock::new();
+    SEARCH.get_or_init(|| {
+        let t = Instant::now();
+        let r = Sferlazza2021::default()
+            .largest_window(
+                &cart_pole(),
+                &Sampling::Synchronous(win(0.02, 0.09)),
+                0.9,
+                &MethodOptions::default(),
+                &mut |_| {},
+            )
+            .unwrap();
+        (r, t.elapsed().as_secs_f64())
+    })
+}
+
+fn cart_pole_design() -> &'static sporadic_sferlazza2021::DesignReport {
+    let (r, _) = cart_pole_search();
+    r.design.as_ref().expect("the design at the largest window")
+}
+
+/// `cart-pole.toml`: the window search ran out of its 25 s budget at T2 ≈ 0.25–0.48, the (49)
+/// grid of a probe reaching 10⁸–10⁹ points; with (48) proven over each window in place of the
+/// grid it reaches the limit (10 × the file's T2) well within 10 s, and the reported design
+/// says how its (48) was shown.
+#[test]
+fn cart_pole_window_search_reaches_the_limit_fast() {
+    let (r, secs) = cart_pole_search();
     let t2 = r
         .largest_certified_t2
         .unwrap_or_else(|| panic!("nothing certified: {:?}", r.reason));
     assert!((t2 / 0.9 - 1.0).abs() < 1e-9, "T2 = {t2}, {:?}", r.reason);
-    let d = r.design.expect("the design at the largest window");
+    let d = cart_pole_design();
     assert_eq!(d.status, Status::Certified);
     assert!(
         d.checks
@@ -288,5 +306,90 @@ fn cart_pole_window_search_reaches_the_limit_fast() {
         "{:?}",
         d.checks
     );
+    assert!(*secs < 10.0, "{secs} s");
+}
+
+/// `verify` of the cart-pole design at T2 = 0.9 (its own gains and certificate): the (49) grid
+/// of the given certificate needs ≈ 4.3·10¹⁰ points, above the cap 4·10⁹, and `verify` ended
+/// `budget_exhausted` without trying the proof of (48) the search certified it with; it now
+/// proves (48) over the window in place of the grid, as the search does, and certifies.
+#[test]
+fn cart_pole_design_over_the_grid_cap_is_verified_by_proof() {
+    let d = cart_pole_design();
+    let sampling = Sampling::Synchronous(d.window.expect("a synchronous window"));
+    let t = Instant::now();
+    let v = Sferlazza2021::default()
+        .verify(
+            &cart_pole(),
+            &sampling,
+            &d.gains,
+            &d.certificate,
+            &MethodOptions::default(),
+        )
+        .unwrap();
+    let secs = t.elapsed().as_secs_f64();
+    assert_eq!(v.status, Status::Certified, "{:?}", v.reason);
+    let check = v
+        .checks
+        .iter()
+        .find(|c| c.what.starts_with("(48)"))
+        .expect("the check of (48)");
+    assert!(check.passed && check.what.contains("every τ"), "{check:?}");
+    assert!(
+        check.how.contains("above the cap 4.000e9, not run"),
+        "{check:?}"
+    );
     assert!(secs < 10.0, "{secs} s");
+}
+
+/// The same design on windows it does not satisfy (48) on, or with a proof budget too small to
+/// decide: the grid is still above the cap, and the verdict is the honest one — a failure of
+/// (48) shown by the proof (with its τ), or `budget_exhausted` with the grid's size and how
+/// the proof ended.
+#[test]
+fn cart_pole_design_over_the_grid_cap_fails_honestly() {
+    let d = cart_pole_design();
+    let plant = cart_pole();
+    let o = MethodOptions::default();
+    // T1 = 0.01 < 0.02: (48) fails at the new lower end (λ_min ≈ 0.0081 < μ = 0.01).
+    let v = Sferlazza2021::default()
+        .verify(
+            &plant,
+            &Sampling::Synchronous(win(0.01, 0.9)),
+            &d.gains,
+            &d.certificate,
+            &o,
+        )
+        .unwrap();
+    assert_eq!(v.status, Status::NotCertified);
+    match &v.reason {
+        Some(Reason::VerificationFailed {
+            tau: Some(tau),
+            message,
+        }) => {
+            assert!((tau - 0.01).abs() < 1e-12, "τ = {tau}: {message}");
+            assert!(message.contains("above the cap 4.000e9"), "{message}");
+        }
+        other => panic!("expected verification_failed, got {other:?}"),
+    }
+    // A proof budget of 16 pieces does not decide the window: budget_exhausted, as before, with
+    // the grid's size and the proof's outcome.
+    let mut m = Sferlazza2021::default();
+    m.design.proof_pieces = Some(16);
+    let sampling = Sampling::Synchronous(d.window.expect("a synchronous window"));
+    let v = m
+        .verify(&plant, &sampling, &d.gains, &d.certificate, &o)
+        .unwrap();
+    assert_eq!(v.status, Status::NotCertified);
+    match &v.reason {
+        Some(Reason::BudgetExhausted { message }) => {
+            assert!(
+                message.contains("sensor 1: validation grid needs 4.3")
+                    && message.contains("e10 points, above the cap 4.000e9")
+                    && message.contains("ended inconclusive"),
+                "{message}"
+            );
+        }
+        other => panic!("expected budget_exhausted, got {other:?}"),
+    }
 }
