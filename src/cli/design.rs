@@ -315,7 +315,7 @@ fn print_design(d: &DesignReport) {
     println!("window   {}", windows_words(d));
     match (&d.reason, &d.margin) {
         (Some(r), _) => println!("status   {} ({}): {}", d.status, r.kind(), r.message()),
-        (None, Some(m)) => println!("status   {} (margin {:.4e})", d.status, m.value),
+        (None, Some(m)) => println!("status   {} (margin {:.3e})", d.status, m.value),
         (None, None) => println!("status   {}", d.status),
     }
     println!("time     {:.3} s", d.seconds);
@@ -339,7 +339,7 @@ fn print_design(d: &DesignReport) {
         print_matrix(name, rows);
     }
     if let Some(m) = &d.margin {
-        println!("margin: {:.4e}, {}", m.value, m.definition);
+        println!("margin: {:.3e}, {}", m.value, m.definition);
     }
     for c in &d.checks {
         let value = c.value.map(|v| format!(": {v:.4e}")).unwrap_or_default();

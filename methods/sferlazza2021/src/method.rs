@@ -438,6 +438,15 @@ pub const SEARCH_SCREEN_POINTS: usize = 2048;
 /// search tries before running the (49) grid ([`DesignOptions::proof_pieces`]).
 pub const SEARCH_PROOF_PIECES: usize = 16384;
 
+/// Most times `verify` lowers μ for a given certificate (in its
+/// check of (48)): each round at least halves μ and doubles the grid.
+const VERIFY_MU_ROUNDS: usize = 8;
+
+/// Smallest μ `verify` checks (48) with, relative to `p*` (the largest eigenvalue of the given
+/// `P_σ` scaled to `λ_min = 1`): below it `λ_min(Ξ_σ(τ))` is at the level of the rounding of
+/// `Ξ_σ(τ)`'s entries, and no grid decides its sign.
+const VERIFY_MU_FLOOR: f64 = 1e-10;
+
 /// Largest number of grid tuples of the Proposition 1 screen in a probe of the window search
 /// (the aliasing tuples come on top); a design's own screen uses
 /// [`crate::DetectabilityOptions::default`].
@@ -719,19 +728,48 @@ impl Sferlazza2021 {
             .collect();
         let mut margin = f64::INFINITY;
         for (s, sensor) in rr.sensors().iter().enumerate() {
-            let spacing = grid_spacing(rr, s, self.design.grid, mu, p_star, &bound.bound)?;
-            let grid =
-                WindowGrid::covering(sensor.window(), spacing, self.design.validation.max_points)?;
             let fam = XiFamily::new(rr, &normalised, s)?;
-            let v = validate_window(
-                &fam,
-                rr,
-                &normalised,
-                grid,
-                mu,
-                Some(self.design.proof_pieces.unwrap_or(SEARCH_PROOF_PIECES)),
-                &self.design.validation,
-            )?;
+            // μ only sets the resolution of the check: (48) at the points of a grid of spacing
+            // (49) ∝ μ/p* implies Ξ_σ(τ) ≻ 0 between them, whatever μ > 0. The design meets μ
+            // with its own P_σ ⪰ I, which may lie above I; scaled to λ_min = 1 here the same
+            // certificate may meet only a smaller μ. So a point with 0 < λ_min(Ξ_σ(τ)) ≤ μ
+            // lowers μ to half that value and refines the grid (at most VERIFY_MU_ROUNDS times,
+            // not below VERIFY_MU_FLOOR·p*); only λ_min ≤ 0, or a margin below that floor,
+            // fails.
+            let mut mu_s = mu;
+            let mut rounds = 0;
+            let (v, grid) = loop {
+                let spacing = grid_spacing(rr, s, self.design.grid, mu_s, p_star, &bound.bound)?;
+                let grid = WindowGrid::covering(
+                    sensor.window(),
+                    spacing,
+                    self.design.validation.max_points,
+                )?;
+                let v = validate_window(
+                    &fam,
+                    rr,
+                    &normalised,
+                    grid,
+                    mu_s,
+                    Some(self.design.proof_pieces.unwrap_or(SEARCH_PROOF_PIECES)),
+                    &self.design.validation,
+                )?;
+                let lower = 0.5 * v.min_eigenvalue.min(mu_s);
+                if v.passed() || !(lower >= VERIFY_MU_FLOOR * p_star) || rounds == VERIFY_MU_ROUNDS
+                {
+                    break (v, grid);
+                }
+                mu_s = lower;
+                rounds += 1;
+            };
+            let lowered = if mu_s < mu {
+                format!(
+                    ", μ lowered from the design's {} as the given P_σ's scale allows",
+                    sig4(mu)
+                )
+            } else {
+                String::new()
+            };
             if !v.passed() {
                 let at = match grid {
                     WindowGrid::Grid(g) => {
@@ -743,15 +781,29 @@ impl Sferlazza2021 {
                          {cap:.3e}, shows in interval arithmetic that it fails"
                     ),
                 };
+                let why = if v.min_eigenvalue > 0.0 {
+                    format!(
+                        "{} ≤ μ = {}{lowered}, and half of it is below {} = {}·p*, the smallest \
+                         margin checked",
+                        sig4(v.min_eigenvalue),
+                        sig4(mu_s),
+                        sig4(VERIFY_MU_FLOOR * p_star),
+                        sig4(VERIFY_MU_FLOOR)
+                    )
+                } else {
+                    format!(
+                        "{} ≤ 0: Ξ_{}(τ) is not positive definite",
+                        sig4(v.min_eigenvalue),
+                        s + 1
+                    )
+                };
                 return Ok(failed(
                     Some(v.argmin_tau),
                     format!(
-                        "(48) fails for sensor {}: λ_min(Ξ_{}(τ)) = {} ≤ μ = {} at τ = {} ({at}; \
+                        "(48) fails for sensor {}: λ_min(Ξ_{}(τ)) = {why} at τ = {} ({at}; \
                          P_σ scaled to I ⪯ P_σ)",
                         s + 1,
                         s + 1,
-                        sig4(v.min_eigenvalue),
-                        sig4(mu),
                         sig4(v.argmin_tau),
                     ),
                 ));
@@ -762,14 +814,14 @@ impl Sferlazza2021 {
                     what: format!(
                         "(48): λ_min(Ξ_{}(τ)) > μ = {} for every τ of the window {} of sensor {}",
                         s + 1,
-                        sig4(mu),
+                        sig4(mu_s),
                         sensor.window(),
                         s + 1
                     ),
                     how: format!(
                         "proven in interval arithmetic on {pieces} τ-pieces (crate::prove), in \
                          place of the uniform grid of {}, spacing {} (the design's grid \
-                         policy, p* = {}), which it implies; the given P_σ scaled to I ⪯ P_σ",
+                         policy, p* = {}), which it implies; the given P_σ scaled to I ⪯ P_σ{lowered}",
                         grid_points(&grid),
                         sig4(grid.spacing()),
                         sig4(p_star)
@@ -781,13 +833,13 @@ impl Sferlazza2021 {
                     what: format!(
                         "(48): λ_min(Ξ_{}(τ)) > μ = {} on the window {} of sensor {}",
                         s + 1,
-                        sig4(mu),
+                        sig4(mu_s),
                         sensor.window(),
                         s + 1
                     ),
                     how: format!(
                         "uniform grid of {}, spacing {} (the design's grid policy, p* = {}), \
-                         the given P_σ scaled to I ⪯ P_σ; value: λ_min on a subsample",
+                         the given P_σ scaled to I ⪯ P_σ{lowered}; value: λ_min on a subsample",
                         grid_points(&grid),
                         sig4(grid.spacing()),
                         sig4(p_star)

@@ -351,11 +351,13 @@ fn cart_pole_design_over_the_grid_cap_fails_honestly() {
     let d = cart_pole_design();
     let plant = cart_pole();
     let o = MethodOptions::default();
-    // T1 = 0.01 < 0.02: (48) fails at the new lower end (λ_min ≈ 0.0081 < μ = 0.01).
+    // T2 = 5 > 0.9: Ξ_1(τ) is not positive definite at τ ≈ 1.265 (λ_min ≈ −0.069). (At
+    // T1 = 0.01 or 0.001 it stays positive definite, below μ: the proof certifies those windows
+    // with a lower μ, see `a_design_is_verified_whatever_the_scale_of_its_certificate`.)
     let v = Sferlazza2021::default()
         .verify(
             &plant,
-            &Sampling::Synchronous(win(0.01, 0.9)),
+            &Sampling::Synchronous(win(0.02, 5.0)),
             &d.gains,
             &d.certificate,
             &o,
@@ -367,8 +369,12 @@ fn cart_pole_design_over_the_grid_cap_fails_honestly() {
             tau: Some(tau),
             message,
         }) => {
-            assert!((tau - 0.01).abs() < 1e-12, "τ = {tau}: {message}");
-            assert!(message.contains("above the cap 4.000e9"), "{message}");
+            assert!((tau - 1.265).abs() < 1e-3, "τ = {tau}: {message}");
+            assert!(
+                message.contains("above the cap 4.000e9")
+                    && message.contains("not positive definite"),
+                "{message}"
+            );
         }
         other => panic!("expected verification_failed, got {other:?}"),
     }
@@ -392,4 +398,42 @@ fn cart_pole_design_over_the_grid_cap_fails_honestly() {
         }
         other => panic!("expected budget_exhausted, got {other:?}"),
     }
+}
+
+/// `tiny-scale.toml`: the design certifies the file's window with `P_σ ⪰ I` whose smallest
+/// eigenvalue lies above 1; `verify` scales the certificate to `λ_min = 1`, where it meets only
+/// a smaller μ than the design's. It used to end `verification_failed` ("λ_min(Ξ_1(τ)) =
+/// 6.137e-4 ≤ μ = 0.01") on the design's own gains; the check now lowers μ and refines the grid
+/// (μ sets the resolution of (48)–(49), not the verdict). A certificate that is not positive
+/// on the window still fails.
+#[test]
+fn a_design_is_verified_whatever_the_scale_of_its_certificate() {
+    let a = mat![[-0.0001, 1e-05], [0.0, -0.0002]];
+    let c = mat![[1.0, 0.0]];
+    let plant = Plant::linear(a.as_ref(), None, c.as_ref()).unwrap();
+    let sampling = Sampling::Synchronous(win(0.001, 0.01));
+    let o = MethodOptions::default();
+    let m = Sferlazza2021::default();
+    let d = m.design(&plant, &sampling, &o).unwrap();
+    assert_eq!(d.status, Status::Certified, "{:?}", d.reason);
+    let v = m
+        .verify(&plant, &sampling, &d.gains, &d.certificate, &o)
+        .unwrap();
+    assert_eq!(v.status, Status::Certified, "{:?}", v.reason);
+    // Scaling the certificate (and so the gains of (45), which do not depend on its scale)
+    // changes nothing.
+    let mut scaled = d.certificate.clone();
+    for p in &mut scaled {
+        p.rows.iter_mut().flatten().for_each(|x| *x *= 1e3);
+    }
+    let v = m.verify(&plant, &sampling, &d.gains, &scaled, &o).unwrap();
+    assert_eq!(v.status, Status::Certified, "{:?}", v.reason);
+    // A certificate that is not one: −P is not positive definite, and P_σ with a flipped
+    // off-diagonal sign does not give these gains.
+    let mut flipped = d.certificate.clone();
+    for p in &mut flipped {
+        p.rows.iter_mut().flatten().for_each(|x| *x = -*x);
+    }
+    let v = m.verify(&plant, &sampling, &d.gains, &flipped, &o).unwrap();
+    assert_eq!(v.status, Status::NotCertified);
 }
