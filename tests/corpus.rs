@@ -4,7 +4,8 @@
 //! multi-output and round-robin plants, undetectable, Lipschitz and bounded-disturbance ones):
 //! every answer comes within the default time budget (25 s, `--time-limit`) and parses as the
 //! compare report, and the verdicts listed in `tests/corpus/expected.toml` hold for the file's
-//! own sampling (`--no-search`; the window searches are timed in `benches/`). Timing goals live
+//! own sampling (`--no-search`; the window searches are timed in `benches/`); every design
+//! certified there passes `verify` with its own gains and certificate. Timing goals live
 //! in benchmarks; the 40 s bound here only catches a command that overruns its budget.
 
 use sporadic::model::{CompareReport, Status};
@@ -14,15 +15,35 @@ use std::time::{Duration, Instant};
 
 /// Runs `compare --json` on `file`, killing it after `limit`.
 fn compare(file: &Path, out: &Path, limit: Duration) -> Result<(i32, String), String> {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_sporadic"))
-        .args([
-            "compare",
-            &file.display().to_string(),
-            "--no-search",
-            "--json",
-            "--out",
-        ])
-        .arg(out)
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_sporadic"));
+    cmd.args([
+        "compare",
+        &file.display().to_string(),
+        "--no-search",
+        "--json",
+        "--out",
+    ])
+    .arg(out);
+    run(cmd, limit)
+}
+
+/// Runs `verify --method METHOD --gains DESIGN` on `file`, killing it after `limit`.
+fn verify(
+    file: &Path,
+    method: &str,
+    design: &Path,
+    limit: Duration,
+) -> Result<(i32, String), String> {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_sporadic"));
+    cmd.args(["verify", "--method", method, "--gains"])
+        .arg(design)
+        .arg(file);
+    run(cmd, limit)
+}
+
+/// Runs `cmd` to completion (standard output captured), killing it after `limit`.
+fn run(mut cmd: Command, limit: Duration) -> Result<(i32, String), String> {
+    let mut child = cmd
         .stdout(Stdio::piped())
         .stderr(Stdio::null())
         .spawn()
@@ -85,6 +106,28 @@ fn compare_answers_every_corpus_plant_in_time_with_the_expected_verdicts() {
         let any = report.results.iter().any(|e| e.certifies_anything());
         if code != if any { 0 } else { 1 } {
             failures.push(format!("{stem}: exit {code} with certified = {any}"));
+        }
+        // Every design certified on the file's window passes `verify` with its own gains and
+        // certificate (issue 22: a design's gain, re-verified on the window, passes).
+        // (A method that picks its own sampling instants has no window to verify on.)
+        for e in &report.results {
+            if e.design.status != Status::Certified || e.chooses_its_sampling {
+                continue;
+            }
+            let design = out.join(format!("{stem}-{}.json", e.method));
+            std::fs::create_dir_all(&out).unwrap();
+            std::fs::write(&design, serde_json::to_string(&e.design).unwrap()).unwrap();
+            match verify(file, &e.method, &design, Duration::from_secs(40)) {
+                Ok((0, _)) => {}
+                Ok((code, text)) => failures.push(format!(
+                    "{stem}: {}'s certified design fails verify (exit {code}): {}",
+                    e.method,
+                    text.lines()
+                        .find(|l| l.starts_with("status"))
+                        .unwrap_or(text.trim())
+                )),
+                Err(err) => failures.push(format!("{stem}: verify {}: {err}", e.method)),
+            }
         }
         let Some(want) = expected.get(stem).and_then(|t| t.as_table()) else {
             continue;

@@ -342,7 +342,7 @@ fn print_design(d: &DesignReport) {
         println!("margin: {:.3e}, {}", m.value, m.definition);
     }
     for c in &d.checks {
-        let value = c.value.map(|v| format!(": {v:.4e}")).unwrap_or_default();
+        let value = c.value.map(|v| format!(": {v:.3e}")).unwrap_or_default();
         let verdict = if c.passed { "passed" } else { "FAILED" };
         println!("check: {} ({}){value} {verdict}", c.what, c.how);
     }

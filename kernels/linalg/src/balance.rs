@@ -89,6 +89,12 @@ pub fn unbalance_a(a: MatRef<'_, f64>, d: &[f64]) -> Mat<f64> {
     Mat::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)] * d[i] / d[j])
 }
 
+/// `P_b = D P D` (a quadratic form `xᵀPx` in the balanced coordinates `x_b = D⁻¹x`; inverse of
+/// [`unbalance_form`]).
+pub fn balance_form(p: MatRef<'_, f64>, d: &[f64]) -> Mat<f64> {
+    Mat::from_fn(p.nrows(), p.ncols(), |i, j| p[(i, j)] * d[i] * d[j])
+}
+
 /// `P = D⁻¹ P_b D⁻¹` (a quadratic form `x_bᵀP_bx_b` in the user's coordinates `x = Dx_b`).
 pub fn unbalance_form(p: MatRef<'_, f64>, d: &[f64]) -> Mat<f64> {
     Mat::from_fn(p.nrows(), p.ncols(), |i, j| p[(i, j)] / (d[i] * d[j]))
@@ -121,5 +127,8 @@ mod tests {
             col
         );
         assert!(b[(0, 1)].abs() < 8.0 && b[(1, 0)].abs() < 8.0, "{b:?}");
+        // Powers of 2: the form round-trips exactly.
+        let p = mat![[2.5, -0.3], [-0.3, 7.0]];
+        assert_eq!(unbalance_form(balance_form(p.as_ref(), &d).as_ref(), &d), p);
     }
 }

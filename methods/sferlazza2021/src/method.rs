@@ -38,7 +38,7 @@ use crate::prove::{GAIN_TOLERANCE, gain_mismatch, prove_design};
 use crate::simulation::{SimulationOptions, simulate_error};
 use crate::validation::{GridPolicy, XiFamily};
 use crate::validation::{WindowGrid, grid_spacing, validate_window};
-use sporadic_linalg::balance::{balancing_scales, unbalance_form, unbalance_gain};
+use sporadic_linalg::balance::{balance_form, balancing_scales, unbalance_form, unbalance_gain};
 
 const ID: &str = "sferlazza2021";
 
@@ -326,7 +326,12 @@ impl ObserverMethod for Sferlazza2021 {
     /// grid and the only decision for a grid above the cap (at most [`SEARCH_PROOF_PIECES`]
     /// pieces unless [`DesignOptions::proof_pieces`] says otherwise, the same rule as the window
     /// search; [`crate::validation::validate_window`]), and the gains must be (45) of it at
-    /// every listed `τ`. No balancing: the check runs in the coordinates given.
+    /// every listed `τ`. (45) is checked in the coordinates given; Step 1 and (48) in the
+    /// balanced coordinates of the design (exact powers of 2; `Ξ_σ(τ) ≻ 0` does not depend on
+    /// the coordinates). `μ` sets the resolution of (48)–(49), not the verdict: where
+    /// `0 < λ_min(Ξ_σ(τ)) ≤ μ` the check lowers `μ` and refines (a certificate scaled to
+    /// `λ_min(P_σ) = 1` may meet only a smaller `μ` than the design's `P_σ ⪰ I`); only
+    /// `λ_min ≤ 0`, or a margin below `10⁻¹⁰·p*`, fails.
     fn verify(
         &self,
         plant: &Plant,
@@ -681,12 +686,9 @@ impl Sferlazza2021 {
                 Reason::VerificationFailed { tau, message },
             )
         };
-        // Scale to I ⪯ P_σ ⪯ p*I, the normalisation of (47) under which μ and (49) apply.
         let mut lo = f64::INFINITY;
-        let mut hi = 0.0f64;
         for p in ps {
             lo = lo.min(sporadic_linalg::min_eigenvalue(p.as_ref())?);
-            hi = hi.max(sporadic_linalg::max_eigenvalue(p.as_ref())?);
         }
         if !(lo > 0.0) {
             return Ok(failed(
@@ -710,7 +712,37 @@ impl Sferlazza2021 {
                 ),
             ));
         }
-        let normalised: Vec<Mat<f64>> = ps.iter().map(|p| p * (1.0 / lo)).collect();
+        // (48) is checked in the balanced coordinates x_b = D⁻¹x of the design (exact powers of
+        // 2, the identity for a balanced plant): Ξ_σ(τ) ≻ 0 does not depend on the coordinates,
+        // while its grid, proof and margin are those of the well-scaled plant, as in the design.
+        let scales = balancing_scales(rr.a());
+        let balanced = scales.iter().any(|&d| d != 1.0);
+        let (rr_b, ps_b) = if balanced {
+            (
+                balanced_plant(rr, &scales)?,
+                ps.iter()
+                    .map(|p| balance_form(p.as_ref(), &scales))
+                    .collect::<Vec<_>>(),
+            )
+        } else {
+            (rr.clone(), ps.to_vec())
+        };
+        let rr = &rr_b;
+        // Scale to I ⪯ P_σ ⪯ p*I, the normalisation of (47) under which μ and (49) apply.
+        let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+        for p in &ps_b {
+            lo = lo.min(sporadic_linalg::min_eigenvalue(p.as_ref())?);
+            hi = hi.max(sporadic_linalg::max_eigenvalue(p.as_ref())?);
+        }
+        let coordinates = if balanced {
+            format!(
+                " (in the balanced coordinates x_b = D⁻¹x, D = {}, P_bσ = DP_σD)",
+                powers_of_two(&scales)
+            )
+        } else {
+            String::new()
+        };
+        let normalised: Vec<Mat<f64>> = ps_b.iter().map(|p| p * (1.0 / lo)).collect();
         let p_star = hi / lo;
         let bound = exponential_bound(&rr.a().to_owned(), rr.t_max(), &self.design.bound)?;
         let mut report = DesignReport::certified(self, plant.name(), sampling);
@@ -801,7 +833,7 @@ impl Sferlazza2021 {
                     Some(v.argmin_tau),
                     format!(
                         "(48) fails for sensor {}: λ_min(Ξ_{}(τ)) = {why} at τ = {} ({at}; \
-                         P_σ scaled to I ⪯ P_σ)",
+                         P_σ scaled to I ⪯ P_σ{coordinates})",
                         s + 1,
                         s + 1,
                         sig4(v.argmin_tau),
@@ -821,7 +853,7 @@ impl Sferlazza2021 {
                     how: format!(
                         "proven in interval arithmetic on {pieces} τ-pieces (crate::prove), in \
                          place of the uniform grid of {}, spacing {} (the design's grid \
-                         policy, p* = {}), which it implies; the given P_σ scaled to I ⪯ P_σ{lowered}",
+                         policy, p* = {}), which it implies; the given P_σ scaled to I ⪯ P_σ{lowered}{coordinates}",
                         grid_points(&grid),
                         sig4(grid.spacing()),
                         sig4(p_star)
@@ -839,7 +871,7 @@ impl Sferlazza2021 {
                     ),
                     how: format!(
                         "uniform grid of {}, spacing {} (the design's grid policy, p* = {}), \
-                         the given P_σ scaled to I ⪯ P_σ{lowered}; value: λ_min on a subsample",
+                         the given P_σ scaled to I ⪯ P_σ{lowered}{coordinates}; value: λ_min on a subsample",
                         grid_points(&grid),
                         sig4(grid.spacing()),
                         sig4(p_star)
@@ -865,8 +897,8 @@ impl Sferlazza2021 {
         });
         report.notes.push(
             "verification of given gains and certificate (no design): Step 1, the validation \
-            (48) on the grid (49) or proven over the window in its place, and the gain law (45), \
-            in the coordinates given"
+            (48) on the grid (49) or proven over the window in its place (in the balanced \
+            coordinates of the design), and the gain law (45) (in the coordinates given)"
                 .into(),
         );
         Ok(report)
