@@ -471,7 +471,7 @@ fn attempt(
     };
     if !embedding.remainder_bound().powi(2).is_finite() {
         return Err(Error::Embed(EmbedError::Numerical(format!(
-            "the remainder bound of the embedding of e^(Av) is {}",
+            "the remainder bound of the embedding of e^(Av) is {:.3e}",
             embedding.remainder_bound()
         ))));
     }
