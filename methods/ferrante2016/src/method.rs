@@ -109,9 +109,12 @@ impl Ferrante2016 {
             "LMI (41) at {} vertices of the {} embedding of e^(Av), v in {} ({} piece(s)); {} \
              interior-point iterations, {} decision scalars",
             d.embedding.vertex_count(),
-            match self.design.embedding {
-                crate::EmbeddingMethod::Residue(_) => "residue (§4.1)",
-                crate::EmbeddingMethod::Taylor(_) => "Taylor",
+            match (d.embedding.method(), &self.design.embedding) {
+                (sporadic_embed::Method::Residue { .. }, _) => "residue (§4.1)",
+                (sporadic_embed::Method::Taylor { .. }, crate::EmbeddingMethod::Taylor(_)) =>
+                    "Taylor",
+                (sporadic_embed::Method::Taylor { .. }, _) =>
+                    "Taylor (fallback: the residue box of §4.1 certified no form)",
             },
             SamplingWindow::new(
                 d.embedding.interval().t1() * d.scaling.time,
