@@ -437,14 +437,13 @@ impl ObserverMethod for Ferrante2016 {
         }
         let p = self.plant_of(plant)?;
         self.design.validate().map_err(invalid)?;
-        let design = crate::window::probe_options(&self.design);
         let mut cache = LmiCache::default();
         let mut run = |s: &Sampling| -> Result<DesignReport, MethodError> {
             let probe_start = Instant::now();
             let Sampling::Synchronous(window) = s else {
                 unreachable_round_robin()?
             };
-            let (v, d) = probe(&p, window, &design, &mut cache).map_err(not_a_verdict)?;
+            let (v, d) = probe(&p, window, &self.design, &mut cache).map_err(not_a_verdict)?;
             Ok(match (d, v.reason) {
                 (Some(d), _) => self.report(plant, s, &d, probe_start.elapsed().as_secs_f64()),
                 (None, Some(reason)) => {

@@ -46,7 +46,6 @@ pub fn largest_t2(
     search: &WindowSearchOptions,
 ) -> Result<WindowSearch, Error> {
     design.validate()?;
-    let design = &probe_options(design);
     let mut cache = LmiCache::default();
     let mut run = |t2: f64| -> Result<Verdict, Error> {
         let window = SamplingWindow::new(t1, t2)?;
@@ -65,31 +64,12 @@ pub fn smallest_t1(
     search: &WindowSearchOptions,
 ) -> Result<WindowSearch, Error> {
     design.validate()?;
-    let design = &probe_options(design);
     let mut cache = LmiCache::default();
     let mut run = |t1: f64| -> Result<Verdict, Error> {
         let window = SamplingWindow::new(t1, t2)?;
         Ok(probe(plant, &window, design, &mut cache)?.0)
     };
     search_lower(t2, t1_limit, search, &mut run).map_err(from_search)
-}
-
-/// The design options of the probes of a window search: those given, without the refinement
-/// of a positive margin to [`FeasibilityOptions::margin_accuracy`]
-/// (`sporadic_sdp::lmi::FeasibilityOptions`). A probe needs the verdict, which the LMI layer
-/// decides by re-computing the eigenvalues of every vertex LMI at the returned point against its
-/// verification threshold whatever the accuracy of the margin; the refinement (a continuation
-/// of the solve with `tol_gap` tightened to `1e-7·t*`, about a quarter more interior-point
-/// iterations on the 512 vertex LMIs of `three-mass-chain`) only makes the reported margin
-/// accurate to `1e-7` relative instead of the solver's `tol_gap` relative to
-/// `1 + |⟨C,X⟩| + |bᵀy|`. The design returned at the largest certified window reports that
-/// less refined margin.
-///
-/// [`FeasibilityOptions::margin_accuracy`]: sporadic_sdp::lmi::FeasibilityOptions::margin_accuracy
-pub(crate) fn probe_options(design: &DesignOptions) -> DesignOptions {
-    let mut o = design.clone();
-    o.lmi.margin_accuracy = o.lmi.margin_accuracy.max(1.0);
-    o
 }
 
 /// One probe of a window search: the design at `window` with the compiled LMI kept in `cache`,
