@@ -858,6 +858,8 @@ impl ResidueExpansion {
             .map(|t| t.function.range(iv.t1(), iv.t2()))
             .collect::<Result<_, _>>()?;
         let n = a.nrows();
+        let (box_ranges, collapsed) =
+            collapse_small_terms(&truncated.terms, &ranges, truncated.remainder_bound);
         let (vertices, free) = box_vertices(
             None,
             &truncated
@@ -865,10 +867,7 @@ impl ResidueExpansion {
                 .iter()
                 .map(|t| t.matrix.as_ref())
                 .collect::<Vec<_>>(),
-            &ranges
-                .iter()
-                .map(|r| (r.lower, r.upper))
-                .collect::<Vec<_>>(),
+            &box_ranges,
             self.options.max_vertices,
             (n, n),
         )?;
@@ -930,7 +929,7 @@ impl ResidueExpansion {
             vertices,
             method,
             Containment::Guaranteed,
-            truncated.remainder_bound,
+            truncated.remainder_bound + collapsed * (1.0 + 1e-12),
         );
         if reconstruction_error > tol || self.projector_sum_error > tol {
             // The paper's argument does not apply to the computed residues; check e^{Av} on the
@@ -944,7 +943,9 @@ impl ResidueExpansion {
             };
             for ((&v, e), &r) in grid.iter().zip(&exact).zip(&reconstruction) {
                 let scale = embedding.relative_scale(e.as_ref());
-                let mut violation = (r - embedding.remainder_bound()).max(0.0) / scale;
+                // Y(v) lies within `collapsed` of the hull (the collapsed coefficients are at
+                // their midpoints there), so only the truncation remainder is left for `r`.
+                let mut violation = (r - truncated.remainder_bound).max(0.0) / scale;
                 if violation > HULL_TOLERANCE {
                     violation = violation.min(embedding.violation(e.as_ref())?);
                 }
@@ -970,6 +971,50 @@ impl ResidueExpansion {
         }
         Ok(embedding)
     }
+}
+
+/// The box ranges of the terms, with the terms whose whole variation is small folded into the
+/// remainder, and the bound on what was folded.
+///
+/// When the expansion is truncated with a remainder `δ > 0` (clusters of distinct eigenvalues,
+/// whose moments never vanish), each term `c_k(v)N_k` whose half-range times `‖N_k‖_F` is small
+/// is replaced by its midpoint value: `c_k(v)N_k = m_k N_k + (c_k(v) − m_k)N_k` with
+/// `‖(c_k(v) − m_k)N_k‖_F ≤ r_k‖N_k‖_F` (`m_k`, `r_k` the midpoint and the half-width of the
+/// outward-rounded range, the midpoint rounded to nearest: `r_k` is increased by one ulp of the
+/// larger end). Terms are folded, the smallest first, while the total folded stays at most `δ`
+/// (so the remainder at most doubles); each one halves the vertex count. An exact expansion
+/// (`δ = 0`) is left as it is.
+fn collapse_small_terms(
+    terms: &[ExpansionTerm],
+    ranges: &[CoefficientRange],
+    remainder: f64,
+) -> (Vec<(f64, f64)>, f64) {
+    let mut out: Vec<(f64, f64)> = ranges.iter().map(|r| (r.lower, r.upper)).collect();
+    if !(remainder > 0.0 && remainder.is_finite()) {
+        return (out, 0.0);
+    }
+    let mut sizes: Vec<(f64, usize)> = terms
+        .iter()
+        .zip(ranges)
+        .enumerate()
+        .filter(|(_, (_, r))| !r.is_degenerate())
+        .map(|(k, (t, r))| {
+            let half = 0.5 * (r.upper - r.lower) + f64::EPSILON * r.upper.abs().max(r.lower.abs());
+            (half * t.matrix.norm_l2(), k)
+        })
+        .filter(|(size, _)| size.is_finite())
+        .collect();
+    sizes.sort_by(|x, y| x.0.total_cmp(&y.0));
+    let mut folded = 0.0;
+    for (size, k) in sizes {
+        if folded + size > remainder {
+            break;
+        }
+        folded += size;
+        let mid = 0.5 * (ranges[k].lower + ranges[k].upper);
+        out[k] = (mid, mid);
+    }
+    (out, folded)
 }
 
 /// Residue embedding with default options: shorthand for

@@ -19,6 +19,24 @@
 //! form whose embedding remainder makes the robust (41) infeasible on its face
 //! (`remainder_too_large`) is refused without a solve.
 //!
+//! **Taylor fallback** (not in the paper; opt-in, [`DesignOptions::taylor_fallback`]). With the
+//! residue box of §4.1 (the default), when no form certifies, the normal forms are tried once more with the truncated-Taylor polytope of
+//! `e^{Av}` ([`sporadic_embed::taylor_embedding`], `N + 1` vertices and a remainder handled by
+//! the robust form of (41)): Corollary 1 holds for any polytope containing `e^{Av}` on the
+//! window, and the residue box grows as `2^K` in its number `K` of coefficient terms, which on
+//! a window where the residue expansion degenerates to a long power series (all eigenvalues in
+//! one cluster, e.g. a normal form with ill-conditioned spectral projectors) is both far more
+//! conservative and far costlier than the Taylor polytope. The fallback only adds certificates
+//! (a failure of it leaves the verdict of the residue forms), and a design certified by the
+//! residue box is returned unchanged. It is not on by default because it is decided by the
+//! diagonal normal form more often than the residue box is, and that form is only invariant
+//! under diagonal changes of coordinates: on the Jordan block of order 4 with eigenvalue `0.2`
+//! (`tests/metamorphic.rs`) it certifies `[0.05, 2.07]` as given but not `[0.05, 2.056]` after
+//! a similarity with condition number up to 10 (margin `1.4e-7` under the solver's verification
+//! threshold `2.4e-7` there), where the residue box certifies neither. On `three-mass-chain`
+//! (`[0.02, 0.3]`, not certified by the residue box) it certifies windows up to `T2 ≈ 0.65` at
+//! 14–20 vertices instead of the 512 of the residue box of the diagonal form.
+//!
 //! **Analysis** ([`analyse`]): the same LMI with `J = FL` for a given `L` (linear in `P`, `F`), i.e.
 //! (36) at the vertices; certifies e.g. the gain published for Example 2.
 //! [`min_trace_certificate`] solves the same LMI for the certificate with the smallest `tr P`
@@ -28,7 +46,9 @@ use sporadic_linalg::InputError;
 use std::time::{Duration, Instant};
 
 use faer::{Mat, MatRef};
-use sporadic_embed::{EmbedError, Embedding, EmbeddingMethod, ResidueOptions, embed_split};
+use sporadic_embed::{
+    EmbedError, Embedding, EmbeddingMethod, ResidueOptions, TaylorOptions, TaylorOrder, embed_split,
+};
 use sporadic_sdp::lmi::{FeasibilityOptions, Outcome};
 
 use crate::detectability::{DetectabilityOptions, DetectabilityReport, check_detectability};
@@ -62,6 +82,10 @@ pub struct DesignOptions {
     pub verify: VerifyOptions,
     /// Remark 3 precheck (design only; default 1001 grid points plus the aliasing instants).
     pub detectability: DetectabilityOptions,
+    /// With the residue embedding, whether the normal forms are tried once more with the
+    /// Taylor polytope when no form certifies with the residue box (default `false`: opt-in,
+    /// see the module docs). Design only (not [`analyse`] or [`min_trace_certificate`]).
+    pub taylor_fallback: bool,
 }
 
 impl DesignOptions {
@@ -112,6 +136,7 @@ impl Default for DesignOptions {
             lmi: FeasibilityOptions::default(),
             verify: VerifyOptions::default(),
             detectability: DetectabilityOptions::default(),
+            taylor_fallback: false,
         }
     }
 }
@@ -216,11 +241,6 @@ fn solve_on(
     lmis.last_mut().expect("pushed above").solve()
 }
 
-/// Compiled instances of LMI (41) kept by a window search: one per form of the problem tried
-/// at every probe (the data as given, the Gramian and the diagonal normal forms of
-/// [`crate::normalise`]), whose embeddings have in general different vertex counts.
-const CACHED_INSTANCES: usize = 3;
-
 /// What a window search keeps across its probes.
 #[derive(Default)]
 pub(crate) struct LmiCache {
@@ -228,8 +248,73 @@ pub(crate) struct LmiCache {
     /// orders, the vertex count, the sign of the remainder and the form match; at most
     /// [`CACHED_INSTANCES`], the least recently used dropped first.
     lmis: Vec<Lmi41>,
-    /// The normal form that certified the last certified probe, tried first at the next one.
-    preferred: Option<normalise::Coordinates>,
+    /// The normal form (and whether with the Taylor fallback) that certified the last
+    /// certified probe, tried first at the next one.
+    preferred: Option<(normalise::Coordinates, bool)>,
+}
+
+/// Compiled instances of LMI (41) kept by a window search: one per form of the problem tried
+/// at every probe (the data as given, the Gramian and the diagonal normal forms of
+/// [`crate::normalise`], and the latter two with the Taylor fallback), whose embeddings have in
+/// general different vertex counts.
+const CACHED_INSTANCES: usize = 5;
+
+/// The options of the Taylor fallback (see the module docs) for `plant` on `window`, whose
+/// normal forms are `forms`: `None` unless it is asked for and the embedding of `options` is
+/// the residue box.
+///
+/// The order `N` is the same for every equivalent problem, so that the vertices
+/// `e^{A T1} Σ_{k ≤ j} (Ah)^k/k!` of the normal forms of equivalent problems are similar to each
+/// other (and (41) at them equivalent): it is the smallest order whose tail bound
+/// `x^{N+1}/(N+1)!·e^x` is at most [`TAYLOR_FALLBACK_TAIL`], with `x = ‖A₁‖₂h₁` in the Gramian
+/// form (`A₁`, `h₁` its matrix and window length; the form is unique up to an orthogonal change of
+/// coordinates, which leaves `‖A₁‖₂` unchanged), at most [`TaylorOptions::max_order`] (also when
+/// there is no Gramian form). The remainder bound of the embedding is rigorous in the coordinates
+/// of each form and handled by the robust form of (41), as for any remainder.
+fn taylor_fallback(
+    plant: &Plant,
+    window: &SamplingWindow,
+    forms: &[normalise::Scaling],
+    options: &DesignOptions,
+) -> Option<DesignOptions> {
+    if !(options.taylor_fallback && matches!(options.embedding, EmbeddingMethod::Residue(_))) {
+        return None;
+    }
+    let max_order = TaylorOptions::default().max_order;
+    let x = forms
+        .iter()
+        .find(|s| s.coordinates == normalise::Coordinates::Gramian)
+        .and_then(|s| Some((s.plant(plant)?, s.window(window)?)))
+        .and_then(|(p, w)| {
+            let norm = p.a().singular_values().ok()?.first().copied()?;
+            Some(norm * (w.t2() - w.t1()))
+        })
+        .filter(|x| x.is_finite());
+    let order = x.map_or(max_order, |x| {
+        // x^{N+1}/(N+1)! by its recurrence, times e^x.
+        let (mut order, mut term) = (0usize, x);
+        while term * x.exp() > TAYLOR_FALLBACK_TAIL && order < max_order {
+            order += 1;
+            term *= x / (order + 1) as f64;
+        }
+        order
+    });
+    Some(DesignOptions {
+        embedding: EmbeddingMethod::Taylor(TaylorOptions {
+            order: TaylorOrder::Fixed(order),
+            ..TaylorOptions::default()
+        }),
+        ..options.clone()
+    })
+}
+
+/// The bound on the scaled tail `Σ_{k > N} x^k/k!` of the Gramian form below which the order of
+/// the Taylor fallback is taken ([`taylor_fallback`]).
+pub const TAYLOR_FALLBACK_TAIL: f64 = 1e-12;
+
+/// Whether `d` was certified with the Taylor fallback.
+fn by_taylor(d: &Design) -> bool {
+    matches!(d.embedding.method(), sporadic_embed::Method::Taylor { .. })
 }
 
 fn certificate_of(r: &LmiResult) -> Certificate {
@@ -272,18 +357,21 @@ pub(crate) fn design_cached(
     // nearby window is most often certified by the same form, and the others are then not
     // solved. Its failure is no verdict (the verdict and the reason reported are those of the
     // loop below, which skips it).
-    let preferred = cache
-        .preferred
-        .and_then(|c| forms.iter().position(|s| s.coordinates == c));
-    if let Some(k) = preferred
-        && let Ok(d) = attempt(plant, window, options, cache, &forms[k], context)
+    let taylor = taylor_fallback(plant, window, &forms, options);
+    let preferred = cache.preferred.and_then(|(c, t)| {
+        let k = forms.iter().position(|s| s.coordinates == c)?;
+        Some((k, t))
+    });
+    if let Some((k, t)) = preferred
+        && let Some(o) = if t { taylor.as_ref() } else { Some(options) }
+        && let Ok(d) = attempt(plant, window, o, cache, &forms[k], context)
     {
         return Ok(d);
     }
     let given = normalise::Scaling::identity(plant.n(), plant.q());
     let mut result = attempt(plant, window, options, cache, &given, context);
     for (k, scaling) in forms.iter().enumerate() {
-        if Some(k) == preferred {
+        if preferred == Some((k, false)) {
             continue;
         }
         result = match result {
@@ -298,8 +386,21 @@ pub(crate) fn design_cached(
             }
         };
     }
+    if let (Err(e), Some(taylor)) = (&result, &taylor)
+        && e.reason().is_some()
+    {
+        for (k, scaling) in forms.iter().enumerate() {
+            if preferred == Some((k, true)) {
+                continue;
+            }
+            if let Ok(d) = attempt(plant, window, taylor, cache, scaling, context) {
+                result = Ok(d);
+                break;
+            }
+        }
+    }
     if let Ok(d) = &result {
-        cache.preferred = Some(d.scaling.coordinates);
+        cache.preferred = Some((d.scaling.coordinates, by_taylor(d)));
     }
     result
 }
@@ -471,7 +572,7 @@ fn attempt(
     };
     if !embedding.remainder_bound().powi(2).is_finite() {
         return Err(Error::Embed(EmbedError::Numerical(format!(
-            "the remainder bound of the embedding of e^(Av) is {}",
+            "the remainder bound of the embedding of e^(Av) is {:.3e}",
             embedding.remainder_bound()
         ))));
     }

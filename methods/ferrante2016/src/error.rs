@@ -3,7 +3,7 @@
 
 use sporadic_embed::EmbedError;
 use sporadic_linalg::{InputError, LinalgError};
-use sporadic_model::Reason;
+use sporadic_model::{Reason, significant};
 use sporadic_sdp::SdpError;
 use sporadic_sdp::lmi::ModelError;
 
@@ -19,8 +19,10 @@ pub enum Error {
     /// `|μ| ≥ 1` has an (almost) unobservable eigenvector: the smallest singular value of
     /// `[(μI − e^{Av})/‖e^{Av}‖_F; M/‖M‖_F]` is `margin` (see [`sporadic_linalg::pbh_detectability`]).
     #[error(
-        "(e^(Av), M) is not detectable at v = {v}: eigenvalue {mu_re} + {mu_im}i (|mu| = {modulus}) \
-         is unobservable (relative PBH margin {margin:e}); condition (12) cannot hold (Remark 3)"
+        "(e^(Av), M) is not detectable at v = {}: eigenvalue {mu_re:.3e} + {mu_im:.3e}i (|mu| = \
+         {modulus:.3e}) is unobservable (relative PBH margin {margin:.3e}); condition (12) cannot \
+         hold (Remark 3)",
+        significant(*v)
     )]
     NotDetectable {
         /// The inter-sample time where detectability is lost.
@@ -42,7 +44,7 @@ pub enum Error {
     },
     /// A derived constant is degenerate (e.g. `β ≤ 0`: the given `(P, L)` does not satisfy (12), so
     /// Theorems 1–2 give no bound).
-    #[error("condition (12) does not hold for the given (P, L): {what} = {value}")]
+    #[error("condition (12) does not hold for the given (P, L): {what} = {value:.3e}")]
     ConditionViolated {
         /// Which quantity certifies the violation.
         what: &'static str,
@@ -71,8 +73,10 @@ pub enum Error {
     /// The LMI returned a certificate, but the independent grid check of (12) or of the Schur
     /// property of `e^{Av}(I − LM)` failed (the design is not returned as valid).
     #[error(
-        "a-posteriori verification failed: max lambda_max of (12) = {max_eigenvalue:e} at v = {at}, \
-         max spectral radius of e^(Av)(I-LM) = {max_spectral_radius} at v = {radius_at}"
+        "a-posteriori verification failed: max lambda_max of (12) = {max_eigenvalue:.3e} at v = \
+         {}, max spectral radius of e^(Av)(I-LM) = {max_spectral_radius:.3e} at v = {}",
+        significant(*at),
+        significant(*radius_at)
     )]
     VerificationFailed {
         /// Largest eigenvalue of (12)'s left-hand side on the grid.

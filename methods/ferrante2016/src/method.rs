@@ -10,7 +10,7 @@ use sporadic_model::{
     Check, DesignReport, Gain, Margin, MaxIntervalReport, MethodError, MethodOptions, NamedMatrix,
     NotApplicable, ObserverMethod, Outputs, Plant as ModelPlant, Probe, Proof, ProofOptions,
     Reason, Sampling, SamplingScenario, SamplingWindow, Scenario, SimulationReport, Trajectory,
-    check_simulatable, largest_window_with,
+    check_simulatable, largest_window_with, significant,
 };
 use sporadic_sdp::lmi::Normalisation;
 use sporadic_sim::{Adversarial, JumpMap, Periodic, SamplingRule, SimOptions, UniformRandom};
@@ -109,9 +109,12 @@ impl Ferrante2016 {
             "LMI (41) at {} vertices of the {} embedding of e^(Av), v in {} ({} piece(s)); {} \
              interior-point iterations, {} decision scalars",
             d.embedding.vertex_count(),
-            match self.design.embedding {
-                crate::EmbeddingMethod::Residue(_) => "residue (§4.1)",
-                crate::EmbeddingMethod::Taylor(_) => "Taylor",
+            match (d.embedding.method(), &self.design.embedding) {
+                (sporadic_embed::Method::Residue { .. }, _) => "residue (§4.1)",
+                (sporadic_embed::Method::Taylor { .. }, crate::EmbeddingMethod::Taylor(_)) =>
+                    "Taylor",
+                (sporadic_embed::Method::Taylor { .. }, _) =>
+                    "Taylor (fallback: the residue box of §4.1 certified no form)",
             },
             SamplingWindow::new(
                 d.embedding.interval().t1() * d.scaling.time,
@@ -140,21 +143,21 @@ impl Ferrante2016 {
         match d.scaling.coordinates {
             Coordinates::Given => {}
             Coordinates::Gramian => r.notes.push(format!(
-                "LMI (41) solved on the normalised problem: time unit k = {:e} s (T2, or T1 plus \
+                "LMI (41) solved on the normalised problem: time unit k = {} s (T2, or T1 plus \
                  the decay horizon 72/|α| of A when the window is longer), state coordinates \
                  x' = Tx in which the observability Gramian over one time unit is the identity, output scaling y' = Sy with S = diag{}; L, P, F, J mapped back \
                  (L = T^-1 L' S, P = T'P'T, F = T'F'T, J = T'J'S) and (12) re-verified on the \
                  user's data",
-                d.scaling.time,
-                vector_words(&d.scaling.output),
+                significant(d.scaling.time),
+                power_words(&d.scaling.output),
             )),
             Coordinates::Diagonal => r.notes.push(format!(
-                "LMI (41) solved on the normalised problem: time unit k = {:e} s (T2, or T1 plus \
+                "LMI (41) solved on the normalised problem: time unit k = {} s (T2, or T1 plus \
                  the decay horizon 72/|α| of A when the window is longer), state scaling x' = Dx with D = diag{} (powers of two), output scaling y' = Sy with S = diag{}; \
                  L, P, F, J mapped back (L = D^-1 L' S, P = D'P'D, F = D'F'D, J = D'J'S) and (12) \
                  re-verified on the user's data",
-                d.scaling.time,
-                vector_words(
+                significant(d.scaling.time),
+                power_words(
                     &d.scaling
                         .state
                         .diagonal()
@@ -163,7 +166,7 @@ impl Ferrante2016 {
                         .copied()
                         .collect::<Vec<_>>()
                 ),
-                vector_words(&d.scaling.output),
+                power_words(&d.scaling.output),
             )),
         }
         r.notes.push(
@@ -241,7 +244,7 @@ fn margin_definition(options: &DesignOptions, d: &Design) -> String {
          polytopic embedding of e^(Av), v in [T1, T2] (Φ_i is {form}), under the normalisation \
          {norm} (spectral norms) and the cap t ≤ {}; (41) is homogeneous, so t > 0 iff (41) is \
          strictly feasible, and t is the slack of the certificate relative to that scale",
-        options.lmi.margin_cap
+        significant(options.lmi.margin_cap)
     )
 }
 
@@ -325,7 +328,7 @@ fn checks(options: &DesignOptions, d: &Design) -> Vec<Check> {
                Corollary 1)"
             .into(),
         how: format!(
-            "{:?}; remainder bound {:e}",
+            "{:?}; remainder bound {:.3e}",
             d.embedding.containment(),
             d.embedding.remainder_bound()
         ),
@@ -683,11 +686,11 @@ impl ObserverMethod for Ferrante2016 {
             ),
             SamplingScenario::PeriodicT1 => (
                 Box::new(Periodic::new(window.t1()).map_err(sim_err)?),
-                format!("periodic, every interval T1 = {}", window.t1()),
+                format!("periodic, every interval T1 = {}", significant(window.t1())),
             ),
             SamplingScenario::PeriodicT2 => (
                 Box::new(Periodic::new(window.t2()).map_err(sim_err)?),
-                format!("periodic, every interval T2 = {}", window.t2()),
+                format!("periodic, every interval T2 = {}", significant(window.t2())),
             ),
             SamplingScenario::WorstCase => {
                 let cert = design
@@ -749,9 +752,10 @@ impl ObserverMethod for Ferrante2016 {
             report: SimulationReport {
                 setup: format!(
                     "error system (5) with the designed L, ε(0) = {}, |ε(0)| = {:.4}, \
-                     {sampling_words}, horizon {horizon} s",
+                     {sampling_words}, horizon {} s",
                     vector_words(&eps0),
-                    initial_error
+                    initial_error,
+                    significant(horizon)
                 ),
                 samples,
                 initial_error,
@@ -767,12 +771,30 @@ impl ObserverMethod for Ferrante2016 {
     }
 }
 
-/// `(x1, …, xn)` with `(1, ..., 1)` abbreviated.
+/// `(x1, …, xn)` with `(1, ..., 1)` abbreviated, each entry with [`significant`] digits.
 fn vector_words(x: &[f64]) -> String {
+    words(x, significant)
+}
+
+/// [`vector_words`] for power-of-two scalings: an entry `2^k` other than 1 as `2^k` (exact and
+/// short, e.g. `2^-17` instead of `0.00000762939453125`).
+fn power_words(x: &[f64]) -> String {
+    words(x, |v| {
+        let (m, e) = (v.abs().log2().round() as i32, v.signum());
+        if v != 1.0 && v.is_finite() && v != 0.0 && v.abs() == 2f64.powi(m) {
+            format!("{}2^{m}", if e < 0.0 { "-" } else { "" })
+        } else {
+            significant(v)
+        }
+    })
+}
+
+fn words(x: &[f64], word: impl Fn(f64) -> String) -> String {
     if x.len() > 3 && x.iter().all(|v| *v == x[0]) {
-        return format!("({0}, …, {0})", x[0]);
+        let w = word(x[0]);
+        return format!("({w}, …, {w})");
     }
-    let parts: Vec<String> = x.iter().map(|v| v.to_string()).collect();
+    let parts: Vec<String> = x.iter().map(|v| word(*v)).collect();
     format!("({})", parts.join(", "))
 }
 
