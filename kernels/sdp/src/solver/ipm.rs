@@ -39,7 +39,8 @@ enum Mode {
 }
 
 /// A refined normal-equations direction whose primal error exceeds this multiple of the
-/// refinement threshold is inaccurate; the solve continues with the least-squares form.
+/// refinement threshold is inaccurate unless conjugate gradients bring it down to the threshold
+/// (`direction::krylov`); otherwise the solve continues with the least-squares form.
 const ACCEPTED_ERROR: f64 = 10.0;
 
 /// Best iterate seen so far (by [`Residuals::merit`]).
@@ -407,6 +408,7 @@ pub(crate) fn run(
             rp: &res.rp,
             rd: &res.rd,
             threshold,
+            accepted: ACCEPTED_ERROR * threshold,
         };
         let gamma = settings
             .step_fraction
@@ -447,9 +449,7 @@ pub(crate) fn run(
                     System::LeastSquares(ws.lsq.as_ref().expect("factorised above"))
                 }
             };
-            let switch = |d: &Direction| {
-                system.is_normal() && !lsq_failed && d.error > ACCEPTED_ERROR * threshold
-            };
+            let switch = |d: &Direction| system.is_normal() && !lsq_failed && d.inaccurate;
 
             // Predictor (affine scaling, σ = 0).
             let pred = system.direction(&it, 0.0, None);
