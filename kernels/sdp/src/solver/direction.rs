@@ -166,8 +166,8 @@ pub(crate) struct Direction {
     /// `ΔS = R_d − 𝒜ᵀ(Δy)`.
     pub ds: BlockMats,
     /// Whether this normal-equations direction is inaccurate: its error `‖r_p − 𝒜(ΔX)‖₂` after
-    /// refinement is above [`Iterate::accepted`] and [`krylov`] did not bring it down to the
-    /// refinement threshold.
+    /// refinement is above [`Iterate::accepted`] and [`krylov`] did not bring it down to
+    /// [`Iterate::rescued`].
     pub inaccurate: bool,
 }
 
@@ -186,6 +186,9 @@ pub(crate) struct Iterate<'a> {
     /// A normal-equations direction whose error after refinement is above this is inaccurate;
     /// conjugate gradients ([`krylov`]) try to rescue it before the caller gives up on it.
     pub accepted: f64,
+    /// Error (at most [`Iterate::accepted`]) that a direction improved by [`krylov`] must reach
+    /// to count as rescued.
+    pub rescued: f64,
 }
 
 /// A factorised Newton system.
@@ -275,7 +278,7 @@ impl System<'_> {
         let (refined, inaccurate) = match self {
             System::Normal(solver) if error > it.accepted => {
                 match krylov(it, solver, dx.as_mut_slice(), &mut dy) {
-                    Some(e) => (true, !(e <= it.threshold)),
+                    Some(e) => (true, !(e <= it.rescued)),
                     None => (refined, true),
                 }
             }
