@@ -337,6 +337,10 @@ pub(crate) fn run(
     let mut mode = Mode::Normal;
     let mut lsq_failed = false;
     let mut lsq_used = false;
+    // Conjugate gradients stand in for the least-squares form and are tried only where it could
+    // be used: without it the normal equations carry on as they are (and a step of conjugate
+    // gradients on blocks of order in the thousands would cost seconds).
+    let lsq_fits = LeastSquares::fits(an);
     let status = loop {
         let res = residuals(an, vals, &cd, &norms, &x, &y, &s);
         let mu = if an.nu > 0 { res.xs / nu } else { 0.0 };
@@ -409,7 +413,11 @@ pub(crate) fn run(
             rp: &res.rp,
             rd: &res.rd,
             threshold,
-            accepted: ACCEPTED_ERROR * threshold,
+            accepted: if lsq_fits {
+                ACCEPTED_ERROR * threshold
+            } else {
+                f64::INFINITY
+            },
             // Conjugate gradients must reach the threshold itself, except once the primal
             // infeasibility is a tenth of its tolerance: the accepted error (a hundredth of the
             // tolerance) can then no longer spoil it (qap8 from iteration 19: the steps stall at
