@@ -16,8 +16,9 @@
 //! `M`, module `linsys`), or the equivalent least-squares problem in the scaled space (QR of the
 //! scaled constraint matrix, module `lsq`), which keeps `𝒜(ΔX) = r_p` accurate when `M` is too
 //! ill-conditioned for double precision. Either way the direction is then refined against the
-//! primal equation recomputed from the actual `ΔX` ([`refine`]), and `ΔS = R_d − 𝒜ᵀ(Δy)` makes the
-//! dual equation exact.
+//! primal equation recomputed from the actual `ΔX` ([`refine`]; for a normal-equations direction
+//! that refinement leaves inaccurate, by conjugate gradients, [`krylov`]), and
+//! `ΔS = R_d − 𝒜ᵀ(Δy)` makes the dual equation exact.
 
 use faer::Mat;
 
@@ -164,8 +165,10 @@ pub(crate) struct Direction {
     pub dy: Vec<f64>,
     /// `ΔS = R_d − 𝒜ᵀ(Δy)`.
     pub ds: BlockMats,
-    /// `‖r_p − 𝒜(ΔX)‖₂` after refinement.
-    pub error: f64,
+    /// Whether this normal-equations direction is inaccurate: its error `‖r_p − 𝒜(ΔX)‖₂` after
+    /// refinement is above [`Iterate::accepted`] and [`krylov`] did not bring it down to
+    /// [`Iterate::rescued`].
+    pub inaccurate: bool,
 }
 
 /// The data a direction is computed from.
@@ -180,6 +183,12 @@ pub(crate) struct Iterate<'a> {
     pub rd: &'a [Mat<f64>],
     /// Refinement stops once `‖r_p − 𝒜(ΔX)‖₂` is at most this.
     pub threshold: f64,
+    /// A normal-equations direction whose error after refinement is above this is inaccurate;
+    /// conjugate gradients ([`krylov`]) try to rescue it before the caller gives up on it.
+    pub accepted: f64,
+    /// Error (at most [`Iterate::accepted`]) that a direction improved by [`krylov`] must reach
+    /// to count as rescued.
+    pub rescued: f64,
 }
 
 /// A factorised Newton system.
@@ -266,11 +275,25 @@ impl System<'_> {
                 adx
             },
         );
+        let (refined, inaccurate) = match self {
+            System::Normal(solver) if error > it.accepted => {
+                match krylov(it, solver, dx.as_mut_slice(), &mut dy) {
+                    Some(e) => (true, !(e <= it.rescued)),
+                    None => (refined, true),
+                }
+            }
+            _ => (refined, false),
+        };
         let ds = match ds {
             Some(ds) if !refined => ds,
             _ => an.map_blocks(|k, _| dual_block(an, vals, k, &dy, &it.rd[k])),
         };
-        Direction { dx, dy, ds, error }
+        Direction {
+            dx,
+            dy,
+            ds,
+            inaccurate,
+        }
     }
 }
 
@@ -293,6 +316,137 @@ fn hkm_image(
             c
         }
     })
+}
+
+/// Most conjugate-gradient steps of [`krylov`].
+const KRYLOV_STEPS: usize = 100;
+/// [`krylov`] is not tried when its budget allows fewer steps than this: the least-squares form
+/// is then cheap enough (`m` not much above the block orders, as on the gpp problems).
+const KRYLOV_MIN_STEPS: usize = 20;
+/// [`krylov`] spends at most this fraction of the flops of the QR factorisation of `K` that it
+/// saves (`2 N m²` for `K` of `N` rows).
+const KRYLOV_BUDGET: f64 = 0.25;
+
+/// Step limit of [`krylov`]: [`KRYLOV_STEPS`], or fewer when the steps (four dense products per
+/// PSD block of order `n`, `8 n³` flops) would exceed [`KRYLOV_BUDGET`] of a QR of `K`.
+fn krylov_steps(an: &Analysis) -> usize {
+    let (mut rows, mut step) = (0.0, 0.0);
+    for b in &an.blocks {
+        let n = b.n as f64;
+        match b.kind {
+            BlockKind::Psd => {
+                rows += n * n;
+                step += 8.0 * n * n * n;
+            }
+            BlockKind::Lp => {
+                rows += n;
+                step += 4.0 * n;
+            }
+        }
+    }
+    let m = an.m as f64;
+    let affordable = KRYLOV_BUDGET * 2.0 * rows * m * m / step.max(1.0);
+    (affordable.min(KRYLOV_STEPS as f64)) as usize
+}
+
+/// `sym(L_X (L_Xᵀ 𝒜ᵀ(δ) L_S⁻ᵀ) L_S⁻¹)` per block (elementwise for LP blocks): the change of `ΔX` per
+/// unit change of `Δy` ([`hkm_image`]), formed through the scaled constraint matrix `K δ =
+/// L_Xᵀ 𝒜ᵀ(δ) L_S⁻ᵀ` of [`super::lsq`] so that `𝒜(·) = Kᵀ(K δ)` is applied as two factors and
+/// never through the (possibly numerically singular) product `M`.
+fn scaled_image(it: &Iterate<'_>, delta: &[f64]) -> BlockMats {
+    let (an, vals, x, f) = (it.an, it.vals, it.x, it.f);
+    let mut w = super::blockops::zeros(an);
+    apply_at(an, vals, delta, &mut w);
+    an.map_blocks(|k, b| match b.kind {
+        BlockKind::Lp => Mat::from_fn(b.n, 1, |l, _| {
+            x[k][(l, 0)] * w[k][(l, 0)] * f.zinv[k][(l, 0)]
+        }),
+        BlockKind::Psd => {
+            let (lx, linv_s) = (&f.lx[k], &f.linv_s[k]);
+            let kd = mul(
+                &mul(&lx.transpose().to_owned(), &w[k]),
+                &linv_s.transpose().to_owned(),
+            );
+            let mut c = mul(&mul(lx, &kd), linv_s);
+            symmetrize(&mut c);
+            c
+        }
+    })
+}
+
+/// Preconditioned conjugate gradients on `Kᵀ K δ = r_p − 𝒜(ΔX)` for a normal-equations direction
+/// that iterative refinement left inaccurate.
+///
+/// Refinement with the Cholesky factor of `M` is a stationary iteration: along eigenvectors of
+/// `M` at or below the rounding level of its computed entries (the QAP relaxations, which have no
+/// strictly feasible primal point, put the primal residual exactly there) it does not converge.
+/// Conjugate gradients with the same factor as preconditioner (`(M̃ + ρI)⁻¹`, exact on the
+/// well-conditioned part) and the operator applied as `Kᵀ(K δ)` ([`scaled_image`]) resolve the
+/// few such directions in as many steps, each costing a few block products instead of the QR
+/// factorisation of `K` that [`super::lsq`] needs. The iterate with the smallest true residual
+/// `‖r_p − 𝒜(ΔX)‖₂` is kept; stops at `threshold`. Returns that residual if the direction
+/// changed.
+fn krylov(
+    it: &Iterate<'_>,
+    solver: &SchurSolver,
+    dx: &mut [Mat<f64>],
+    dy: &mut [f64],
+) -> Option<f64> {
+    let limit = krylov_steps(it.an);
+    if limit < KRYLOV_MIN_STEPS {
+        return None;
+    }
+    let precond = solver.preconditioner()?;
+    let (an, vals) = (it.an, it.vals);
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(u, v)| u * v).sum::<f64>();
+    let error_of = |dx: &[Mat<f64>]| {
+        let mut adx = vec![0.0; an.m];
+        apply_a(an, vals, dx, &mut adx);
+        let e: Vec<f64> = it.rp.iter().zip(&adx).map(|(r, a)| r - a).collect();
+        let n = dot(&e, &e).sqrt();
+        (e, n)
+    };
+    let (mut r, mut best) = error_of(dx);
+    let (mut cur_dx, mut cur_dy) = (dx.to_vec(), dy.to_vec());
+    let mut z = precond(&r);
+    let mut p = z.clone();
+    let mut rz = dot(&r, &z);
+    let mut improved = false;
+    for _ in 0..limit {
+        if !(rz > 0.0) || best <= it.threshold {
+            break;
+        }
+        let img = scaled_image(it, &p);
+        let mut q = vec![0.0; an.m];
+        apply_a(an, vals, &img, &mut q);
+        let pq = dot(&p, &q);
+        if !(pq > 0.0) {
+            break;
+        }
+        let alpha = rz / pq;
+        axpy(&mut cur_dx, alpha, &img);
+        for (a, d) in cur_dy.iter_mut().zip(&p) {
+            *a += alpha * d;
+        }
+        for (a, d) in r.iter_mut().zip(&q) {
+            *a -= alpha * d;
+        }
+        let (_, n) = error_of(&cur_dx);
+        if n < best {
+            best = n;
+            dx.clone_from_slice(&cur_dx);
+            dy.copy_from_slice(&cur_dy);
+            improved = true;
+        }
+        z = precond(&r);
+        let rz_next = dot(&r, &z);
+        let beta = rz_next / rz;
+        rz = rz_next;
+        for (a, b) in p.iter_mut().zip(&z) {
+            *a = b + beta * *a;
+        }
+    }
+    improved.then_some(best)
 }
 
 /// Iterative refinement of a direction against the primal linearised equation

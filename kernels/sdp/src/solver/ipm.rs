@@ -39,7 +39,8 @@ enum Mode {
 }
 
 /// A refined normal-equations direction whose primal error exceeds this multiple of the
-/// refinement threshold is inaccurate; the solve continues with the least-squares form.
+/// refinement threshold is inaccurate unless conjugate gradients bring it down to the threshold
+/// (`direction::krylov`); otherwise the solve continues with the least-squares form.
 const ACCEPTED_ERROR: f64 = 10.0;
 
 /// Best iterate seen so far (by [`Residuals::merit`]).
@@ -336,6 +337,10 @@ pub(crate) fn run(
     let mut mode = Mode::Normal;
     let mut lsq_failed = false;
     let mut lsq_used = false;
+    // Conjugate gradients stand in for the least-squares form and are tried only where it could
+    // be used: without it the normal equations carry on as they are (and a step of conjugate
+    // gradients on blocks of order in the thousands would cost seconds).
+    let lsq_fits = LeastSquares::fits(an);
     let status = loop {
         let res = residuals(an, vals, &cd, &norms, &x, &y, &s);
         let mu = if an.nu > 0 { res.xs / nu } else { 0.0 };
@@ -398,7 +403,8 @@ pub(crate) fn run(
         // Errors of 𝒜(ΔX) = r_p below 1% of the current residual (or of the tolerance) cannot
         // spoil the step and are not refined; a normal-equations direction still off by more
         // than ten times that after refinement is inaccurate.
-        let threshold = 0.01 * res.rp_norm.max(0.1 * settings.tol_feas * (1.0 + norms.b2));
+        let floor = 0.1 * settings.tol_feas * (1.0 + norms.b2);
+        let threshold = 0.01 * res.rp_norm.max(floor);
         let it = Iterate {
             an,
             vals,
@@ -407,6 +413,21 @@ pub(crate) fn run(
             rp: &res.rp,
             rd: &res.rd,
             threshold,
+            accepted: if lsq_fits {
+                ACCEPTED_ERROR * threshold
+            } else {
+                f64::INFINITY
+            },
+            // Conjugate gradients must reach the threshold itself, except once the primal
+            // infeasibility is a tenth of its tolerance: the accepted error (a hundredth of the
+            // tolerance) can then no longer spoil it (qap8 from iteration 19: the steps stall at
+            // 6.5 times the threshold, and the least-squares form took two more QR iterations
+            // for the same end point).
+            rescued: if res.rp_norm <= floor {
+                ACCEPTED_ERROR * threshold
+            } else {
+                threshold
+            },
         };
         let gamma = settings
             .step_fraction
@@ -447,9 +468,7 @@ pub(crate) fn run(
                     System::LeastSquares(ws.lsq.as_ref().expect("factorised above"))
                 }
             };
-            let switch = |d: &Direction| {
-                system.is_normal() && !lsq_failed && d.error > ACCEPTED_ERROR * threshold
-            };
+            let switch = |d: &Direction| system.is_normal() && !lsq_failed && d.inaccurate;
 
             // Predictor (affine scaling, σ = 0).
             let pred = system.direction(&it, 0.0, None);

@@ -39,6 +39,8 @@ pub(crate) struct SchurSolver {
     factor: Factor,
     /// Regularisation `ρ` used by the last factorisation (`0` if none; `NaN` for LBLᵀ).
     pub regularization: f64,
+    /// Whether some diagonal entry of `M` was not positive (an empty constraint, or rounding).
+    empty_row: bool,
 }
 
 impl SchurSolver {
@@ -50,6 +52,7 @@ impl SchurSolver {
             l: Mat::zeros(m, m),
             factor: Factor::Llt,
             regularization: 0.0,
+            empty_row: false,
         }
     }
 
@@ -82,6 +85,7 @@ impl SchurSolver {
     /// ignored). Returns `false` only if no factorisation produced finite numbers.
     pub(crate) fn factorize(&mut self, lower: &Mat<f64>) -> bool {
         let m = lower.nrows();
+        self.empty_row = false;
         for j in 0..m {
             for i in j..m {
                 let v = lower[(i, j)];
@@ -92,6 +96,7 @@ impl SchurSolver {
             self.d[j] = if dj > 0.0 && dj.is_finite() {
                 1.0 / dj.sqrt()
             } else {
+                self.empty_row = true;
                 1.0
             };
         }
@@ -109,6 +114,16 @@ impl SchurSolver {
         self.factor = Factor::Lblt(scaled.lblt(Side::Lower));
         self.regularization = f64::NAN;
         true
+    }
+
+    /// `(M̃ + ρI)⁻¹` in the unscaled variables, `D (L Lᵀ)⁻¹ D`: a fixed symmetric positive
+    /// definite approximation of `M⁻¹` (the preconditioner of [`super::direction`]'s conjugate
+    /// gradients), or `None` after the indefinite fallback factorisation or when a diagonal
+    /// entry of `M` is not positive (an empty constraint makes `M` singular, and conjugate
+    /// gradients would diverge along it).
+    pub(crate) fn preconditioner(&self) -> Option<impl Fn(&[f64]) -> Vec<f64> + '_> {
+        (matches!(self.factor, Factor::Llt) && !self.empty_row)
+            .then_some(move |r: &[f64]| self.apply_inverse(r))
     }
 
     fn apply_inverse(&self, r: &[f64]) -> Vec<f64> {

@@ -138,6 +138,25 @@ fn support_of(rows: &[usize], cols: &[usize]) -> Vec<usize> {
 }
 
 impl LeastSquares {
+    /// Whether [`LeastSquares::new`] can allocate the form for `an` (the size test alone).
+    pub(crate) fn fits(an: &Analysis) -> bool {
+        let m = an.m;
+        let rows = an.blocks.iter().try_fold(0usize, |rows, b| {
+            rows.checked_add(match b.kind {
+                BlockKind::Psd => b.n.checked_mul(b.n)?,
+                BlockKind::Lp => b.n,
+            })
+        });
+        rows.is_some_and(|rows| {
+            m > 0
+                && rows >= m
+                && rows
+                    .checked_add(m)
+                    .and_then(|r| r.checked_mul(m))
+                    .is_some_and(|e| e <= MAX_ELEMENTS)
+        })
+    }
+
     /// Workspaces for `an`, or `None` when `K` would exceed the memory budget or cannot have full
     /// column rank (fewer scaled rows than constraints).
     pub(crate) fn new(an: &Analysis) -> Option<Self> {

@@ -59,9 +59,11 @@
 //! rounding of a large `ΔS` by `‖X‖ ‖S⁻¹‖`: the computed `ΔX` misses `𝒜(ΔX) = r_p` and the primal
 //! infeasibility grows while `μ` falls (where CSDP reports "partial success" and SDPA `pFEAS`).
 //! Every direction is therefore refined against `r_p − 𝒜(ΔX)` recomputed from the actual `ΔX`;
-//! if the error stays above ten times the refinement threshold, the rest of the solve uses the
-//! least-squares form (module `lsq`), whose primal error is `ε ‖K‖ ‖Z‖` independently of
-//! `cond(M)`. Dependent, duplicate or empty constraints make `M` singular; the regularised
+//! if the error stays above ten times the refinement threshold, preconditioned conjugate
+//! gradients on `KᵀK` (applied as two scaled block products, never through `M`, with the Cholesky
+//! factor of `M` as preconditioner) try to bring it down to the threshold, and if they do not, the
+//! rest of the solve uses the least-squares form (module `lsq`), whose primal error is
+//! `ε ‖K‖ ‖Z‖` independently of `cond(M)`. Dependent, duplicate or empty constraints make `M` singular; the regularised
 //! Cholesky / LBLᵀ fallback with iterative refinement handles them, and the best iterate
 //! (smallest largest stopping measure) is returned when progress stalls. Non-finite data and
 //! inconsistent structure are rejected with an [`SdpError`] before any work is done.
