@@ -85,7 +85,8 @@ const NO_PROGRESS_ITERATIONS_NEAR: usize = 5;
 /// … or this many once the best iterate is within the reduced tolerance `tol_reduced` in every
 /// DIMACS error, so that the solve ends almost optimal at worst. On the default SDPLIB set no
 /// iterate after two in a row without progress at that accuracy came within the full tolerance
-/// (hinf1, 3, 5–8, 10, 11, 13–15, qap6–8 stay on a plateau within 1.5× of the best), while
+/// (hinf1, 3, 5–8, 10, 11, 13–15, and qap6–8 with the least-squares directions they took
+/// before the conjugate-gradient rescue, stay on a plateau within 1.5× of the best), while
 /// ss30 reaches it after one (4.9e-8, 4.5e-8, then 1.7e-8 and optimal); waiting
 /// [`NO_PROGRESS_ITERATIONS_NEAR`] iterations cost hinf6, hinf10, hinf11 three more each.
 const NO_PROGRESS_ITERATIONS_REDUCED: usize = 2;
