@@ -309,7 +309,7 @@ fn taylor_fallback(
 }
 
 /// The bound on the scaled tail `Σ_{k > N} x^k/k!` of the Gramian form below which the order of
-/// the Taylor fallback is taken ([`taylor_fallback`]).
+/// the Taylor fallback is taken ([`DesignOptions::taylor_fallback`]).
 pub const TAYLOR_FALLBACK_TAIL: f64 = 1e-12;
 
 /// Whether `d` was certified with the Taylor fallback.
