@@ -99,7 +99,7 @@ pub enum Error {
     SolverFailed {
         /// Which problem.
         what: String,
-        /// The solver status (debug form).
+        /// The solver's status and the LMI layer's reason.
         status: String,
     },
     /// A design returned by the SDP failed its independent a-posteriori check (e.g. `ρ(J_1) ≥ 1` or

@@ -235,7 +235,7 @@ pub(crate) fn check_outcome(sol: &LmiSolution, what: &str) -> Result<(), Error> 
         }),
         _ => Err(Error::SolverFailed {
             what: what.to_owned(),
-            status: format!("{:?}/{:?}: {}", sol.outcome, sol.sdp.status, sol.reason),
+            status: format!("{} ({})", sol.sdp.status.as_str(), sol.reason),
         }),
     }
 }
