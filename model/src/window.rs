@@ -91,6 +91,17 @@ pub fn significant(x: f64) -> String {
     }
 }
 
+/// `x` rounded to 4 significant digits in its shortest form, for messages: plain decimals in
+/// `[1e-3, 1e4)`, exponent form outside (`1.695e5`, not `169500`).
+pub fn sig4(x: f64) -> String {
+    let r = format!("{x:.3e}").parse::<f64>().unwrap_or(x);
+    if r != 0.0 && r.is_finite() && !(1e-3..1e4).contains(&r.abs()) {
+        format!("{r:e}")
+    } else {
+        format!("{r}")
+    }
+}
+
 /// The sampling of a plant's outputs: one window for all outputs, or round-robin sensors each
 /// with its own window (Sferlazza et al. 2021: sensor `σ` is read when the time since the
 /// previous sample lies in its window).

@@ -185,16 +185,7 @@ pub(crate) fn check_at_least(name: &str, k: usize, min: usize) -> Result<(), Inp
     }
 }
 
-/// `x` rounded to 4 significant digits in its shortest form, for messages: plain decimals in
-/// `[1e-3, 1e4)`, exponent form outside (`1.695e5`, not `169500`).
-pub(crate) fn sig4(x: f64) -> String {
-    let r = format!("{x:.3e}").parse::<f64>().unwrap_or(x);
-    if r != 0.0 && r.is_finite() && !(1e-3..1e4).contains(&r.abs()) {
-        format!("{r:e}")
-    } else {
-        format!("{r}")
-    }
-}
+pub(crate) use sporadic_model::sig4;
 
 /// `re ± |im|i` with [`sig4`] (`re` alone when `im` is 0).
 pub(crate) fn sig4_complex(re: f64, im: f64) -> String {

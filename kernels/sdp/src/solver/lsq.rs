@@ -160,18 +160,18 @@ impl LeastSquares {
     /// Workspaces for `an`, or `None` when `K` would exceed the memory budget or cannot have full
     /// column rank (fewer scaled rows than constraints).
     pub(crate) fn new(an: &Analysis) -> Option<Self> {
+        if !Self::fits(an) {
+            return None;
+        }
         let m = an.m;
         let mut offsets = Vec::with_capacity(an.blocks.len());
         let mut rows = 0usize;
         for b in &an.blocks {
             offsets.push(rows);
-            rows = rows.checked_add(match b.kind {
-                BlockKind::Psd => b.n.checked_mul(b.n)?,
+            rows += match b.kind {
+                BlockKind::Psd => b.n * b.n,
                 BlockKind::Lp => b.n,
-            })?;
-        }
-        if m == 0 || rows < m || rows.checked_add(m)?.checked_mul(m)? > MAX_ELEMENTS {
-            return None;
+            };
         }
         let mut touches = vec![Vec::new(); m];
         let mut supports = Vec::with_capacity(an.blocks.len());
