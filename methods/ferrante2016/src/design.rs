@@ -35,7 +35,7 @@
 //! a similarity with condition number up to 10 (margin `1.4e-7` under the solver's verification
 //! threshold `2.4e-7` there), where the residue box certifies neither. On `three-mass-chain`
 //! (`[0.02, 0.3]`, not certified by the residue box) it certifies windows up to `T2 ≈ 0.65` at
-//! 14–20 vertices instead of the 512 of the residue box of the diagonal form.
+//! 14–20 vertices instead of the 256 of the residue box of the diagonal form.
 //!
 //! **Analysis** ([`analyse`]): the same LMI with `J = FL` for a given `L` (linear in `P`, `F`), i.e.
 //! (36) at the vertices; certifies e.g. the gain published for Example 2.
