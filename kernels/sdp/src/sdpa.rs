@@ -159,13 +159,14 @@ pub fn sdpa_status_name(status: Status) -> &'static str {
         Status::MaxIterations => "iteration limit",
         Status::Interrupted => "interrupted",
         Status::NumericalTrouble => "numerical trouble",
+        Status::Accepted => "accepted",
     }
 }
 
 /// The snake-case identifier of a status in the SDPA naming (used in JSON output): `optimal`,
 /// `almost_optimal`, `sdpa_dual_infeasible` ([`Status::PrimalInfeasible`]),
 /// `sdpa_primal_infeasible` ([`Status::DualInfeasible`]), `iteration_limit`, `interrupted`,
-/// `numerical_trouble`.
+/// `numerical_trouble`, `accepted`.
 pub fn sdpa_status_id(status: Status) -> &'static str {
     match status {
         Status::Optimal => "optimal",
@@ -175,6 +176,7 @@ pub fn sdpa_status_id(status: Status) -> &'static str {
         Status::MaxIterations => "iteration_limit",
         Status::Interrupted => "interrupted",
         Status::NumericalTrouble => "numerical_trouble",
+        Status::Accepted => "accepted",
     }
 }
 

@@ -367,6 +367,51 @@ fn strict_constraints_in_objective_mode() {
     assert_eq!(sol.outcome, Outcome::Feasible, "{}", sol.reason);
 }
 
+/// `FeasibilityOptions::stop_when_verified`: the margin solve of a strictly feasible Lyapunov
+/// LMI ends at the first verified iterate, with fewer iterations and a positive margin at most
+/// the optimal one, and the point it returns verifies (re-checked here from the matrix itself);
+/// an LMI that is not strictly feasible gets the same verdict as without the option.
+#[test]
+fn a_margin_solve_can_stop_at_its_first_verified_point() {
+    let lyapunov = |a: Mat<f64>| {
+        let mut m = Model::new();
+        let p = m.symmetric("P", 2);
+        m.constrain(p.gt(0.0).named("P > 0")).unwrap();
+        let lhs = a.transpose() * p.expr() + p.expr() * &a;
+        m.constrain(lhs.lt(0.0).named("A'P + PA < 0")).unwrap();
+        (m, p)
+    };
+    let mut stop = FeasibilityOptions::default();
+    stop.stop_when_verified = true;
+    let (m, p) = lyapunov(mat![[-1.0, 3.0], [-0.5, -0.2]]);
+    let full = m.feasibility(&FeasibilityOptions::default()).unwrap();
+    let early = m.feasibility(&stop).unwrap();
+    assert_eq!(full.outcome, Outcome::Feasible, "{}", full.reason);
+    assert_eq!(early.outcome, Outcome::Feasible, "{}", early.reason);
+    assert_eq!(early.sdp.status, sporadic_sdp::Status::Accepted);
+    assert!(early.sdp.iterations < full.sdp.iterations);
+    let (t, t_star) = (early.margin.unwrap(), full.margin.unwrap());
+    assert!(t > 0.0 && t <= t_star * (1.0 + 1e-9), "{t} vs {t_star}");
+    assert!(
+        early.reason.contains("first interior-point iterate"),
+        "{}",
+        early.reason
+    );
+    let pv = early.value(&p).unwrap();
+    let a = mat![[-1.0, 3.0], [-0.5, -0.2]];
+    let q = a.transpose() * &pv + &pv * &a;
+    let eig = |x: &Mat<f64>| sporadic_linalg::max_eigenvalue(x.as_ref()).unwrap();
+    assert!(eig(&q) < 0.0 && eig(&(-&pv)) < 0.0);
+    // An unstable A: no iterate verifies, so the verdict is the full solve's.
+    let (m, _) = lyapunov(mat![[0.1, 1.0], [0.0, -1.0]]);
+    let full = m.feasibility(&FeasibilityOptions::default()).unwrap();
+    let early = m.feasibility(&stop).unwrap();
+    assert_eq!(full.outcome, Outcome::Infeasible, "{}", full.reason);
+    assert_eq!(early.outcome, full.outcome);
+    assert_eq!(early.sdp.status, full.sdp.status);
+    assert_eq!(early.margin, full.margin);
+}
+
 /// An infeasible non-strict LMI is reported from the solver's certificate.
 #[test]
 fn infeasible_lmi_is_certified() {

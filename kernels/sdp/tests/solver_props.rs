@@ -782,6 +782,49 @@ fn an_exhausted_budget_interrupts_the_solve() {
     );
 }
 
+/// `Solver::solve_until`: a test that accepts nothing leaves the solve exactly as
+/// `Solver::solve` (bitwise); one that accepts from iteration 5 ends the solve there with
+/// `Accepted` and returns that iterate (the `y` it was shown), not the best point.
+#[test]
+fn an_acceptance_test_ends_the_solve_at_the_iterate_it_accepts() {
+    let (p, _) = planted_optimum(17, false);
+    let plain = Solver::new(&p, Settings::default())
+        .unwrap()
+        .solve(&p)
+        .unwrap();
+    let mut seen = 0usize;
+    let never = Solver::new(&p, Settings::default())
+        .unwrap()
+        .solve_until(&p, None, &mut |_, _| {
+            seen += 1;
+            false
+        })
+        .unwrap();
+    assert_eq!(never.status, plain.status);
+    assert_eq!(never.y, plain.y);
+    assert_eq!(never.iterations, plain.iterations);
+    // Shown every iterate but the optimal one.
+    assert_eq!(seen, plain.iterations);
+    let mut shown = Vec::new();
+    let at_five = Solver::new(&p, Settings::default())
+        .unwrap()
+        .solve_until(&p, None, &mut |y, state| {
+            shown = y.to_vec();
+            state.iteration >= 5
+        })
+        .unwrap();
+    assert!(plain.iterations > 5, "{}", plain.iterations);
+    assert_eq!(at_five.status, Status::Accepted);
+    assert_eq!(at_five.iterations, 5);
+    assert_eq!(at_five.y, shown);
+    // Its measures are those of that iterate, which is not optimal.
+    assert!(
+        at_five.measures.dimacs_max() > 1e-8,
+        "{:?}",
+        at_five.measures
+    );
+}
+
 #[test]
 fn invalid_input_is_an_error() {
     let (p, _) = planted_optimum(5, false);

@@ -25,7 +25,7 @@ use crate::prove::prove_condition12;
 use crate::simulation::simulate_error;
 use crate::system::Plant;
 use crate::verify::Verification;
-use crate::window::probe;
+use crate::window::{probe, probe_options};
 
 const ID: &str = "ferrante2016";
 
@@ -169,11 +169,16 @@ impl Ferrante2016 {
                 power_words(&d.scaling.output),
             )),
         }
-        r.notes.push(
+        r.notes.push(if d.stats.status.is_accepted() {
+            "L is not unique: any gain satisfying (12) solves Problem 1; this one is the first \
+             point of the margin solve of LMI (41) at which every vertex LMI verified (a window \
+             search needs a certificate, not the largest margin, and stops the solve there)"
+                .into()
+        } else {
             "L is not unique: any gain satisfying (12) solves Problem 1; this one maximises the \
              margin of LMI (41)"
-                .into(),
-        );
+                .into()
+        });
         r.seconds = seconds;
         r
     }
@@ -239,8 +244,14 @@ fn margin_definition(options: &DesignOptions, d: &Design) -> String {
         Normalisation::Trace(c) => format!("tr P ≤ {c} (F, J unbounded)"),
         Normalisation::Free => "no bound on P, F, J".into(),
     };
+    let which = if d.stats.status.is_accepted() {
+        "the t of the first verified iterate (not maximised: a window search stops the solve \
+         there) with"
+    } else {
+        "the largest t with"
+    };
     format!(
-        "LMI (41) margin: the largest t with Φ_i(P, F, J) ⪯ −t·I at every vertex X_i of the \
+        "LMI (41) margin: {which} Φ_i(P, F, J) ⪯ −t·I at every vertex X_i of the \
          polytopic embedding of e^(Av), v in [T1, T2] (Φ_i is {form}), under the normalisation \
          {norm} (spectral norms) and the cap t ≤ {}; (41) is homogeneous, so t > 0 iff (41) is \
          strictly feasible, and t is the slack of the certificate relative to that scale",
@@ -308,12 +319,12 @@ fn checks(options: &DesignOptions, d: &Design) -> Vec<Check> {
     out.push(Check {
         what: "LMI (41) at the vertices of the embedding, re-verified at the solver's point".into(),
         how: format!(
-            "{} vertex LMIs of order {}; interior point {:?} after {} iterations (relative gap \
+            "{} vertex LMIs of order {}; interior point {} after {} iterations (relative gap \
              {:.1e}); every constraint's eigenvalues re-computed at the returned point, margin \
              required above the verification threshold {}",
             d.size.lmi_count,
             d.size.block_size,
-            d.stats.status,
+            d.stats.status.as_str(),
             d.stats.iterations,
             d.stats.rel_gap,
             d.stats
@@ -437,13 +448,15 @@ impl ObserverMethod for Ferrante2016 {
         }
         let p = self.plant_of(plant)?;
         self.design.validate().map_err(invalid)?;
+        let options_of_probes = probe_options(&self.design);
         let mut cache = LmiCache::default();
         let mut run = |s: &Sampling| -> Result<DesignReport, MethodError> {
             let probe_start = Instant::now();
             let Sampling::Synchronous(window) = s else {
                 unreachable_round_robin()?
             };
-            let (v, d) = probe(&p, window, &self.design, &mut cache).map_err(not_a_verdict)?;
+            let (v, d) =
+                probe(&p, window, &options_of_probes, &mut cache).map_err(not_a_verdict)?;
             Ok(match (d, v.reason) {
                 (Some(d), _) => self.report(plant, s, &d, probe_start.elapsed().as_secs_f64()),
                 (None, Some(reason)) => {

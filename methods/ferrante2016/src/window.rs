@@ -46,6 +46,7 @@ pub fn largest_t2(
     search: &WindowSearchOptions,
 ) -> Result<WindowSearch, Error> {
     design.validate()?;
+    let design = &probe_options(design);
     let mut cache = LmiCache::default();
     let mut run = |t2: f64| -> Result<Verdict, Error> {
         let window = SamplingWindow::new(t1, t2)?;
@@ -64,12 +65,23 @@ pub fn smallest_t1(
     search: &WindowSearchOptions,
 ) -> Result<WindowSearch, Error> {
     design.validate()?;
+    let design = &probe_options(design);
     let mut cache = LmiCache::default();
     let mut run = |t1: f64| -> Result<Verdict, Error> {
         let window = SamplingWindow::new(t1, t2)?;
         Ok(probe(plant, &window, design, &mut cache)?.0)
     };
     search_lower(t2, t1_limit, search, &mut run).map_err(from_search)
+}
+
+/// The options of a window search's probes: `design`'s, with the margin solves of LMI (41)
+/// ending at their first verified iterate
+/// ([`FeasibilityOptions::stop_when_verified`](sporadic_sdp::lmi::FeasibilityOptions)): a
+/// probe needs a certificate, not the largest margin.
+pub(crate) fn probe_options(design: &DesignOptions) -> DesignOptions {
+    let mut options = design.clone();
+    options.lmi.stop_when_verified = true;
+    options
 }
 
 /// One probe of a window search: the design at `window` with the compiled LMI kept in `cache`,

@@ -96,6 +96,13 @@ pub struct FeasibilityOptions {
     /// `margin_accuracy · t*`, the solve continues from that point with `tol_gap` and `tol_feas`
     /// tightened by the missing factor (never below `1e-14`). `1.0` or more turns this off.
     pub margin_accuracy: f64,
+    /// End the solve at the first interior-point iterate at which every constraint verifies
+    /// (default `false`). Such a point is a certificate of strict feasibility with the margin
+    /// `t` it has, in general below the optimal `t*` (which is then not computed, nor refined
+    /// to [`FeasibilityOptions::margin_accuracy`]); a model that is not strictly feasible is
+    /// solved as without this option, since no iterate verifies. Meant for searches that only
+    /// need the verdict (e.g. the bisection of a sampling window); see [`Compiled::solve`].
+    pub stop_when_verified: bool,
     overrides: Vec<(u64, usize, Normalisation)>,
 }
 
@@ -106,6 +113,7 @@ impl Default for FeasibilityOptions {
             margin_cap: 1.0,
             default_normalisation: Normalisation::Norm(1.0),
             margin_accuracy: 1e-7,
+            stop_when_verified: false,
             overrides: Vec::new(),
         }
     }
@@ -130,6 +138,7 @@ pub(crate) enum Mode {
         cap: f64,
         norms: Vec<Normalisation>,
         accuracy: f64,
+        stop_when_verified: bool,
     },
 }
 
@@ -286,6 +295,7 @@ impl Model {
             cap: options.margin_cap,
             norms,
             accuracy: options.margin_accuracy,
+            stop_when_verified: options.stop_when_verified,
         };
         Compiled::new(self.clone(), mode, options.solve.clone())
     }
@@ -790,8 +800,28 @@ impl Compiled {
             self.stats.analyses += 1;
             self.solver = Some((solver, problem.clone()));
         }
-        let (solver, _) = self.solver.as_mut().expect("created above");
-        let mut sdp = solver.solve(problem)?;
+        let mut sdp = match (&self.mode, self.t_col) {
+            (
+                Mode::Margin {
+                    stop_when_verified: true,
+                    ..
+                },
+                Some(t_col),
+            ) => {
+                let (mut solver, analysed) = self.solver.take().expect("created above");
+                let this = &*self;
+                let c_norm = objective_norm(problem);
+                let sdp = solver.solve_until(problem, None, &mut |y, state| {
+                    solution::verified_iterate(this, y, state, t_col, c_norm)
+                });
+                self.solver = Some((solver, analysed));
+                sdp?
+            }
+            _ => {
+                let (solver, _) = self.solver.as_mut().expect("created above");
+                solver.solve(problem)?
+            }
+        };
         self.stats.solves += 1;
         if let Some(tight) = self.margin_refinement(&sdp) {
             let (solver, _) = self.solver.as_mut().expect("created above");
@@ -839,6 +869,17 @@ impl Compiled {
         tight.tol_feas = (s.tol_feas * factor).max(FLOOR);
         Some(tight)
     }
+}
+
+/// `‖C‖_F` of an SDP (both triangles of a PSD block counted).
+fn objective_norm(problem: &Problem) -> f64 {
+    problem
+        .blocks
+        .iter()
+        .flat_map(|b| b.c.iter())
+        .map(|(i, j, v)| if i == j { v * v } else { 2.0 * v * v })
+        .sum::<f64>()
+        .sqrt()
 }
 
 /// Re-solves of [`Compiled::solve`] that may raise strict margins.

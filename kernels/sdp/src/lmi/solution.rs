@@ -258,6 +258,40 @@ fn verify_point(c: &Compiled, y: &[f64]) -> Result<Verification, ModelError> {
     })
 }
 
+/// The acceptance test of a margin solve with
+/// [`super::FeasibilityOptions::stop_when_verified`]: whether every constraint verifies at the
+/// iterate whose solver vector is `cols` (the same check as at a returned point).
+///
+/// The check is made only where it can pass: at a margin `t > 0` with the dual residual
+/// `‖C − 𝒜ᵀ(y) − S‖_F` (from the relative measure and `c_norm = ‖C‖_F`) at most `t/2`. The
+/// slack `S ≻ 0` of a strict constraint is `F_c(y) − tI` up to that residual, so the screen
+/// passes once `λ_min(F_c(y)) ≥ t/2` is implied; before that (most iterations) it costs
+/// nothing.
+pub(crate) fn verified_iterate(
+    c: &Compiled,
+    cols: &[f64],
+    state: &crate::IterationLog,
+    t_col: usize,
+    c_norm: f64,
+) -> bool {
+    let t = cols[t_col];
+    if !(t > 0.0 && state.dual_infeas * (1.0 + c_norm) <= 0.5 * t) {
+        return false;
+    }
+    let y = scalars(c, cols);
+    verify_point(c, &y).is_ok_and(|v| v.passed())
+}
+
+/// The decision scalars of the solver vector `cols` (eliminated scalars recovered).
+fn scalars(c: &Compiled, cols: &[f64]) -> Vec<f64> {
+    let mut y = vec![0.0; c.model.num_scalars];
+    for (col, &k) in c.col_scalar.iter().enumerate() {
+        y[k] = cols[col];
+    }
+    c.elim.as_ref().expect("eliminated").recover(&mut y);
+    y
+}
+
 /// Names of the variables whose normalisation bound is active (slack ≤ 1e-5·bound) at `y`.
 fn active_bounds(c: &Compiled, y: &[f64]) -> Result<Vec<String>, ModelError> {
     let mut active = Vec::new();
@@ -279,11 +313,7 @@ fn active_bounds(c: &Compiled, y: &[f64]) -> Result<Vec<String>, ModelError> {
 
 /// Recovers the decision scalars, verifies and decides the outcome.
 pub(crate) fn finish(c: &Compiled, sdp: Solution) -> Result<LmiSolution, ModelError> {
-    let mut y = vec![0.0; c.model.num_scalars];
-    for (col, &k) in c.col_scalar.iter().enumerate() {
-        y[k] = sdp.y[col];
-    }
-    c.elim.as_ref().expect("eliminated").recover(&mut y);
+    let y = scalars(c, &sdp.y);
     let verification = verify_point(c, &y)?;
     let objective = match (&c.mode, &c.objective) {
         (Mode::Optimize { .. }, Some(f)) => Some(f.eval(&y)[(0, 0)]),
@@ -413,6 +443,14 @@ pub(crate) fn finish(c: &Compiled, sdp: Solution) -> Result<LmiSolution, ModelEr
                 )
             };
             match (status, &failure, margin, margin_threshold) {
+                (Status::Accepted, None, Some(t), _) => (
+                    Outcome::Feasible,
+                    format!(
+                        "strictly feasible: margin t = {t:.3e} at the first interior-point \
+                         iterate at which every constraint verifies (the solve stops there; the \
+                         optimal margin is at least t)"
+                    ),
+                ),
                 (s, None, _, _) if !infeasible_status && s != Status::PrimalInfeasible => (
                     Outcome::Feasible,
                     match margin {

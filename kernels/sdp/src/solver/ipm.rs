@@ -4,6 +4,7 @@ use std::time::Instant;
 
 use faer::Mat;
 
+use super::Accept;
 use super::blockops::{BlockMats, Factored, Factors, c_dense, factor_all, inner, step_and_factor};
 use super::certificate::InfeasibilityCertificate;
 use super::direction::{Direction, Iterate, System};
@@ -315,6 +316,7 @@ pub(crate) fn run(
     settings: &Settings,
     ws: &mut Workspace,
     start: Option<&Point>,
+    mut accept: Option<&mut Accept<'_>>,
 ) -> Solution {
     let started = Instant::now();
     let cd = c_dense(an, vals);
@@ -345,18 +347,19 @@ pub(crate) fn run(
     let status = loop {
         let res = residuals(an, vals, &cd, &norms, &x, &y, &s);
         let mu = if an.nu > 0 { res.xs / nu } else { 0.0 };
+        let state = IterationLog {
+            iteration,
+            primal_objective: res.pobj,
+            dual_objective: res.dobj,
+            rel_gap: res.rel_gap,
+            primal_infeas: res.pinf,
+            dual_infeas: res.dinf,
+            mu,
+            primal_step: steps.0,
+            dual_step: steps.1,
+        };
         if let Some(log) = &settings.log {
-            log(&IterationLog {
-                iteration,
-                primal_objective: res.pobj,
-                dual_objective: res.dobj,
-                rel_gap: res.rel_gap,
-                primal_infeas: res.pinf,
-                dual_infeas: res.dinf,
-                mu,
-                primal_step: steps.0,
-                dual_step: steps.1,
-            });
+            log(&state);
         }
         let merit = res.merit();
         if !merit.is_finite() {
@@ -373,6 +376,11 @@ pub(crate) fn run(
             && res.dinf <= settings.tol_feas
         {
             break Status::Optimal;
+        }
+        if let Some(accept) = accept.as_mut()
+            && accept(&y, &state)
+        {
+            break Status::Accepted;
         }
         let at_limit = iteration >= settings.max_iterations;
         let stalled = !at_limit
@@ -584,7 +592,7 @@ pub(crate) fn run(
 
     if !matches!(
         status,
-        Status::Optimal | Status::PrimalInfeasible | Status::DualInfeasible
+        Status::Optimal | Status::PrimalInfeasible | Status::DualInfeasible | Status::Accepted
     ) && let Best::Earlier {
         x: bx,
         y: by,

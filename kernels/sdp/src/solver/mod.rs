@@ -123,6 +123,11 @@ pub fn solve_from(
     Solver::new(problem, settings.clone())?.solve_from(problem, start)
 }
 
+/// An acceptance test of [`Solver::solve_until`]: shown the dual vector `y` of an iterate and
+/// the iterate's measures (as the log callback sees them), `true` ends the solve there with
+/// [`Status::Accepted`].
+pub type Accept<'a> = dyn FnMut(&[f64], &IterationLog) -> bool + Send + 'a;
+
 /// Largest per-iteration work estimate ([`Analysis::work_estimate`], in flops) for which
 /// `Settings::threads == 0` runs the solve on the calling thread: below it, handing every
 /// block loop to rayon's global pool costs more in wake-ups and contention than it saves
@@ -232,7 +237,26 @@ impl Solver {
     /// Solves `problem`, which must have the analysed block layout and a sparsity pattern
     /// contained in the analysed one (otherwise [`SdpError::Structure`]).
     pub fn solve(&mut self, problem: &Problem) -> Result<Solution, SdpError> {
-        self.run(problem, None)
+        self.run(problem, None, None)
+    }
+
+    /// Like [`Solver::solve`] (from `start` when given, as [`Solver::solve_from`]), but once per
+    /// iteration, at an iterate that is neither optimal nor a verified infeasibility certificate,
+    /// `accept` is shown its `y` and measures; the first `y` it accepts ends the solve with
+    /// [`Status::Accepted`] at that iterate. The caller decides what is good enough: e.g. the
+    /// LMI layer's margin problem stops at the first `y` at which every strict LMI verifies
+    /// (`lmi::FeasibilityOptions::stop_when_verified`), which is a certificate although not
+    /// the largest margin. The test costs what `accept` costs, every iteration.
+    pub fn solve_until(
+        &mut self,
+        problem: &Problem,
+        start: Option<&Point>,
+        accept: &mut Accept<'_>,
+    ) -> Result<Solution, SdpError> {
+        if let Some(p) = start {
+            point::check_point(&self.analysis, &p.y, &p.x, &p.s)?;
+        }
+        self.run(problem, start, Some(accept))
     }
 
     /// Like [`Solver::solve`], but the interior-point method starts from `start` (a warm start,
@@ -249,10 +273,15 @@ impl Solver {
     /// [`SdpError::NonFinite`] for a starting point that does not fit the problem.
     pub fn solve_from(&mut self, problem: &Problem, start: &Point) -> Result<Solution, SdpError> {
         point::check_point(&self.analysis, &start.y, &start.x, &start.s)?;
-        self.run(problem, Some(start))
+        self.run(problem, Some(start), None)
     }
 
-    fn run(&mut self, problem: &Problem, start: Option<&Point>) -> Result<Solution, SdpError> {
+    fn run(
+        &mut self,
+        problem: &Problem,
+        start: Option<&Point>,
+        mut accept: Option<&mut Accept<'_>>,
+    ) -> Result<Solution, SdpError> {
         let vals = self.analysis.values(problem)?;
         let Self {
             settings,
@@ -265,7 +294,15 @@ impl Solver {
         let budget = crate::budget::current();
         let mut run = || {
             crate::budget::within(budget.clone(), || {
-                ipm::run(analysis, &vals, problem, settings, workspace, start)
+                ipm::run(
+                    analysis,
+                    &vals,
+                    problem,
+                    settings,
+                    workspace,
+                    start,
+                    accept.as_deref_mut(),
+                )
             })
         };
         Ok(match (pool, analysis.exec) {

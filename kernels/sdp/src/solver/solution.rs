@@ -31,6 +31,10 @@ use super::certificate::InfeasibilityCertificate;
 ///
 /// So `NumericalTrouble`, `MaxIterations` and `Interrupted` never label a point whose DIMACS errors are all
 /// within `tol_reduced`. The DIMACS errors are reported with every status.
+///
+/// A solve run with an acceptance test ([`crate::Solver::solve_until`]) also ends with
+/// [`Status::Accepted`] at the first iterate (not optimal, not infeasible) that the test accepts;
+/// that point is returned as it is, whatever its DIMACS errors.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Status {
     /// Relative gap, complementarity and both relative infeasibilities are within tolerance.
@@ -55,6 +59,11 @@ pub enum Status {
     /// at a point that is not [`Status::AlmostOptimal`]; the best point found is returned and
     /// its [`Measures`] tell how accurate it is.
     NumericalTrouble,
+    /// The caller's acceptance test ([`crate::Solver::solve_until`]) accepted the current
+    /// iterate before the tolerances of [`Status::Optimal`] were met; that iterate is returned.
+    /// It is what the caller asked for (e.g. a point that already verifies the strict LMIs of
+    /// a margin problem), in general not an optimum.
+    Accepted,
 }
 
 impl Status {
@@ -88,7 +97,12 @@ impl Status {
         self == Status::DualInfeasible
     }
 
-    /// Neither solved nor infeasible: [`Status::MaxIterations`], [`Status::Interrupted`] or
+    /// [`Status::Accepted`]: stopped at an iterate the caller's acceptance test accepted.
+    pub fn is_accepted(self) -> bool {
+        self == Status::Accepted
+    }
+
+    /// Neither solved nor infeasible nor accepted: [`Status::MaxIterations`], [`Status::Interrupted`] or
     /// [`Status::NumericalTrouble`].
     pub fn is_failure(self) -> bool {
         matches!(
@@ -99,7 +113,8 @@ impl Status {
 
     /// A stable snake-case identifier in this crate's (P)/(D) naming: `optimal`,
     /// `almost_optimal`, `primal_infeasible`, `dual_infeasible`, `max_iterations`,
-    /// `interrupted`, `numerical_trouble` (for SDPA files see [`crate::sdpa::sdpa_status_id`]).
+    /// `interrupted`, `numerical_trouble`, `accepted` (for SDPA files see
+    /// [`crate::sdpa::sdpa_status_id`]).
     pub fn as_str(self) -> &'static str {
         match self {
             Status::Optimal => "optimal",
@@ -109,6 +124,7 @@ impl Status {
             Status::MaxIterations => "max_iterations",
             Status::Interrupted => "interrupted",
             Status::NumericalTrouble => "numerical_trouble",
+            Status::Accepted => "accepted",
         }
     }
 }
@@ -195,8 +211,14 @@ mod tests {
             MaxIterations,
             Interrupted,
             NumericalTrouble,
+            Accepted,
         ] {
-            let classes = [s.is_solved(), s.is_infeasible(), s.is_failure()];
+            let classes = [
+                s.is_solved(),
+                s.is_infeasible(),
+                s.is_failure(),
+                s.is_accepted(),
+            ];
             assert_eq!(classes.iter().filter(|&&c| c).count(), 1, "{s:?}");
             assert_eq!(s.is_optimal(), s == Optimal);
             assert_eq!(s.is_almost_optimal(), s == AlmostOptimal);
