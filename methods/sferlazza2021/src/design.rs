@@ -63,7 +63,8 @@ pub struct DesignOptions {
     /// interval arithmetic ([`crate::prove`]) with at most this many pieces
     /// ([`crate::validation::validate_window`]). A proof decides the validation in place of the grid (it implies
     /// (48) at every grid point); otherwise the grid decides, as in the paper. A grid above
-    /// [`ValidationOptions::max_points`] is decided by the proof alone
+    /// [`ValidationOptions::max_points`] is decided by the proof alone, after a floating-point
+    /// screen of the window that can only refute (48)
     /// ([`crate::validation::WindowGrid::OverCap`]). `None`: the grid only, and a grid above the
     /// cap ends the step with [`Error::GridTooLarge`]. Default `None` (the window search of
     /// [`crate::Sferlazza2021`] sets it).
@@ -386,8 +387,9 @@ impl DesignLoop {
                 spacing,
                 self.settings.validation.max_points,
             )?;
-            // A grid above the cap is decided only by a proof of (48) over the window
-            // (validate_window); without one, the step ends here, before any grid is run.
+            // A grid above the cap is decided only by a proof of (48) over the window, or
+            // refuted by its screen (validate_window); without a proof, the step ends here,
+            // before any grid is run.
             if let WindowGrid::OverCap { points, cap, .. } = grid
                 && self
                     .settings

@@ -323,7 +323,8 @@ impl ObserverMethod for Sferlazza2021 {
     /// Checks given gains and Lyapunov matrices: the certificate `P_1, …, P_N` (scaled so that
     /// `I ⪯ P_σ`, as in (47)) must pass the validation (48) at μ on the grid (49) of each window
     /// (Step 1 run for β, γ), or a proof of (48) over the whole window, tried first on a large
-    /// grid and the only decision for a grid above the cap (at most [`SEARCH_PROOF_PIECES`]
+    /// grid and, after a floating-point screen of the window that can only refute (48), the
+    /// only decision for a grid above the cap (at most [`SEARCH_PROOF_PIECES`]
     /// pieces unless [`DesignOptions::proof_pieces`] says otherwise, the same rule as the window
     /// search; [`crate::validation::validate_window`]), and the gains must be (45) of it at
     /// every listed `τ`. (45) is checked in the coordinates given; Step 1 and (48) in the
@@ -807,6 +808,16 @@ impl Sferlazza2021 {
                     WindowGrid::Grid(g) => {
                         format!("grid of {} points, spacing {}", g.points, sig4(g.spacing))
                     }
+                    WindowGrid::OverCap { points, cap, .. } if v.points > 0 => format!(
+                        "the least λ_min(Ξ_{}(τ))/‖Ξ_{}(τ)‖_F among {} τ of a floating-point \
+                         screen of the window, run in place of the uniform grid of {points:.3e} \
+                         points above the cap {cap:.3e}; Ξ_{}(τ) there is shown not positive \
+                         definite in interval arithmetic",
+                        s + 1,
+                        s + 1,
+                        v.points,
+                        s + 1
+                    ),
                     WindowGrid::OverCap { points, cap, .. } => format!(
                         "an end of a τ-piece where the proof of (48) over the window, tried in \
                          place of the uniform grid of {points:.3e} points above the cap \

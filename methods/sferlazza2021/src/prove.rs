@@ -519,6 +519,22 @@ pub fn prove_design(
     ))
 }
 
+/// Encloses `λ_max(−Ξ_σ(τ))` of (44) at one `τ` for the Lyapunov matrices `p` (point
+/// enclosure of `e^{−Aτ}`, exact kernel basis `Q`; the test of a piece end by the proof): a
+/// lower end ≥ 0 shows that `Ξ_σ(τ)` is not positive definite, so (44) and, for every μ > 0,
+/// (48) fail at `τ`.
+///
+/// # Errors
+/// A failing kernel (e.g. `C_σC_σᵀ` not proven nonsingular).
+pub(crate) fn xi_decisive(
+    plant: &RoundRobinPlant,
+    p: &[Mat<f64>],
+    sigma: usize,
+    tau: f64,
+) -> Result<Interval, Error> {
+    SensorCondition::new(plant, p, sigma)?.decisive(tau)
+}
+
 /// Tries to prove the validation condition (48), `Ξ_σ(τ) ≻ μI`, for **every** `τ` of sensor
 /// σ's window (not only on the grid (49)), for the Lyapunov matrices `p` of the synthesis (47)
 /// (scaled `I ⪯ P_σ`), by the adaptive subdivision of [`prove_design`] with at most

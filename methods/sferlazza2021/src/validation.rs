@@ -47,7 +47,7 @@ use sporadic_linalg::{expm_scaled, expm_stepper, min_eigenvalue};
 use crate::error::{Error, check_at_least, sig4};
 use crate::gain::check_sym;
 use crate::plant::RoundRobinPlant;
-use crate::prove::prove_validation;
+use crate::prove::{prove_validation, xi_decisive};
 use sporadic_model::{ProofStatus, SamplingWindow};
 
 /// How the validation grid spacing `τ_{k+1} − τ_k` is chosen.
@@ -251,7 +251,8 @@ pub struct SensorValidation {
     pub sigma: usize,
     /// The margin μ tested (`Ξ_σ(τ) ≻ μI`).
     pub mu: f64,
-    /// Points tested.
+    /// Points tested (0 for a validation decided by a proof over the window, the screen's
+    /// points for a window above the cap refuted by its screen, see [`validate_window`]).
     pub points: usize,
     /// Grid spacing (0 for an explicit list of points).
     pub spacing: f64,
@@ -873,14 +874,81 @@ pub const PROOF_POINTS_PER_PIECE: usize = 2048;
 /// subdivision starts with): below it the grid is cheaper.
 pub const MIN_PROOF_PIECES: usize = 16;
 
+/// Points of the floating-point screen of a window whose (49) grid is above the cap
+/// ([`validate_window`]): half of them uniform on `[T_mσ, T_Mσ]`, half geometric from `T_mσ`
+/// (finer near the lower end of a window spanning decades): a fraction of a second of
+/// exponentials and eigenvalues, against seconds for a proof that runs out of pieces.
+pub const SCREEN_POINTS: usize = 4096;
+
+/// The τ of the screen of `window` ([`SCREEN_POINTS`]).
+fn screen_points(window: SamplingWindow) -> Vec<f64> {
+    let (t1, t2) = (window.t1(), window.t2());
+    let half = SCREEN_POINTS / 2;
+    let last = (half - 1) as f64;
+    let uniform = (0..half).map(|k| t1 + (t2 - t1) * (k as f64 / last));
+    let geometric = (0..half).map(|k| t1 * (t2 / t1).powf(k as f64 / last));
+    uniform.chain(geometric).map(|t| t.clamp(t1, t2)).collect()
+}
+
+/// The screen of a window whose (49) grid is above the cap ([`validate_window`]): `Ξ_σ(τ)` and
+/// `λ_min(Ξ_σ(τ))` in floating point ([`XiFamily::matrix`], a fresh exponential, and a full
+/// symmetric eigen-solve, as [`validate_naive`]) at the [`SCREEN_POINTS`] τ of
+/// [`screen_points`]. The candidate `τ̂` is the point of least `λ_min(Ξ_σ(τ))/‖Ξ_σ(τ)‖_F`, the
+/// most negative relative to the scale of `Ξ_σ(τ)` and so to the rounding of its evaluation
+/// (`‖Ξ_σ(τ)‖` grows like `‖e^{−Aτ}‖²`: far in a long window, a floating-point `λ_min` of the
+/// order of `ε‖Ξ_σ(τ)‖` below zero is rounding, whatever its absolute size). When that ratio is
+/// negative, `Ξ_σ(τ̂)` is tested in interval arithmetic ([`xi_decisive`], the test of a piece
+/// end by the proof): if it is shown not positive definite, (48) fails at `τ̂` for every μ > 0,
+/// and the validation fails there (`points` the screen's, one failure, `min_eigenvalue` the
+/// floating-point `λ_min(Ξ_σ(τ̂))`). Otherwise — no negative ratio, a `λ_min` below zero by no
+/// more than the rounding the enclosure accounts for, or an enclosure that cannot be computed
+/// — the screen decides nothing (`None`) and the proof runs.
+fn screen_window(
+    family: &XiFamily,
+    plant: &RoundRobinPlant,
+    p: &[Mat<f64>],
+    spacing: f64,
+    mu: f64,
+) -> Result<Option<SensorValidation>, Error> {
+    let taus = screen_points(plant.sensor(family.sigma)?.window());
+    // (λ_min/‖Ξ‖_F, τ, λ_min) at the candidate.
+    let mut worst: Option<(f64, f64, f64)> = None;
+    for &tau in &taus {
+        let xi = family.matrix(tau)?;
+        let lambda = min_eigenvalue(xi.as_ref())?;
+        let ratio = lambda / xi.norm_l2();
+        if ratio < 0.0 && worst.is_none_or(|(r, _, _)| ratio < r) {
+            worst = Some((ratio, tau, lambda));
+        }
+    }
+    let Some((_, tau, lambda)) = worst else {
+        return Ok(None);
+    };
+    if !xi_decisive(plant, p, family.sigma, tau).is_ok_and(|d| d.lo() >= 0.0) {
+        return Ok(None);
+    }
+    Ok(Some(SensorValidation {
+        sigma: family.sigma,
+        mu,
+        points: taus.len(),
+        spacing,
+        failures: 1,
+        min_eigenvalue: lambda,
+        argmin_tau: tau,
+        min_is_exact: false,
+        eigen_evaluations: taus.len() as u64,
+        proof_pieces: None,
+    }))
+}
+
 /// The (49) grid of a sensor's window, or, when it would have more points than the cap
 /// ([`ValidationOptions::max_points`]), its size.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum WindowGrid {
     /// The grid, within the cap.
     Grid(UniformGrid),
-    /// A grid above the cap: it is not run; only a proof of (48) over the window
-    /// ([`validate_window`]) can decide the validation.
+    /// A grid above the cap: it is not run; only a refutation by the screen of its window or a
+    /// proof of (48) over the window ([`validate_window`]) can decide the validation.
     OverCap {
         /// The largest spacing allowed (that of the grid that is not run).
         spacing: f64,
@@ -935,9 +1003,15 @@ impl WindowGrid {
 /// succeed, on the grid ([`XiFamily::validate_grid`]), which then decides and finds the worst
 /// point (50). `family` is that of `p` and the sensor of `grid`.
 ///
-/// A grid above the cap ([`WindowGrid::OverCap`]) is never run: the proof (same piece budget)
-/// decides alone. When it shows that (48) fails at an end `τ` of a piece (a rigorous
-/// disproof), the validation fails there: one failing point, `points` 0, `min_eigenvalue` the
+/// A grid above the cap ([`WindowGrid::OverCap`]) is never run. Its window is first screened
+/// in floating point at [`SCREEN_POINTS`] τ (half uniform, half geometric; fresh exponentials,
+/// as [`XiFamily::min_eigenvalue`]): at its point of least `λ_min(Ξ_σ(τ))/‖Ξ_σ(τ)‖_F`, when
+/// negative, `Ξ_σ(τ)` is evaluated in interval arithmetic, and if it is shown not positive
+/// definite there (a rigorous disproof: a floating-point `λ_min` below zero by no more than its
+/// rounding is not) the validation fails at that `τ` at once, before any proof: one failing
+/// point, `points` the screen's, `min_eigenvalue` the floating-point `λ_min(Ξ_σ(τ))`. Otherwise
+/// the proof (same piece budget) decides alone. When it shows that (48) fails at an end `τ` of
+/// a piece (a rigorous disproof), the validation fails there: one failing point, `points` 0, `min_eigenvalue` the
 /// floating-point `λ_min(Ξ_σ(τ))` at that `τ` (not the minimum over the window) and `argmin_tau`
 /// that `τ`. Otherwise (no proof attempted, or one that ran out of pieces or time, or could not
 /// be set up) the validation is undecided: [`Error::GridTooLarge`], whose message says how the
@@ -964,6 +1038,11 @@ pub fn validate_window(
             per_piece as usize
         }
     });
+    if let WindowGrid::OverCap { spacing, .. } = grid
+        && let Some(v) = screen_window(family, plant, p, spacing, mu)?
+    {
+        return Ok(v);
+    }
     // A proof that cannot be attempted (a failing interval kernel) leaves the decision to the
     // grid, like one that does not succeed.
     let proof =
@@ -1206,6 +1285,52 @@ mod tests {
             1e-3
         );
         assert!(grid_spacing(&plant, 0, GridPolicy::Paper, -1.0, 10.0, &b).is_err());
+    }
+
+    /// A window whose grid is above the cap is decided without it: where `Ξ_σ(τ)` is not positive
+    /// definite somewhere, by the screen (its points, a τ where `λ_min < 0`); where it is
+    /// positive definite but `λ_min` dips below μ, the screen decides nothing and the proof of
+    /// (48) disproves it at a piece end (no points, `λ_min ≤ μ` there).
+    #[test]
+    fn window_above_the_cap_is_decided_by_the_screen_or_the_proof() {
+        let over = WindowGrid::OverCap {
+            spacing: 1e-12,
+            points: 1e12,
+            cap: 1e9,
+        };
+        let s = ValidationOptions::default();
+        let stable = rr(
+            mat![[-1.0, 0.2, 0.0], [0.0, -2.0, 0.5], [0.0, 0.0, -0.5]],
+            vec![(mat![[1.0, 0.0, 0.0]], win(0.1, 0.5))],
+        )
+        .unwrap();
+        let (two, p_two, p_stable) = (plant(), ps(), vec![Mat::identity(3, 3)]);
+        let (mut screened, mut disproved) = (0, 0);
+        for (plant, p) in [(&two, &p_two), (&stable, &p_stable)] {
+            for sigma in 0..plant.num_sensors() {
+                let fam = XiFamily::new(plant, p, sigma).unwrap();
+                let w = plant.sensor(sigma).unwrap().window();
+                let grid = UniformGrid::covering(w, 1e-4, 1e9).unwrap();
+                let (_, lmin, _) = validate_naive(&fam, grid, 0.0).unwrap();
+                let mu = if lmin < 0.0 { 0.01 } else { lmin + 0.1 };
+                println!("σ = {sigma}: min λ_min {lmin}, μ = {mu}");
+                let v = validate_window(&fam, plant, p, over, mu, Some(4096), &s).unwrap();
+                assert!(!v.passed() && v.failures == 1, "{v:?}");
+                // The same floating-point evaluation at the reported τ.
+                let at = fam.min_eigenvalue(v.argmin_tau).unwrap();
+                assert_eq!(at, v.min_eigenvalue, "{v:?}");
+                if lmin < 0.0 {
+                    assert_eq!(v.points, SCREEN_POINTS, "{v:?}");
+                    assert!(at < 0.0, "{v:?}");
+                    screened += 1;
+                } else {
+                    assert_eq!(v.points, 0, "{v:?}");
+                    assert!(at <= mu, "{v:?}");
+                    disproved += 1;
+                }
+            }
+        }
+        assert!(screened > 0 && disproved > 0, "{screened}, {disproved}");
     }
 
     proptest::proptest! {

@@ -6,8 +6,10 @@ use std::sync::OnceLock;
 use std::time::Instant;
 
 use faer::{Mat, mat};
+use sporadic_model::NamedMatrix;
 use sporadic_sferlazza2021::{
-    MethodOptions, ObserverMethod, Plant, Reason, Sampling, SamplingWindow, Sferlazza2021, Status,
+    MethodOptions, ObserverMethod, Plant, Reason, RoundRobinPlant, Sampling, SamplingWindow,
+    Sferlazza2021, Status, XiFamily,
 };
 
 fn win(t1: f64, t2: f64) -> SamplingWindow {
@@ -353,16 +355,92 @@ fn cart_pole_design_over_the_grid_cap_is_verified_by_proof() {
     assert!(secs < 10.0, "{secs} s");
 }
 
+/// `λ_min(Ξ_1(τ))/‖Ξ_1(τ)‖_F` of (44) for the cart-pole and a certificate `P_1`, in the plant's
+/// coordinates and the certificate's scale (neither changes the sign), with fresh exponentials.
+fn cart_pole_xi_ratio(certificate: &[NamedMatrix], tau: f64) -> f64 {
+    let a = mat![
+        [0.0, 1.0, 0.0, 0.0],
+        [0.0, -0.1, -0.98, 0.0],
+        [0.0, 0.0, 0.0, 1.0],
+        [0.0, 0.1, 21.56, 0.0]
+    ];
+    let c = mat![[1.0, 0.0, 0.0, 0.0]];
+    let plant = RoundRobinPlant::new(a.as_ref(), &[(c.as_ref(), win(tau, tau))]).unwrap();
+    let rows = &certificate[0].rows;
+    let p = Mat::from_fn(4, 4, |i, j| rows[i][j]);
+    let xi = XiFamily::new(&plant, &[p], 0).unwrap();
+    xi.min_eigenvalue(tau).unwrap() / xi.matrix(tau).unwrap().norm_l2()
+}
+
+/// `v` fails (48) at a τ found by the floating-point screen of a window (`[0.02, t2]`) whose
+/// (49) grid is above the cap, where `Ξ_1(τ)` of `certificate` has a negative `λ_min` (by far
+/// more than rounding, relative to `‖Ξ_1(τ)‖`), while it is positive definite at `T1 = 0.02`:
+/// the window contains the sign change, and the verdict is at a point past it.
+fn assert_fails_by_the_screen(
+    v: &sporadic_sferlazza2021::DesignReport,
+    certificate: &[NamedMatrix],
+    t2: f64,
+) {
+    assert_eq!(v.status, Status::NotCertified);
+    assert!(cart_pole_xi_ratio(certificate, 0.02) > 0.0);
+    match &v.reason {
+        Some(Reason::VerificationFailed {
+            tau: Some(tau),
+            message,
+        }) => {
+            assert!(*tau > 0.02 && *tau <= t2, "τ = {tau}: {message}");
+            let ratio = cart_pole_xi_ratio(certificate, *tau);
+            assert!(
+                ratio < -1e3 * f64::EPSILON,
+                "λ_min/‖Ξ‖ = {ratio} at τ = {tau}: {message}"
+            );
+            assert!(
+                message.contains("above the cap 1.000e8")
+                    && message.contains("floating-point screen")
+                    && message.contains("not positive definite"),
+                "{message}"
+            );
+        }
+        other => panic!("expected verification_failed, got {other:?}"),
+    }
+}
+
+/// The design of `cart-pole.toml`'s own window `[0.02, 0.09]`, checked on `[0.02, 1.5]`, where
+/// `λ_min(Ξ_1(τ))` of (48) changes sign: the proof of (48) over the window, in place of the grid
+/// above the cap, spent its 16384 pieces on a piece near τ ≈ 0.75 it could not decide (≈ 5–10
+/// s) and `verify` ended `budget_exhausted`, although `λ_min` is clearly negative further on. The floating-point screen of the window finds such a point first, shown not
+/// positive definite in interval arithmetic: `verification_failed` at once, at a τ where
+/// (44) indeed fails.
+#[test]
+fn cart_pole_window_with_a_sign_change_fails_by_the_screen() {
+    let plant = cart_pole();
+    let o = MethodOptions::default();
+    let d = Sferlazza2021::default()
+        .design(&plant, &Sampling::Synchronous(win(0.02, 0.09)), &o)
+        .unwrap();
+    assert_eq!(d.status, Status::Certified, "{:?}", d.reason);
+    let v = capped()
+        .verify(
+            &plant,
+            &Sampling::Synchronous(win(0.02, 1.5)),
+            &d.gains,
+            &d.certificate,
+            &o,
+        )
+        .unwrap();
+    assert_fails_by_the_screen(&v, &d.certificate, 1.5);
+}
+
 /// The same design on windows it does not satisfy (48) on, or with a proof budget too small to
 /// decide: the grid is still above the cap, and the verdict is the honest one — a failure of
-/// (48) shown by the proof (with its τ), or `budget_exhausted` with the grid's size and how
-/// the proof ended.
+/// (48) at a τ of the window's screen ([`assert_fails_by_the_screen`]), or `budget_exhausted`
+/// with the grid's size and how the proof ended.
 #[test]
 fn cart_pole_design_over_the_grid_cap_fails_honestly() {
     let d = cart_pole_design();
     let plant = cart_pole();
     let o = MethodOptions::default();
-    // T2 = 5 > 0.9: Ξ_1(τ) is not positive definite at τ ≈ 1.265 (λ_min ≈ −0.069). (At
+    // T2 = 5 > 0.9: Ξ_1(τ) is not positive definite from τ ≈ 1.2 on. (At
     // T1 = 0.01 or 0.001 it stays positive definite, below μ: the proof certifies those windows
     // with a lower μ, see `a_design_is_verified_whatever_the_scale_of_its_certificate`.)
     let v = capped()
@@ -374,21 +452,7 @@ fn cart_pole_design_over_the_grid_cap_fails_honestly() {
             &o,
         )
         .unwrap();
-    assert_eq!(v.status, Status::NotCertified);
-    match &v.reason {
-        Some(Reason::VerificationFailed {
-            tau: Some(tau),
-            message,
-        }) => {
-            assert!((tau - 1.265).abs() < 1e-3, "τ = {tau}: {message}");
-            assert!(
-                message.contains("above the cap 1.000e8")
-                    && message.contains("not positive definite"),
-                "{message}"
-            );
-        }
-        other => panic!("expected verification_failed, got {other:?}"),
-    }
+    assert_fails_by_the_screen(&v, &d.certificate, 5.0);
     // A proof budget of 16 pieces does not decide the window: budget_exhausted, as before, with
     // the grid's size and the proof's outcome.
     let mut m = capped();
