@@ -59,4 +59,4 @@ pub use search::{
 pub use sporadic_linalg::InputError;
 pub use sporadic_sdp::budget::{self, Budget};
 pub use stats::SolverStats;
-pub use window::{Sampling, SamplingWindow, sig4, significant};
+pub use window::{Sampling, SamplingWindow, power_of_two, sig4, significant};

@@ -102,6 +102,15 @@ pub fn sig4(x: f64) -> String {
     }
 }
 
+/// `x` as `2^k` (or `-2^k`) when it is exactly a power of two other than `1` (a balancing
+/// scale of a normal form, which is exact in floating point), else `None` (then print it with
+/// [`significant`] or [`sig4`]).
+pub fn power_of_two(x: f64) -> Option<String> {
+    let k = x.abs().log2().round();
+    (x.is_finite() && x != 0.0 && x.abs() != 1.0 && x.abs() == k.exp2())
+        .then(|| format!("{}2^{k}", if x < 0.0 { "-" } else { "" }))
+}
+
 /// The sampling of a plant's outputs: one window for all outputs, or round-robin sensors each
 /// with its own window (Sferlazza et al. 2021: sensor `σ` is read when the time since the
 /// previous sample lies in its window).
@@ -173,6 +182,16 @@ mod tests {
         assert_eq!(significant(0.0), "0");
         assert_eq!(significant(f64::INFINITY), "inf");
         assert!(significant(12345678.9).len() < 12);
+    }
+
+    #[test]
+    fn exact_powers_of_two_print_as_powers() {
+        assert_eq!(power_of_two(0.125).as_deref(), Some("2^-3"));
+        assert_eq!(power_of_two(-1024.0).as_deref(), Some("-2^10"));
+        assert_eq!(power_of_two(2f64.powi(-1074)).as_deref(), Some("2^-1074"));
+        for x in [1.0, -1.0, 0.0, 3.0, 0.1, f64::INFINITY, f64::NAN] {
+            assert_eq!(power_of_two(x), None, "{x}");
+        }
     }
 
     #[test]

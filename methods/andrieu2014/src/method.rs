@@ -20,7 +20,7 @@ use sporadic_model::report::Check;
 use sporadic_model::{
     DesignReport, Gain, Margin, MethodError, MethodOptions, NamedMatrix, NotApplicable,
     ObserverMethod, Plant, Reason, Sampling, SamplingWindow, Scenario, Trajectory,
-    check_simulatable,
+    check_simulatable, sig4,
 };
 
 use crate::error::Error;
@@ -39,10 +39,6 @@ const SCHEDULE_POINTS: usize = 11;
 
 /// Relative slack of the re-verification of (9) (`λmax ≤ −1`) and of the companion identity.
 const CHECK_TOL: f64 = 1e-9;
-
-fn short(x: f64) -> String {
-    format!("{x:.4e}")
-}
 
 impl ObserverMethod for Andrieu2014 {
     fn id(&self) -> &'static str {
@@ -236,7 +232,7 @@ impl Andrieu2014 {
                 how: format!(
                     "1 − α/(4p2) − λmax(P⁻¹Q(α)'ψ0(α)Pψ0(α)Q(α)) with Q(α) = (I + αKC)e^(Aα) at \
                      α = {} (Cholesky and symmetric eigenvalues), must be > 0",
-                    short(alpha)
+                    sig4(alpha)
                 ),
                 value: Some(margin),
                 passed: margin > 0.0,
@@ -254,7 +250,7 @@ impl Andrieu2014 {
                 how: format!(
                     "2-norm condition number of the observability matrix after power-of-two \
                      row/column equilibration (SVD), must be ≤ {} = 1/sqrt(eps)",
-                    short(CONDITION_LIMIT)
+                    sig4(CONDITION_LIMIT)
                 ),
                 value: Some(nf.condition()),
                 passed: nf.condition() <= CONDITION_LIMIT,
@@ -266,7 +262,7 @@ impl Andrieu2014 {
                 how: format!(
                     "root ℓ1 of φ(ℓ1) = 1 by bisection with c_m = c̃ = {}, L̄ = κ(α)·max(L(0), ℓ1, \
                      ℓ1φ(1)), must be finite",
-                    short(d.c_scaled)
+                    sig4(d.c_scaled)
                 ),
                 value: Some(d.lemma1.sup_bound),
                 passed: d.lemma1.sup_bound.is_finite() && d.shortest > 0.0,
@@ -354,18 +350,18 @@ impl Andrieu2014 {
             "sampling rule (7): next sample when (t − t_k)·ω·L(t) = α, α = {}, ω = {} rad/s; \
              between samples L(t) = L(t_k)·exp((a2/a3)(exp(a3·ω·c̃·(t − t_k)) − 1)), at a sample \
              L ← (1 − a1α)L⁻ + a1α, L(0) = 1",
-            short(t.alpha()),
-            short(d.omega)
+            sig4(t.alpha()),
+            sig4(d.omega)
         ));
         notes.push(format!(
             "guaranteed intervals: every interval lies in the window [{}, {}] s: at most α/ω since \
              L ≥ 1, at least α/(ω L̄) with L̄ = {} the bound of Lemma 1 on L (c_m = c̃ = {}, ℓ1 = \
              {}); the run itself decides where in this range each interval falls",
-            short(d.shortest),
-            short(d.longest),
-            short(d.lemma1.sup_bound),
-            short(d.c_scaled),
-            short(d.lemma1.ell1)
+            sig4(d.shortest),
+            sig4(d.longest),
+            sig4(d.lemma1.sup_bound),
+            sig4(d.c_scaled),
+            sig4(d.lemma1.ell1)
         ));
         let w = sampling.windows()[0];
         notes.push(if d.chain {
@@ -374,13 +370,13 @@ impl Andrieu2014 {
                  own): L stays 1 and the rule samples periodically with period α/ω; any period is \
                  certified, and ω was chosen so that it is the plant file's longest interval T2 = \
                  {}",
-                short(w.t2())
+                sig4(w.t2())
             )
         } else {
             format!(
                 "the plant file's window {w} is not used by this method: the rule picks the \
                  instants, at most every {} s{}",
-                short(d.longest),
+                sig4(d.longest),
                 if d.longest < w.t2() {
                     " (faster than the file's T2)"
                 } else {
@@ -401,10 +397,10 @@ impl Andrieu2014 {
                 ""
             },
             nf.coefficients(),
-            short(nf.condition()),
-            short(nf.raw_condition()),
-            short(CONDITION_LIMIT),
-            short(d.c_scaled)
+            sig4(nf.condition()),
+            sig4(nf.raw_condition()),
+            sig4(CONDITION_LIMIT),
+            sig4(d.c_scaled)
         ));
         if d.candidates.len() > 1 {
             notes.push(format!(
@@ -412,7 +408,7 @@ impl Andrieu2014 {
                 d.candidates
                     .iter()
                     .map(|c| match &c.outcome {
-                        Ok(k) => format!("output {}: condition {}", c.output + 1, short(*k)),
+                        Ok(k) => format!("output {}: condition {}", c.output + 1, sig4(*k)),
                         Err(m) => format!("output {}: {m}", c.output + 1),
                     })
                     .collect::<Vec<_>>()
@@ -424,14 +420,14 @@ impl Andrieu2014 {
              a1 = 1/(2p2p4) = {}, α_m = {}, α = {}, a2 = a2,min(α) = 2n(N1+N2)/(p3p1) = {}, a3 = 2n \
              = {}; ω and α maximise the guaranteed shortest interval",
             d.weight_ratio,
-            short(d.design.p1()),
-            short(d.design.p2()),
-            short(d.design.p3()),
-            short(d.design.p4()),
-            short(t.a1()),
-            short(d.design.alpha_m()),
-            short(t.alpha()),
-            short(t.a2()),
+            sig4(d.design.p1()),
+            sig4(d.design.p2()),
+            sig4(d.design.p3()),
+            sig4(d.design.p4()),
+            sig4(t.a1()),
+            sig4(d.design.alpha_m()),
+            sig4(t.alpha()),
+            sig4(t.a2()),
             t.a3()
         ));
         notes.push(

@@ -7,7 +7,7 @@
 //! `x − x̂ = T⁻¹(z̃ − ẑ)`, `t = τ/ω`.
 
 use faer::linalg::solvers::DenseSolveCore;
-use sporadic_model::{Plant, Scenario, SimulationReport, Trajectory};
+use sporadic_model::{Plant, Scenario, SimulationReport, Trajectory, sig4};
 use sporadic_sim::{PiecewiseConstant, ZeroNoise};
 
 use crate::closed_loop::{RunOptions, run};
@@ -145,7 +145,10 @@ pub fn simulate_linear(
         })
         .collect();
     let budget = if r.samples.len() >= MAX_SAMPLES {
-        format!(" (stopped by the budget of {MAX_SAMPLES} samples at t = {end:.4e} s)")
+        format!(
+            " (stopped by the budget of {MAX_SAMPLES} samples at t = {} s)",
+            sig4(end)
+        )
     } else {
         String::new()
     };
@@ -157,20 +160,26 @@ pub fn simulate_linear(
         norm: norms,
         report: SimulationReport {
             setup: format!(
-                "plant in scaled normal form (zero input, no noise), x(0) − x̂(0) = {e0:?} \
-                 (|e(0)| = {initial:.4e}), x̂(0) = 0, L(0) = 1, instants picked by rule (7), \
-                 horizon {horizon:.4e} s; integration by Dormand–Prince 5(4), rtol 1e-9, atol 1e-12"
+                "plant in scaled normal form (zero input, no noise), x(0) − x̂(0) = ({}) \
+                 (|e(0)| = {}), x̂(0) = 0, L(0) = 1, instants picked by rule (7), \
+                 horizon {} s; integration by Dormand–Prince 5(4), rtol 1e-9, atol 1e-12",
+                e0.iter().map(|&v| sig4(v)).collect::<Vec<_>>().join(", "),
+                sig4(initial),
+                sig4(horizon)
             ),
             samples: r.samples.len(),
             initial_error: initial,
             final_error: last,
             result: format!(
-                "{} samples{budget}, intervals in [{dmin:.4e}, {dmax:.4e}] s ({} the guaranteed \
-                 window [{:.4e}, {:.4e}] s), |x − x̂| at the end = {last:.3e}",
+                "{} samples{budget}, intervals in [{}, {}] s ({} the guaranteed window [{}, {}] s), \
+                 |x − x̂| at the end = {}",
                 r.samples.len(),
+                sig4(dmin),
+                sig4(dmax),
                 if inside { "inside" } else { "OUTSIDE" },
-                d.shortest,
-                d.longest
+                sig4(d.shortest),
+                sig4(d.longest),
+                sig4(last)
             ),
             settling_time: None,
             figure: None,

@@ -10,7 +10,7 @@ use sporadic_model::{
     Check, DesignReport, Gain, Margin, MaxIntervalReport, MethodError, MethodOptions, NamedMatrix,
     NotApplicable, ObserverMethod, Outputs, Plant as ModelPlant, Probe, Proof, ProofOptions,
     Reason, Sampling, SamplingScenario, SamplingWindow, Scenario, SimulationReport, Trajectory,
-    check_simulatable, largest_window_with, significant,
+    check_simulatable, largest_window_with, power_of_two, significant,
 };
 use sporadic_sdp::lmi::Normalisation;
 use sporadic_sim::{Adversarial, JumpMap, Periodic, SamplingRule, SimOptions, UniformRandom};
@@ -792,14 +792,7 @@ fn vector_words(x: &[f64]) -> String {
 /// [`vector_words`] for power-of-two scalings: an entry `2^k` other than 1 as `2^k` (exact and
 /// short, e.g. `2^-17` instead of `0.00000762939453125`).
 fn power_words(x: &[f64]) -> String {
-    words(x, |v| {
-        let (m, e) = (v.abs().log2().round() as i32, v.signum());
-        if v != 1.0 && v.is_finite() && v != 0.0 && v.abs() == 2f64.powi(m) {
-            format!("{}2^{m}", if e < 0.0 { "-" } else { "" })
-        } else {
-            significant(v)
-        }
-    })
+    words(x, |v| power_of_two(v).unwrap_or_else(|| significant(v)))
 }
 
 fn words(x: &[f64], word: impl Fn(f64) -> String) -> String {

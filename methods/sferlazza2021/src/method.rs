@@ -24,7 +24,7 @@ use sporadic_model::{
     Check, DesignReport, Gain, Margin, MaxIntervalReport, MethodError, MethodOptions, NamedMatrix,
     NotApplicable, ObserverMethod, Outputs, Plant, Probe, Proof, ProofOptions, Reason, Sampling,
     SamplingScenario, SamplingWindow, Scenario, SimulationReport, Trajectory, check_simulatable,
-    largest_window_with,
+    largest_window_with, power_of_two,
 };
 
 use crate::design::{Design, DesignOptions, design_screened};
@@ -194,16 +194,7 @@ fn grid_points(grid: &WindowGrid) -> String {
 fn powers_of_two(scales: &[f64]) -> String {
     let items: Vec<String> = scales
         .iter()
-        .map(|&d| {
-            let k = d.log2().round();
-            if d == 1.0 {
-                "1".to_string()
-            } else if d > 0.0 && k.exp2() == d {
-                format!("2^{k}")
-            } else {
-                sig4(d)
-            }
-        })
+        .map(|&d| power_of_two(d).unwrap_or_else(|| sig4(d)))
         .collect();
     format!("({})", items.join(", "))
 }
