@@ -875,18 +875,23 @@ fn empty_constraint_keeps_normal_equations() {
     );
 }
 
-/// A planted problem whose primal has no strictly feasible point, and the same problem written
-/// directly on its face. Block 0 (PSD, order `n`) meets the exposing constraint `0`,
-/// `⟨−U D Uᵀ, X_0⟩ − x_0 − 2x_1 = 0` (`U` the last `r` columns of a random orthogonal `Q`,
-/// `D ≻ 0`, `x` the LP block): negative semidefinite with `b_0 = 0`, so every feasible point has
-/// `X_0 = V Y Vᵀ` (`V` the first `n − r` columns of `Q`) and `x_0 = x_1 = 0`. Block 1 (PSD) is
-/// untouched. Constraint 1 is the trace of everything (a bounded feasible set), the rest are
-/// random; `b = 𝒜(X⁰)` for a point `X⁰` of the face, interior to it, and `C = Σ_{i≥1} y⁰_i A_i +
-/// S⁰` with `S⁰ ≻ 0`, so (D) is strictly feasible and both optima are attained. The second
-/// problem has `VᵀC_0V`, `VᵀA_{i,0}V` in block 0, LP entries 2 and 3 only, and no constraint 0.
-fn planted_face(seed: u64) -> (Problem, Problem) {
+/// A planted problem whose primal has no strictly feasible point, its optimal value, and the
+/// same problem written directly on its face. Block 0 (PSD, order `n`) meets the exposing
+/// constraint `0`, `⟨−U D Uᵀ, X_0⟩ − x_0 − 2x_1 = 0` (`U` the last `r` columns of a random
+/// orthogonal `Q`, `D ≻ 0`, `x` the LP block): negative semidefinite with `b_0 = 0`, so every
+/// feasible point has `X_0 = V Y Vᵀ` (`V` the other columns of `Q`) and `x_0 = x_1 = 0`. Block 1
+/// (PSD) is untouched. Constraint 1 is the trace of everything, the rest are random.
+///
+/// The optimum is planted with an attained dual (as in gpp; without one no finite `y_0` makes
+/// `S` semidefinite to the tolerance): `X*_0 = V Y* Vᵀ`, and with `S̃` complementary to `Y*` on
+/// the face, `S*_0 = [V U] [[S̃, S̃L], [LᵀS̃, LᵀS̃L + G]] [V U]ᵀ ⪰ 0` (random `L`, `G ≻ 0`), which
+/// couples the face to its complement and still has `⟨S*_0, X*_0⟩ = ⟨S̃, Y*⟩ = 0`; blocks 1 and 2
+/// get strictly complementary pairs, `C = Σ y*_i A_i + S*`, `b = 𝒜(X*)` with `b_0 = 0`. The
+/// second problem has `VᵀC_0V`, `VᵀA_{i,0}V` in block 0, LP entries 2 and 3, no constraint 0.
+fn planted_face(seed: u64) -> (Problem, f64, Problem) {
     let mut rng = Rng(seed);
     let (n, r, n1) = (4 + rng.below(4), 1 + rng.below(2), 2 + rng.below(3));
+    let nf = n - r;
     let layout = vec![
         (BlockKind::Psd, n),
         (BlockKind::Psd, n1),
@@ -895,8 +900,8 @@ fn planted_face(seed: u64) -> (Problem, Problem) {
     let m = 3 + rng.below(4);
     let mut dp = DenseProblem::random(&mut rng, layout.clone(), m, 0.7);
     let q = random_orthogonal(&mut rng, n);
-    let v = q.subcols(0, n - r).to_owned();
-    let u = q.subcols(n - r, r).to_owned();
+    let v = q.subcols(0, nf).to_owned();
+    let u = q.subcols(nf, r).to_owned();
     let d = Mat::from_fn(
         r,
         r,
@@ -912,25 +917,45 @@ fn planted_face(seed: u64) -> (Problem, Problem) {
         Mat::identity(n1, n1),
         Mat::from_fn(4, 1, |_, _| 1.0),
     ];
-    let x0 = vec![
-        &v * random_spd(&mut rng, n - r, 0.5, 2.0) * v.transpose(),
-        random_spd(&mut rng, n1, 0.5, 2.0),
+    // Strictly complementary pair of order `n` with `X` of rank `k`.
+    let pair = |rng: &mut Rng, n: usize, k: usize| {
+        let p = random_orthogonal(rng, n);
+        let lam: Vec<f64> = (0..n).map(|_| rng.uniform(0.5, 2.0)).collect();
+        let dx = Mat::from_fn(n, n, |i, j| if i == j && i < k { lam[i] } else { 0.0 });
+        let ds = Mat::from_fn(n, n, |i, j| if i == j && i >= k { lam[i] } else { 0.0 });
+        (&p * dx * p.transpose(), &p * ds * p.transpose())
+    };
+    let k = 1 + rng.below(nf);
+    let (y_face, s_face) = pair(&mut rng, nf, k);
+    let k1 = rng.below(n1 + 1);
+    let (x1, s1) = pair(&mut rng, n1, k1);
+    let l = random_mat(&mut rng, nf, r);
+    let sl = &s_face * &l;
+    let g = l.transpose() * &sl + random_spd(&mut rng, r, 0.5, 2.0);
+    let s0 = &v * &s_face * v.transpose()
+        + &v * &sl * u.transpose()
+        + &u * sl.transpose() * v.transpose()
+        + &u * &g * u.transpose();
+    let xs = vec![
+        &v * &y_face * v.transpose(),
+        x1,
+        faer::mat![[0.0], [0.0], [rng.uniform(0.5, 2.0)], [0.0]],
+    ];
+    let ss = vec![
+        s0,
+        s1,
         faer::mat![
-            [0.0],
-            [0.0],
             [rng.uniform(0.5, 2.0)],
+            [rng.uniform(0.5, 2.0)],
+            [0.0],
             [rng.uniform(0.5, 2.0)]
         ],
     ];
-    dp.b = dp.apply(&x0);
-    let mut y0: Vec<f64> = (0..m).map(|_| rng.uniform(-1.0, 1.0)).collect();
-    y0[0] = 0.0;
-    dp.c = dp.combine(&y0);
-    dp.c[0] += random_spd(&mut rng, n, 0.5, 2.0);
-    dp.c[1] += random_spd(&mut rng, n1, 0.5, 2.0);
-    for i in 0..4 {
-        dp.c[2][(i, 0)] += rng.uniform(0.5, 2.0);
-    }
+    let y: Vec<f64> = (0..m).map(|_| rng.uniform(-1.0, 1.0)).collect();
+    dp.c = dp.combine(&y).iter().zip(&ss).map(|(a, s)| a + s).collect();
+    dp.b = dp.apply(&xs);
+    dp.b[0] = 0.0;
+    let opt: f64 = dp.b.iter().zip(&y).map(|(b, v)| b * v).sum();
     let on_face = |blocks: &[Mat<f64>]| {
         vec![
             v.transpose() * &blocks[0] * &v,
@@ -938,18 +963,17 @@ fn planted_face(seed: u64) -> (Problem, Problem) {
             blocks[2].subrows(2, 2).to_owned(),
         ]
     };
-    let face_layout = vec![
-        (BlockKind::Psd, n - r),
-        (BlockKind::Psd, n1),
-        (BlockKind::Lp, 2),
-    ];
     let face = DenseProblem {
-        layout: face_layout,
+        layout: vec![
+            (BlockKind::Psd, nf),
+            (BlockKind::Psd, n1),
+            (BlockKind::Lp, 2),
+        ],
         a: dp.a[1..].iter().map(|a| on_face(a)).collect(),
         c: on_face(&dp.c),
         b: dp.b[1..].to_vec(),
     };
-    (dp.build(), face.build())
+    (dp.build(), opt, face.build())
 }
 
 proptest! {
@@ -957,12 +981,12 @@ proptest! {
 
     /// Facial reduction: the planted problem without a Slater point ends `Optimal` with every
     /// DIMACS error within the default tolerance `1e-8` (recomputed independently against the
-    /// original data), its `X` lies on the face, and its objective is the optimum of the
-    /// problem written directly on the face — which has a Slater point, so facial reduction
-    /// leaves its solve bitwise unchanged.
+    /// original data), its LP entries fixed by the exposing constraint are zero, and its
+    /// objective is the planted optimum and the optimum of the problem written directly on the
+    /// face — which has a Slater point, so facial reduction leaves its solve bitwise unchanged.
     #[test]
     fn facial_reduction_solves_on_the_face(seed in any::<u64>()) {
-        let (p, face) = planted_face(seed);
+        let (p, opt, face) = planted_face(seed);
         let sol = solve(&p, &Settings::default()).unwrap();
         let e = dimacs(&p, &sol.y, &sol.x, &sol.s);
         prop_assert_eq!(sol.status, Status::Optimal, "DIMACS {:?}", e);
@@ -975,6 +999,7 @@ proptest! {
         let plain = solve(&face, &off).unwrap();
         prop_assert_eq!((&plain.x, &plain.y, &plain.s), (&reference.x, &reference.y, &reference.s));
         let (f, g) = (sol.primal_objective, reference.primal_objective);
-        prop_assert!((f - g).abs() <= 1e-7 * (1.0 + g.abs()), "objective {} vs {} on the face", f, g);
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-7 * (1.0 + b.abs());
+        prop_assert!(close(f, g) && close(f, opt), "objective {} vs {} on the face, {} planted", f, g, opt);
     }
 }

@@ -46,7 +46,7 @@
 
 use faer::Mat;
 
-use super::blockops::{block_inner, cholesky, scatter_sym, symmetrize};
+use super::blockops::{block_inner, cholesky, min_eig, scatter_sym, symmetrize};
 use super::point::point_measures;
 use super::settings::Settings;
 use super::solution::{Solution, Status};
@@ -470,30 +470,50 @@ fn slack(problem: &Problem, y: &[f64]) -> Vec<Mat<f64>> {
         .collect()
 }
 
-/// Whether `S₀ + t E + τ I` is positive definite on every block where `E ≠ 0`.
-fn interior(blocks: &[Block], s0: &[Mat<f64>], e: &[Option<Mat<f64>>], t: f64, tau: f64) -> bool {
-    blocks.iter().zip(s0).zip(e).all(|((b, s), e)| {
-        let Some(e) = e else { return true };
-        let mut m = s.clone();
-        for j in 0..m.ncols() {
-            let (mj, ej) = (m.col_as_slice_mut(j), e.col_as_slice(j));
-            mj.iter_mut().zip(ej).for_each(|(v, w)| *v += t * w);
-        }
-        match b.kind {
-            BlockKind::Lp => m.col_as_slice(0).iter().all(|&v| v + tau > 0.0),
-            BlockKind::Psd => {
-                (0..b.size).for_each(|i| m[(i, i)] += tau);
-                cholesky(&m).is_some()
+/// `S₀ + t E` on the blocks where `E ≠ 0`, with `shift` added to its diagonal.
+fn shifted(
+    blocks: &[Block],
+    s0: &[Mat<f64>],
+    e: &[Option<Mat<f64>>],
+    t: f64,
+    shift: f64,
+) -> Vec<(BlockKind, Mat<f64>)> {
+    blocks
+        .iter()
+        .zip(s0)
+        .zip(e)
+        .filter_map(|((b, s), e)| {
+            let e = e.as_ref()?;
+            let mut m = s.clone();
+            for j in 0..m.ncols() {
+                let (mj, ej) = (m.col_as_slice_mut(j), e.col_as_slice(j));
+                mj.iter_mut().zip(ej).for_each(|(v, w)| *v += t * w);
             }
-        }
-    })
+            match b.kind {
+                BlockKind::Lp => m.col_as_slice_mut(0).iter_mut().for_each(|v| *v += shift),
+                BlockKind::Psd => (0..b.size).for_each(|i| m[(i, i)] += shift),
+            }
+            Some((b.kind, m))
+        })
+        .collect()
 }
 
-/// The smallest `t ≥ 0` (to a relative `2⁻¹²`) with [`interior`], found by growing it tenfold
-/// from the scale `τ/‖E‖` and then bisecting; capped where the rounding of `t E` would exceed
-/// `‖S₀‖` (the largest value tried is returned then, and the measures show the failure).
+/// The multiplier `t ≥ 0` of the exposing constraints (module documentation): the smallest
+/// (to a relative `2⁻¹²`) for which `S₀ + t E + τ I` is positive definite on every block where
+/// `E ≠ 0` (a Cholesky factorisation per test), found by growing `t` tenfold from `τ/max|E|`
+/// and bisecting. Past `(1 + max|S₀|)/(ε max|E|)` the rounding of `t E` is as large as `S₀`
+/// itself; if no `t` below that passes (the dual optimum is not attained, or only at a scale
+/// where rounding hides the margin `τ`), the one of the tenfold grid with the largest
+/// `λ_min(S₀ + t E)` is returned and the measures of the point report its accuracy.
 fn multiplier(blocks: &[Block], s0: &[Mat<f64>], e: &[Option<Mat<f64>>], tau: f64) -> f64 {
-    let ok = |t: f64| interior(blocks, s0, e, t, tau);
+    let ok = |t: f64| {
+        shifted(blocks, s0, e, t, tau)
+            .iter()
+            .all(|(kind, m)| match kind {
+                BlockKind::Lp => m.col_as_slice(0).iter().all(|&v| v > 0.0),
+                BlockKind::Psd => cholesky(m).is_some(),
+            })
+    };
     if ok(0.0) {
         return 0.0;
     }
@@ -504,16 +524,30 @@ fn multiplier(blocks: &[Block], s0: &[Mat<f64>], e: &[Option<Mat<f64>>], tau: f6
     };
     let e_max = e.iter().flatten().map(max_abs).fold(0.0, f64::max);
     let s_max = s0.iter().map(max_abs).fold(0.0, f64::max);
-    let n = blocks.iter().map(|b| b.size).sum::<usize>() as f64;
-    let t_cap = (1.0 + n * s_max) / (f64::EPSILON * e_max);
-    let (mut lo, mut hi) = (0.0, tau / e_max);
+    let t_cap = (1.0 + s_max) / (f64::EPSILON * e_max);
+    let mut grid = vec![tau / e_max];
+    let mut hi = grid[0];
     while !ok(hi) {
         if hi > t_cap {
-            return hi;
+            let lambda = |t: f64| {
+                shifted(blocks, s0, e, t, 0.0)
+                    .iter()
+                    .map(|(kind, m)| min_eig(*kind, m))
+                    .fold(f64::INFINITY, f64::min)
+            };
+            let best =
+                grid.iter()
+                    .map(|&t| (lambda(t), t))
+                    .fold(
+                        (f64::NEG_INFINITY, 0.0),
+                        |b, c| if c.0 > b.0 { c } else { b },
+                    );
+            return best.1;
         }
-        lo = hi;
         hi *= 10.0;
+        grid.push(hi);
     }
+    let mut lo = if grid.len() > 1 { hi / 10.0 } else { 0.0 };
     for _ in 0..12 {
         let mid = 0.5 * (lo + hi);
         if ok(mid) { hi = mid } else { lo = mid }
