@@ -41,12 +41,21 @@
 //! coupling `VᵀS₀ range(E)` is paid for by `t`). The dual need not be attained, so no finite `t`
 //! may give `S ⪰ 0` exactly: `t` is the smallest (found by growing and bisecting, each test a
 //! Cholesky factorisation) for which `S + τI ≻ 0` with `τ` a tenth of `tol_feas·(1 + max|C_ij|)`,
-//! the scale of the DIMACS error of `λ_min(S)`. The solution's measures are those of this point
-//! against the original problem, and its status follows the rule of [`super::Status`] from them.
+//! the scale of the DIMACS error of `λ_min(S)`. When the optimum of (D) is not attained the
+//! needed `t` grows like `1/τ` and the rounding of `t E`, about `ε t max|E|`, may exceed the
+//! margin: then the `t` with the largest `λ_min(S)` on the search grid is taken. The solution's
+//! measures are those of this point against the original problem, and its status follows the
+//! rule of [`super::Status`] from them, so a point that misses the tolerances says so.
+//!
+//! Constraints that become linearly dependent on the face are not removed here: the solver
+//! handles dependent constraints itself (regularised Cholesky, LBLᵀ and least-squares fallbacks).
 
-use faer::Mat;
+use faer::diag::Diag;
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::evd::{ComputeEigenvectors, self_adjoint_evd, self_adjoint_evd_scratch};
+use faer::{Mat, Par};
 
-use super::blockops::{block_inner, cholesky, min_eig, scatter_sym, symmetrize};
+use super::blockops::{block_inner, cholesky, min_eig, mul, scatter_sym, symmetrize};
 use super::point::point_measures;
 use super::settings::Settings;
 use super::solution::{Solution, Status};
@@ -60,6 +69,36 @@ const ROUNDS: usize = 8;
 /// `n`: the backward error of a symmetric eigensolver is a modest multiple of `n·ε·‖A‖`.
 fn eig_tol(n: usize) -> f64 {
     100.0 * n as f64 * f64::EPSILON
+}
+
+/// Eigenvalues (nondecreasing) and, if `vectors`, eigenvectors of the symmetric `a` (lower
+/// triangle read), computed sequentially so that the reduction does not depend on the thread
+/// count; `None` if the eigensolver fails.
+fn eigen(a: &Mat<f64>, vectors: bool) -> Option<(Vec<f64>, Mat<f64>)> {
+    let n = a.nrows();
+    let mut s = Diag::<f64>::zeros(n);
+    let mut u = Mat::<f64>::zeros(n, if vectors { n } else { 0 });
+    let compute = if vectors {
+        ComputeEigenvectors::Yes
+    } else {
+        ComputeEigenvectors::No
+    };
+    let mut mem = MemBuffer::new(self_adjoint_evd_scratch::<f64>(
+        n,
+        compute,
+        Par::Seq,
+        Default::default(),
+    ));
+    self_adjoint_evd(
+        a.as_ref(),
+        s.as_mut(),
+        vectors.then(|| u.as_mut()),
+        Par::Seq,
+        MemStack::new(&mut mem),
+        Default::default(),
+    )
+    .ok()?;
+    Some(((0..n).map(|i| s[i]).collect(), u))
 }
 
 /// Basis of the face in one block.
@@ -182,9 +221,7 @@ fn semidefinite_sign(blocks: &[BlockData], parts: &[(usize, &SparseSym)]) -> Opt
         }
         let support = support_of(a);
         if support.len() > 1 {
-            let ev = dense_on(a, &support, sign)
-                .self_adjoint_eigenvalues(faer::Side::Lower)
-                .ok()?;
+            let (ev, _) = eigen(&dense_on(a, &support, sign), false)?;
             let (min, max) = (ev[0], ev[ev.len() - 1]);
             if min < -eig_tol(support.len()) * max {
                 return None;
@@ -221,10 +258,7 @@ fn exposing_sum(bd: &BlockData, exposing: &[(usize, f64)]) -> SparseSym {
 fn psd_basis(n: usize, e: &SparseSym) -> Option<Basis> {
     let support = support_of(e);
     let nj = support.len();
-    let evd = dense_on(e, &support, 1.0)
-        .self_adjoint_eigen(faer::Side::Lower)
-        .ok()?;
-    let lam = evd.S().column_vector();
+    let (lam, u) = eigen(&dense_on(e, &support, 1.0), true)?;
     let tol = eig_tol(nj) * lam[nj - 1];
     let range: Vec<usize> = (0..nj).filter(|&c| lam[c] > tol).collect();
     let r = range.len();
@@ -232,7 +266,6 @@ fn psd_basis(n: usize, e: &SparseSym) -> Option<Basis> {
         return None;
     }
     // Rows of Qᵀ, reduced in place to [I G] on the pivots.
-    let u = evd.U();
     let mut m: Vec<Vec<f64>> = range
         .iter()
         .map(|&c| (0..nj).map(|q| u[(q, c)]).collect())
@@ -588,7 +621,7 @@ impl Reduction {
                             for (alpha, row) in rows.iter().enumerate() {
                                 row.iter().for_each(|&(c, w)| v[(alpha, c)] = w);
                             }
-                            let mut full = &v * &x[*k] * v.transpose();
+                            let mut full = mul(&mul(&v, &x[*k]), &v.transpose().to_owned());
                             symmetrize(&mut full);
                             full
                         }
