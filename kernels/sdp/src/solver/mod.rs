@@ -134,7 +134,8 @@ pub fn solve(problem: &Problem, settings: &Settings) -> Result<Solution, SdpErro
 }
 
 /// Solves `problem` starting the interior-point method from `start` instead of the default
-/// starting point (see [`Solver::solve_from`]).
+/// starting point (see [`Solver::solve_from`]). `start` is a point of `problem` itself, so no
+/// facial reduction is done ([`Settings::facial_reduction`] applies to [`solve`] only).
 pub fn solve_from(
     problem: &Problem,
     settings: &Settings,

@@ -42,7 +42,8 @@ pub struct Settings {
     /// Facial reduction in [`crate::solve`] (default on): constraints `⟨A_i, X⟩ = 0` with a
     /// semidefinite `A_i`, which leave (P) without a strictly feasible point, are eliminated by
     /// solving on the face they expose and mapping the solution back (Borwein and Wolkowicz
-    /// 1981). Problems without such a constraint are solved exactly as with it off.
+    /// 1981). Problems without such a constraint are solved exactly as with it off. A
+    /// [`crate::Solver`] and [`crate::solve_from`] solve the problem as given.
     pub facial_reduction: bool,
 }
 
