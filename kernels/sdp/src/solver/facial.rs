@@ -9,9 +9,12 @@
 //! — is the facial reduction of Borwein and Wolkowicz ("Facial reduction for a cone-convex
 //! programming problem", J. Austral. Math. Soc. 30, 1981; "Regularizing the abstract convex
 //! program", J. Math. Anal. Appl. 83, 1981). On the SDPLIB graph-partitioning problems `gpp*`
-//! the constraint `⟨eeᵀ, X⟩ = 0` is of this kind and the reduction is the one of Zhao, Karisch,
-//! Rendl and Wolkowicz ("Semidefinite programming relaxations for the quadratic assignment
-//! problem", J. Comb. Optim. 2, 1998), with `X` restricted to `e^⊥`.
+//! the constraint `⟨eeᵀ, X⟩ = 0` is of this kind, and restricting `X` to `e^⊥` is the projection
+//! onto the minimal face used by Zhao, Karisch, Rendl and Wolkowicz for the quadratic assignment
+//! problem ("Semidefinite programming relaxations for the quadratic assignment problem",
+//! J. Comb. Optim. 2, 1998) and by Wolkowicz and Zhao for graph partitioning ("Semidefinite
+//! programming relaxations for the graph partitioning problem", Discrete Appl. Math. 96–97,
+//! 1999).
 //!
 //! # The reduced problem
 //!
@@ -29,8 +32,8 @@
 //! `N`, and the null space is `x_P = −G x_N`. Row `α ∉ P` of `V` is a unit vector, so a
 //! constraint touching no pivot index keeps its entries (gpp: `X_jj = 1` stays `Y_jj = 1`, only
 //! the pivot's `X_pp = 1` becomes the dense rank-one `eᵀYe = 1`, as `⟨eeᵀ, X⟩ = 0` was before),
-//! and the Schur assembly keeps its sparse formulas. `|G_ij| ≤ 1` after complete pivoting, so
-//! `‖V‖₂² ≤ 1 + r·|N|`.
+//! and the Schur assembly keeps its sparse formulas. Complete pivoting keeps the entries of `G`
+//! moderate (for a rank-one `E`, `|G_ij| ≤ 1`), so `V` is well conditioned.
 //!
 //! # Back to the original problem
 //!
