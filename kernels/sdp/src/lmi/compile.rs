@@ -810,9 +810,8 @@ impl Compiled {
             ) => {
                 let (mut solver, analysed) = self.solver.take().expect("created above");
                 let this = &*self;
-                let c_norm = objective_norm(problem);
-                let sdp = solver.solve_until(problem, None, &mut |y, state| {
-                    solution::verified_iterate(this, y, state, t_col, c_norm)
+                let sdp = solver.solve_until(problem, None, &mut |y, _| {
+                    solution::verified_iterate(this, y, t_col)
                 });
                 self.solver = Some((solver, analysed));
                 sdp?
@@ -869,17 +868,6 @@ impl Compiled {
         tight.tol_feas = (s.tol_feas * factor).max(FLOOR);
         Some(tight)
     }
-}
-
-/// `‖C‖_F` of an SDP (both triangles of a PSD block counted).
-fn objective_norm(problem: &Problem) -> f64 {
-    problem
-        .blocks
-        .iter()
-        .flat_map(|b| b.c.iter())
-        .map(|(i, j, v)| if i == j { v * v } else { 2.0 * v * v })
-        .sum::<f64>()
-        .sqrt()
 }
 
 /// Re-solves of [`Compiled::solve`] that may raise strict margins.
