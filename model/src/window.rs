@@ -83,19 +83,20 @@ impl std::fmt::Display for SamplingWindow {
 /// `x` rounded to 6 significant digits and printed in its shortest form: plain decimals in
 /// `[1e-4, 1e6)`, exponent form outside (`1e300`, not 301 digits).
 pub fn significant(x: f64) -> String {
-    let r = format!("{x:.5e}").parse::<f64>().unwrap_or(x);
-    if r != 0.0 && r.is_finite() && !(1e-4..1e6).contains(&r.abs()) {
-        format!("{r:e}")
-    } else {
-        format!("{r}")
-    }
+    shortest(x, 6, 1e-4..1e6)
 }
 
 /// `x` rounded to 4 significant digits in its shortest form, for messages: plain decimals in
 /// `[1e-3, 1e4)`, exponent form outside (`1.695e5`, not `169500`).
 pub fn sig4(x: f64) -> String {
-    let r = format!("{x:.3e}").parse::<f64>().unwrap_or(x);
-    if r != 0.0 && r.is_finite() && !(1e-3..1e4).contains(&r.abs()) {
+    shortest(x, 4, 1e-3..1e4)
+}
+
+/// `x` rounded to `digits` significant digits, printed as plain decimals when its magnitude
+/// is in `plain`, in exponent form otherwise.
+fn shortest(x: f64, digits: usize, plain: std::ops::Range<f64>) -> String {
+    let r = format!("{x:.*e}", digits - 1).parse::<f64>().unwrap_or(x);
+    if r != 0.0 && r.is_finite() && !plain.contains(&r.abs()) {
         format!("{r:e}")
     } else {
         format!("{r}")
