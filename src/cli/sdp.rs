@@ -118,6 +118,10 @@ struct SolveOptions {
     /// Worker threads: 1 = the calling thread only, 0 = automatic (default).
     #[arg(long, value_name = "N")]
     threads: Option<usize>,
+    /// Solve the problem as given, without first removing constraints `⟨A_i, X⟩ = 0` with a
+    /// semidefinite `A_i` by facial reduction (for comparisons).
+    #[arg(long)]
+    no_facial_reduction: bool,
     /// Wall-time budget in seconds; when it runs out the solve stops with status
     /// `interrupted` (or `almost optimal` if the point it has is accurate to the reduced
     /// tolerance) and returns the best point found.
@@ -135,6 +139,7 @@ impl SolveOptions {
         s.tol_reduced = self.tol_reduced.unwrap_or(s.tol_reduced);
         s.max_iterations = self.max_iterations.unwrap_or(s.max_iterations);
         s.threads = self.threads.unwrap_or(s.threads);
+        s.facial_reduction = !self.no_facial_reduction;
         s
     }
 

@@ -77,6 +77,7 @@
 mod blockops;
 mod certificate;
 mod direction;
+mod facial;
 mod ipm;
 mod linsys;
 mod lsq;
@@ -93,6 +94,7 @@ mod structure;
 
 use std::fmt;
 use std::sync::Arc;
+use std::time::Instant;
 
 use faer::Mat;
 
@@ -109,12 +111,31 @@ use par::Exec;
 use structure::Analysis;
 
 /// Solves `problem` (analysis and interior-point iterations in one call).
+///
+/// With [`Settings::facial_reduction`] (the default), constraints `⟨A_i, X⟩ = 0` with a
+/// semidefinite `A_i` are first eliminated by facial reduction (module `facial`): the problem
+/// is solved on the face of the cone they expose and the solution mapped back, its measures
+/// taken against `problem`. If the reduced problem ends infeasible, `problem` itself is solved
+/// (its infeasibility certificates are verified on its own data).
 pub fn solve(problem: &Problem, settings: &Settings) -> Result<Solution, SdpError> {
+    if settings.facial_reduction {
+        let started = Instant::now();
+        check_settings(settings)?;
+        structure::validate(problem)?;
+        if let Some(reduction) = facial::reduce(problem) {
+            let reduced = reduction.problem();
+            let sol = Solver::new(reduced, settings.clone())?.solve(reduced)?;
+            if !sol.status.is_infeasible() {
+                return reduction.solution(problem, sol, settings, started);
+            }
+        }
+    }
     Solver::new(problem, settings.clone())?.solve(problem)
 }
 
 /// Solves `problem` starting the interior-point method from `start` instead of the default
-/// starting point (see [`Solver::solve_from`]).
+/// starting point (see [`Solver::solve_from`]). `start` is a point of `problem` itself, so no
+/// facial reduction is done ([`Settings::facial_reduction`] applies to [`solve`] only).
 pub fn solve_from(
     problem: &Problem,
     settings: &Settings,

@@ -15,7 +15,11 @@ use super::certificate::InfeasibilityCertificate;
 /// * [`Status::Optimal`]: the relative gap `|⟨C,X⟩ − bᵀy|/(1+|⟨C,X⟩|+|bᵀy|)` and the relative
 ///   complementarity `⟨X,S⟩/(1+|⟨C,X⟩|+|bᵀy|)` are `≤ tol_gap` [1e-8], and the relative
 ///   infeasibilities `‖𝒜(X)−b‖₂/(1+‖b‖₂)` and `‖C−𝒜ᵀ(y)−S‖_F/(1+‖C‖_F)` are `≤ tol_feas` [1e-8]
-///   (the iterates stay strictly inside the cone, so `X, S ≻ 0`).
+///   (the iterates stay strictly inside the cone, so `X, S ≻ 0`; a point mapped back after
+///   facial reduction, see [`crate::solve`], lies on the boundary, and its two cone errors
+///   `max(0,−λ_min(X))/(1+‖b‖_∞)` and `max(0,−λ_min(S))/(1+max|C_ij|)`, with the accuracy
+///   `4ε‖·‖_F` of a computed eigenvalue added, are held to `tol_feas` as well, and to
+///   `tol_reduced` for [`Status::AlmostOptimal`]).
 /// * [`Status::PrimalInfeasible`] / [`Status::DualInfeasible`]: a certificate verified on the
 ///   problem data to `tol_infeas` [1e-8].
 /// * Otherwise the solve stopped early — progress stalled, a Newton system or a step broke down
