@@ -266,6 +266,7 @@ fn solve(
                 "primal_objective_sdpa": sdpa_primal,
                 "dual_objective_sdpa": sdpa_dual,
                 "iterations": solution.iterations,
+                "facial": solution.facial.to_string(),
                 "rel_gap": m.rel_gap,
                 "primal_infeasibility": m.primal_infeas,
                 "dual_infeasibility": m.dual_infeas,
@@ -292,6 +293,9 @@ fn solve(
         println!("status      {}{detail}", sdpa_status_name(status));
         println!("objective   {sdpa_primal:.10e} (SDPA primal)   {sdpa_dual:.10e} (SDPA dual)");
         println!("iterations  {}", solution.iterations);
+        if solution.facial != sporadic_sdp::FacialPath::NotReduced {
+            println!("facial      {}", solution.facial);
+        }
         println!(
             "rel. gap    {:.2e}   rel. primal infeas. {:.2e}   rel. dual infeas. {:.2e}",
             m.rel_gap, m.primal_infeas, m.dual_infeas

@@ -101,7 +101,7 @@ use faer::Mat;
 pub use certificate::InfeasibilityCertificate;
 pub use point::{Point, dimacs_errors, point_measures};
 pub use settings::{IterationLog, LogCallback, Settings};
-pub use solution::{Measures, Solution, Status};
+pub use solution::{FacialPath, Measures, Solution, Status};
 
 use crate::error::SdpError;
 use crate::problem::Problem;
@@ -115,8 +115,11 @@ use structure::Analysis;
 /// With [`Settings::facial_reduction`] (the default), constraints `⟨A_i, X⟩ = 0` with a
 /// semidefinite `A_i` are first eliminated by facial reduction (module `facial`): the problem
 /// is solved on the face of the cone they expose and the solution mapped back, its measures
-/// taken against `problem`. If the reduced problem ends infeasible, `problem` itself is solved
-/// (its infeasibility certificates are verified on its own data).
+/// taken against `problem`. If the lifted point is not [`Status::Optimal`], or the reduced
+/// problem ends infeasible, `problem` itself is solved as well (its infeasibility certificates
+/// are verified on its own data) and the better of the two by the documented rule of module
+/// `facial` (status class, then largest DIMACS error) is returned; [`Solution::facial`] tells
+/// which point it is.
 pub fn solve(problem: &Problem, settings: &Settings) -> Result<Solution, SdpError> {
     if settings.facial_reduction {
         let started = Instant::now();
@@ -125,9 +128,33 @@ pub fn solve(problem: &Problem, settings: &Settings) -> Result<Solution, SdpErro
         if let Some(reduction) = facial::reduce(problem) {
             let reduced = reduction.problem();
             let sol = Solver::new(reduced, settings.clone())?.solve(reduced)?;
-            if !sol.status.is_infeasible() {
-                return reduction.solution(problem, sol, settings, started);
-            }
+            let face = if sol.status.is_infeasible() {
+                None
+            } else {
+                let lifted = reduction.solution(problem, &sol, settings)?;
+                if lifted.status.is_optimal() {
+                    return Ok(Solution {
+                        solve_time: started.elapsed(),
+                        ..lifted
+                    });
+                }
+                Some(lifted)
+            };
+            let plain = Solver::new(problem, settings.clone())?.solve(problem)?;
+            let plain = Solution {
+                facial: FacialPath::Unreduced {
+                    face: face.as_ref().map_or(sol.status, |f| f.status),
+                },
+                ..plain
+            };
+            let best = match face {
+                Some(lifted) => facial::better(lifted, plain),
+                None => plain,
+            };
+            return Ok(Solution {
+                solve_time: started.elapsed(),
+                ..best
+            });
         }
     }
     Solver::new(problem, settings.clone())?.solve(problem)

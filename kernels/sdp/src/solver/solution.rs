@@ -173,6 +173,48 @@ impl Measures {
     }
 }
 
+/// How [`crate::solve`] used facial reduction for the returned point (the rule is in the
+/// documentation of module `facial`, section "Which point is returned").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum FacialPath {
+    /// The problem was solved as given: facial reduction is off, found nothing to reduce or was
+    /// abandoned, or the solve was a [`crate::Solver`] / [`crate::solve_from`] one.
+    NotReduced,
+    /// Solved on the face; the point lifted with the dual of the solve on the face.
+    Lifted,
+    /// Solved on the face; the dual corrected to satisfy the complementarity `S X = 0` of the
+    /// original problem before lifting, because the plain lift was not optimal.
+    Corrected,
+    /// Solved on the face, but neither lifted point was better than the solve of the original
+    /// problem without reduction, which is returned; `face` is the status the better lifted
+    /// point had (or the infeasibility status of the solve on the face).
+    Unreduced {
+        /// Status of the point from the face that lost.
+        face: Status,
+    },
+}
+
+impl FacialPath {
+    /// A stable snake-case identifier: `not_reduced`, `lifted`, `corrected`, `unreduced`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            FacialPath::NotReduced => "not_reduced",
+            FacialPath::Lifted => "lifted",
+            FacialPath::Corrected => "corrected",
+            FacialPath::Unreduced { .. } => "unreduced",
+        }
+    }
+}
+
+impl std::fmt::Display for FacialPath {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            FacialPath::Unreduced { face } => write!(f, "unreduced (face: {face})"),
+            other => f.write_str(other.as_str()),
+        }
+    }
+}
+
 /// Outcome of a solve.
 #[derive(Debug, Clone)]
 pub struct Solution {
@@ -196,8 +238,11 @@ pub struct Solution {
     /// Set for [`Status::PrimalInfeasible`] / [`Status::DualInfeasible`]; verified against the
     /// problem data before it is returned.
     pub certificate: Option<InfeasibilityCertificate>,
-    /// Wall-clock time of the solve (analysis excluded when re-solving with a [`crate::Solver`]).
+    /// Wall-clock time of the solve (analysis excluded when re-solving with a [`crate::Solver`]);
+    /// after facial reduction, of everything [`crate::solve`] did, both solves included.
     pub solve_time: Duration,
+    /// Whether the point comes from a solve on a face of the cone ([`FacialPath`]).
+    pub facial: FacialPath,
 }
 
 #[cfg(test)]
