@@ -118,6 +118,10 @@ struct SolveOptions {
     /// Worker threads: 1 = the calling thread only, 0 = automatic (default).
     #[arg(long, value_name = "N")]
     threads: Option<usize>,
+    /// Solve the problem as given, without first removing constraints `⟨A_i, X⟩ = 0` with a
+    /// semidefinite `A_i` by facial reduction (for comparisons).
+    #[arg(long)]
+    no_facial_reduction: bool,
     /// Wall-time budget in seconds; when it runs out the solve stops with status
     /// `interrupted` (or `almost optimal` if the point it has is accurate to the reduced
     /// tolerance) and returns the best point found.
@@ -135,6 +139,7 @@ impl SolveOptions {
         s.tol_reduced = self.tol_reduced.unwrap_or(s.tol_reduced);
         s.max_iterations = self.max_iterations.unwrap_or(s.max_iterations);
         s.threads = self.threads.unwrap_or(s.threads);
+        s.facial_reduction = !self.no_facial_reduction;
         s
     }
 
@@ -261,6 +266,7 @@ fn solve(
                 "primal_objective_sdpa": sdpa_primal,
                 "dual_objective_sdpa": sdpa_dual,
                 "iterations": solution.iterations,
+                "facial": solution.facial.to_string(),
                 "rel_gap": m.rel_gap,
                 "primal_infeasibility": m.primal_infeas,
                 "dual_infeasibility": m.dual_infeas,
@@ -287,6 +293,9 @@ fn solve(
         println!("status      {}{detail}", sdpa_status_name(status));
         println!("objective   {sdpa_primal:.10e} (SDPA primal)   {sdpa_dual:.10e} (SDPA dual)");
         println!("iterations  {}", solution.iterations);
+        if solution.facial != sporadic_sdp::FacialPath::NotReduced {
+            println!("facial      {}", solution.facial);
+        }
         println!(
             "rel. gap    {:.2e}   rel. primal infeas. {:.2e}   rel. dual infeas. {:.2e}",
             m.rel_gap, m.primal_infeas, m.dual_infeas

@@ -18,6 +18,6 @@ pub use solution_file::{
     SolutionFileError, read_solution, read_solution_file, write_solution, write_solution_file,
 };
 pub use solver::{
-    Accept, InfeasibilityCertificate, IterationLog, Measures, Point, Settings, Solution, Solver,
-    Status, dimacs_errors, point_measures, solve, solve_from,
+    Accept, FacialPath, InfeasibilityCertificate, IterationLog, Measures, Point, Settings,
+    Solution, Solver, Status, dimacs_errors, point_measures, solve, solve_from,
 };

@@ -14,7 +14,7 @@ use super::point::{Point, interior_start};
 use super::residuals::{DataNorms, Residuals, measures, residuals};
 use super::schur::assemble;
 use super::settings::{IterationLog, Settings};
-use super::solution::{Solution, Status};
+use super::solution::{FacialPath, Solution, Status};
 use super::start::initial_point;
 use super::step::{Side, step_lengths};
 use super::structure::{Analysis, Values};
@@ -624,5 +624,6 @@ pub(crate) fn run(
         measures,
         certificate,
         solve_time: started.elapsed(),
+        facial: FacialPath::NotReduced,
     }
 }

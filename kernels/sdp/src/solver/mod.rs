@@ -77,6 +77,7 @@
 mod blockops;
 mod certificate;
 mod direction;
+mod facial;
 mod ipm;
 mod linsys;
 mod lsq;
@@ -93,13 +94,14 @@ mod structure;
 
 use std::fmt;
 use std::sync::Arc;
+use std::time::Instant;
 
 use faer::Mat;
 
 pub use certificate::InfeasibilityCertificate;
 pub use point::{Point, dimacs_errors, point_measures};
 pub use settings::{IterationLog, LogCallback, Settings};
-pub use solution::{Measures, Solution, Status};
+pub use solution::{FacialPath, Measures, Solution, Status};
 
 use crate::error::SdpError;
 use crate::problem::Problem;
@@ -109,12 +111,58 @@ use par::Exec;
 use structure::Analysis;
 
 /// Solves `problem` (analysis and interior-point iterations in one call).
+///
+/// With [`Settings::facial_reduction`] (the default), constraints `⟨A_i, X⟩ = 0` with a
+/// semidefinite `A_i` are first eliminated by facial reduction (module `facial`): the problem
+/// is solved on the face of the cone they expose and the solution mapped back, its measures
+/// taken against `problem`. If the lifted point is not [`Status::Optimal`], or the reduced
+/// problem ends infeasible, `problem` itself is solved as well (its infeasibility certificates
+/// are verified on its own data) and the better of the two by the documented rule of module
+/// `facial` (status class, then largest DIMACS error) is returned; [`Solution::facial`] tells
+/// which point it is.
 pub fn solve(problem: &Problem, settings: &Settings) -> Result<Solution, SdpError> {
+    if settings.facial_reduction {
+        let started = Instant::now();
+        check_settings(settings)?;
+        structure::validate(problem)?;
+        if let Some(reduction) = facial::reduce(problem) {
+            let reduced = reduction.problem();
+            let sol = Solver::new(reduced, settings.clone())?.solve(reduced)?;
+            let face = if sol.status.is_infeasible() {
+                None
+            } else {
+                let lifted = reduction.solution(problem, &sol, settings)?;
+                if lifted.status.is_optimal() {
+                    return Ok(Solution {
+                        solve_time: started.elapsed(),
+                        ..lifted
+                    });
+                }
+                Some(lifted)
+            };
+            let plain = Solver::new(problem, settings.clone())?.solve(problem)?;
+            let plain = Solution {
+                facial: FacialPath::Unreduced {
+                    face: face.as_ref().map_or(sol.status, |f| f.status),
+                },
+                ..plain
+            };
+            let best = match face {
+                Some(lifted) => facial::better(lifted, plain),
+                None => plain,
+            };
+            return Ok(Solution {
+                solve_time: started.elapsed(),
+                ..best
+            });
+        }
+    }
     Solver::new(problem, settings.clone())?.solve(problem)
 }
 
 /// Solves `problem` starting the interior-point method from `start` instead of the default
-/// starting point (see [`Solver::solve_from`]).
+/// starting point (see [`Solver::solve_from`]). `start` is a point of `problem` itself, so no
+/// facial reduction is done ([`Settings::facial_reduction`] applies to [`solve`] only).
 pub fn solve_from(
     problem: &Problem,
     settings: &Settings,

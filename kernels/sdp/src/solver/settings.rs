@@ -39,6 +39,12 @@ pub struct Settings {
     pub threads: usize,
     /// Fixed step fraction `γ ∈ (0, 1)`; `None` uses SDPT3's adaptive `0.9 + 0.09·min(α_p, α_d)`.
     pub step_fraction: Option<f64>,
+    /// Facial reduction in [`crate::solve`] (default on): constraints `⟨A_i, X⟩ = 0` with a
+    /// semidefinite `A_i`, which leave (P) without a strictly feasible point, are eliminated by
+    /// solving on the face they expose and mapping the solution back (Borwein and Wolkowicz
+    /// 1981). Problems without such a constraint are solved exactly as with it off. A
+    /// [`crate::Solver`] and [`crate::solve_from`] solve the problem as given.
+    pub facial_reduction: bool,
 }
 
 impl Default for Settings {
@@ -52,6 +58,7 @@ impl Default for Settings {
             log: None,
             threads: 0,
             step_fraction: None,
+            facial_reduction: true,
         }
     }
 }
@@ -67,6 +74,7 @@ impl fmt::Debug for Settings {
             .field("log", &self.log.as_ref().map(|_| "callback"))
             .field("threads", &self.threads)
             .field("step_fraction", &self.step_fraction)
+            .field("facial_reduction", &self.facial_reduction)
             .finish()
     }
 }

@@ -15,7 +15,11 @@ use super::certificate::InfeasibilityCertificate;
 /// * [`Status::Optimal`]: the relative gap `|⟨C,X⟩ − bᵀy|/(1+|⟨C,X⟩|+|bᵀy|)` and the relative
 ///   complementarity `⟨X,S⟩/(1+|⟨C,X⟩|+|bᵀy|)` are `≤ tol_gap` [1e-8], and the relative
 ///   infeasibilities `‖𝒜(X)−b‖₂/(1+‖b‖₂)` and `‖C−𝒜ᵀ(y)−S‖_F/(1+‖C‖_F)` are `≤ tol_feas` [1e-8]
-///   (the iterates stay strictly inside the cone, so `X, S ≻ 0`).
+///   (the iterates stay strictly inside the cone, so `X, S ≻ 0`; a point mapped back after
+///   facial reduction, see [`crate::solve`], lies on the boundary, and its two cone errors
+///   `max(0,−λ_min(X))/(1+‖b‖_∞)` and `max(0,−λ_min(S))/(1+max|C_ij|)`, with the accuracy
+///   `4ε‖·‖_F` of a computed eigenvalue added, are held to `tol_feas` as well, and to
+///   `tol_reduced` for [`Status::AlmostOptimal`]).
 /// * [`Status::PrimalInfeasible`] / [`Status::DualInfeasible`]: a certificate verified on the
 ///   problem data to `tol_infeas` [1e-8].
 /// * Otherwise the solve stopped early — progress stalled, a Newton system or a step broke down
@@ -169,6 +173,48 @@ impl Measures {
     }
 }
 
+/// How [`crate::solve`] used facial reduction for the returned point (the rule is in the
+/// documentation of module `facial`, section "Which point is returned").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum FacialPath {
+    /// The problem was solved as given: facial reduction is off, found nothing to reduce or was
+    /// abandoned, or the solve was a [`crate::Solver`] / [`crate::solve_from`] one.
+    NotReduced,
+    /// Solved on the face; the point lifted with the dual of the solve on the face.
+    Lifted,
+    /// Solved on the face; the dual corrected to satisfy the complementarity `S X = 0` of the
+    /// original problem before lifting, because the plain lift was not optimal.
+    Corrected,
+    /// Solved on the face, but neither lifted point was better than the solve of the original
+    /// problem without reduction, which is returned; `face` is the status the better lifted
+    /// point had (or the infeasibility status of the solve on the face).
+    Unreduced {
+        /// Status of the point from the face that lost.
+        face: Status,
+    },
+}
+
+impl FacialPath {
+    /// A stable snake-case identifier: `not_reduced`, `lifted`, `corrected`, `unreduced`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            FacialPath::NotReduced => "not_reduced",
+            FacialPath::Lifted => "lifted",
+            FacialPath::Corrected => "corrected",
+            FacialPath::Unreduced { .. } => "unreduced",
+        }
+    }
+}
+
+impl std::fmt::Display for FacialPath {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            FacialPath::Unreduced { face } => write!(f, "unreduced (face: {face})"),
+            other => f.write_str(other.as_str()),
+        }
+    }
+}
+
 /// Outcome of a solve.
 #[derive(Debug, Clone)]
 pub struct Solution {
@@ -192,8 +238,11 @@ pub struct Solution {
     /// Set for [`Status::PrimalInfeasible`] / [`Status::DualInfeasible`]; verified against the
     /// problem data before it is returned.
     pub certificate: Option<InfeasibilityCertificate>,
-    /// Wall-clock time of the solve (analysis excluded when re-solving with a [`crate::Solver`]).
+    /// Wall-clock time of the solve (analysis excluded when re-solving with a [`crate::Solver`]);
+    /// after facial reduction, of everything [`crate::solve`] did, both solves included.
     pub solve_time: Duration,
+    /// Whether the point comes from a solve on a face of the cone ([`FacialPath`]).
+    pub facial: FacialPath,
 }
 
 #[cfg(test)]
