@@ -24,6 +24,8 @@ use crate::problem::Problem;
 pub(crate) struct Workspace {
     /// Lower triangle of the Schur matrix.
     pub schur: Mat<f64>,
+    /// Row buffers of the blocks assembled together ([`assemble`]).
+    pub schur_rows: Vec<f64>,
     /// Factorisation of the Schur matrix.
     pub linsys: SchurSolver,
     /// Least-squares form of the Newton system, allocated the first time it is needed.
@@ -445,7 +447,7 @@ pub(crate) fn run(
             let system = match mode {
                 Mode::Normal => {
                     // Schur complement, shared by predictor and corrector.
-                    assemble(an, vals, &x, &f, &mut ws.schur);
+                    assemble(an, vals, &x, &f, &mut ws.schur, &mut ws.schur_rows);
                     if !ws.linsys.factorize(&ws.schur) {
                         if lsq_failed {
                             break Next::Trouble;

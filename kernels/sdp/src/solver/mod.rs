@@ -256,6 +256,7 @@ impl Solver {
         let m = analysis.m;
         let workspace = Workspace {
             schur: Mat::zeros(m, m),
+            schur_rows: Vec::new(),
             linsys: SchurSolver::new(m),
             lsq: None,
         };
