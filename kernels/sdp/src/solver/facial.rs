@@ -91,8 +91,9 @@
 //! 1. The point lifted with the reduced solve's `y` ([`super::FacialPath::Lifted`]) if it is
 //!    [`Status::Optimal`] (on problems where it is, e.g. the gpp problems, no correction is
 //!    computed).
-//! 2. Otherwise the point lifted with the corrected `y` ([`super::FacialPath::Corrected`]) if
-//!    it is better by the rule of [`better`]: the status class first (optimal, almost optimal,
+//! 2. Otherwise, when the complementarity system fits [`CORRECTION_ENTRIES`], the point lifted
+//!    with the corrected `y` ([`super::FacialPath::Corrected`]) if it is better by the rule of
+//!    [`better`]: the status class first (optimal, almost optimal,
 //!    verified infeasibility, anything else), then the smaller largest DIMACS error; the
 //!    plain lift on a tie.
 //! 3. If the better of the two is not optimal — or the reduced solve ended infeasible — the
@@ -799,6 +800,10 @@ fn min_norm_and_null(g: &Mat<f64>, h: &[f64]) -> Option<(Vec<f64>, Mat<f64>)> {
     Some((delta, null))
 }
 
+/// Largest number of entries of the complementarity system for which [`complementary_dual`]
+/// is tried (`2²²`, 32 MiB of `f64`; e.g. one block of order 200 with 100 constraints).
+const CORRECTION_ENTRIES: usize = 1 << 22;
+
 /// Largest number of Newton steps of [`complementary_dual`].
 const NEWTON_STEPS: usize = 20;
 
@@ -1071,6 +1076,25 @@ impl Reduction {
         &self.reduced
     }
 
+    /// Whether the complementarity system of every round ([`complementarity_system`]: a dense
+    /// `Σ_k n_k² × m` matrix and its singular value decomposition, `Σ_k n_k²·m²` flops) stays
+    /// within [`CORRECTION_ENTRIES`]; beyond it a face that is not optimal goes straight to the
+    /// unreduced solve, whose time and memory are those of any solve.
+    fn correction_fits(&self) -> bool {
+        self.rounds.iter().all(|r| {
+            let rows: usize = r
+                .problem
+                .blocks
+                .iter()
+                .map(|bd| match bd.block.kind {
+                    BlockKind::Psd => bd.block.size * bd.block.size,
+                    BlockKind::Lp => bd.block.size,
+                })
+                .sum();
+            rows.saturating_mul(r.kept.len()) <= CORRECTION_ENTRIES
+        })
+    }
+
     /// The point of the original problem that `sol` (a solution of [`Reduction::problem`])
     /// stands for: `(X, y, S)` (module documentation), with the dual of every round corrected
     /// by [`complementary_dual`] first if `correct`.
@@ -1126,7 +1150,7 @@ impl Reduction {
         settings: &Settings,
     ) -> Result<Solution, SdpError> {
         let lifted = self.lifted(problem, sol, settings, false)?;
-        if lifted.status.is_optimal() {
+        if lifted.status.is_optimal() || !self.correction_fits() {
             return Ok(lifted);
         }
         let corrected = self.lifted(problem, sol, settings, true)?;
