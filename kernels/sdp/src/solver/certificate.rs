@@ -167,8 +167,8 @@ fn gram_solver(problem: &Problem) -> SchurSolver {
             }
         }
     }
-    let mut solver = SchurSolver::new(m);
-    solver.factorize(&g);
+    let mut solver = SchurSolver::with_matrix(g);
+    solver.factorize();
     solver
 }
 

@@ -22,8 +22,6 @@ use crate::problem::Problem;
 
 /// Reusable workspaces of a [`super::Solver`].
 pub(crate) struct Workspace {
-    /// Lower triangle of the Schur matrix.
-    pub schur: Mat<f64>,
     /// Row buffers of the blocks assembled together ([`assemble`]).
     pub schur_rows: Vec<f64>,
     /// Factorisation of the Schur matrix.
@@ -447,8 +445,8 @@ pub(crate) fn run(
             let system = match mode {
                 Mode::Normal => {
                     // Schur complement, shared by predictor and corrector.
-                    assemble(an, vals, &x, &f, &mut ws.schur, &mut ws.schur_rows);
-                    if !ws.linsys.factorize(&ws.schur) {
+                    assemble(an, vals, &x, &f, ws.linsys.matrix_mut(), &mut ws.schur_rows);
+                    if !ws.linsys.factorize() {
                         if lsq_failed {
                             break Next::Trouble;
                         }

@@ -96,8 +96,6 @@ use std::fmt;
 use std::sync::Arc;
 use std::time::Instant;
 
-use faer::Mat;
-
 pub use certificate::InfeasibilityCertificate;
 pub use point::{Point, dimacs_errors, point_measures};
 pub use settings::{IterationLog, LogCallback, Settings};
@@ -255,7 +253,6 @@ impl Solver {
         };
         let m = analysis.m;
         let workspace = Workspace {
-            schur: Mat::zeros(m, m),
             schur_rows: Vec::new(),
             linsys: SchurSolver::new(m),
             lsq: None,

@@ -32,6 +32,12 @@ const BATCH_BUDGET: usize = 1 << 22;
 /// Largest `n²·nc²` for which [`syrk_share`] forms `KᵀK` by plain inner products.
 const SMALL_GRAM: usize = 1 << 16;
 
+/// A [`SchurPlan::Mixed`] block with more than this many entries in its `nc×nc` share is
+/// assembled alone, a group of rows at a time ([`grouped_rows`]), so that its share never
+/// exists whole: on a problem with one large block (theta6, m = 4375) the share would be a
+/// third `m×m` array beside `M` and its factor.
+const ROW_GROUP: usize = 1 << 18;
+
 /// Batches of fewer than this many blocks per thread parallelise the rows inside each block.
 const ROW_PARALLEL_BLOCKS: usize = 4;
 
@@ -46,7 +52,12 @@ enum Local {
     Sorted,
 }
 
-/// Entries of the shared row buffer that block `b` uses ([`SchurPlan::Mixed`] only).
+/// Whether block `b` is assembled alone by [`grouped_rows`].
+fn grouped(b: &BlockPlan) -> bool {
+    matches!(b.schur, SchurPlan::Mixed { .. }) && b.cons.len() * b.cons.len() > ROW_GROUP
+}
+
+/// Entries of the shared row buffer that block `b` uses in a batch ([`SchurPlan::Mixed`] only).
 fn sorted_len(b: &BlockPlan) -> usize {
     match b.schur {
         SchurPlan::Mixed { .. } => b.cons.len() * b.cons.len(),
@@ -75,9 +86,14 @@ pub(crate) fn assemble(
     let nb = an.blocks.len();
     let mut k0 = 0;
     while k0 < nb {
+        if grouped(&an.blocks[k0]) {
+            grouped_rows(an, vals, x, f, k0, out, rows);
+            k0 += 1;
+            continue;
+        }
         let mut k1 = k0;
         let mut used = 0usize;
-        while k1 < nb {
+        while k1 < nb && !grouped(&an.blocks[k1]) {
             let b = &an.blocks[k1];
             let need = match b.kind {
                 BlockKind::Psd => b.cons.len() * b.cons.len(),
@@ -160,33 +176,98 @@ fn local_share(
             &f.linv_s[k],
             rows,
         )),
-        SchurPlan::Mixed {
-            order,
-            formula,
-            support,
-        } => {
-            let nc = plan.cons.len();
-            let n = plan.n;
-            let d = RowData {
-                order,
-                cons: &plan.cons,
-                vals,
-                x,
-                zinv: &f.zinv[k],
-            };
-            rows.chunks_mut(buf, nc, RowScratch::default, |ws, t, row| {
-                let support = &support[order[t]];
-                match formula[t] {
-                    Formula::F1 => {
-                        let f1 = ws.f1.get_or_insert_with(|| F1Scratch::new(n));
-                        f1_row(d, t, support, row, f1)
-                    }
-                    Formula::F2 => f2_row(d, t, support, row, &mut ws.f2),
-                    Formula::F3 => f3_row(d, t, row),
-                }
-            });
+        SchurPlan::Mixed { .. } => {
+            mixed_rows(plan, vals, x, &f.zinv[k], 0, buf, rows);
             Local::Sorted
         }
+    }
+}
+
+/// Rows `t0, t0 + 1, …` (sorted order) of a [`SchurPlan::Mixed`] block's share into `buf`, one
+/// `nc`-entry row each (row `t` holds columns `t' ≥ t`), with each row's formula; the rows run
+/// as `exec` says.
+fn mixed_rows(
+    plan: &BlockPlan,
+    vals: &[Vec<f64>],
+    x: &Mat<f64>,
+    zinv: &Mat<f64>,
+    t0: usize,
+    buf: &mut [f64],
+    exec: Exec,
+) {
+    let SchurPlan::Mixed {
+        order,
+        formula,
+        support,
+    } = &plan.schur
+    else {
+        return;
+    };
+    let (nc, n) = (plan.cons.len(), plan.n);
+    let d = RowData {
+        order,
+        cons: &plan.cons,
+        vals,
+        x,
+        zinv,
+    };
+    exec.chunks_mut(buf, nc, RowScratch::default, |ws, p, row| {
+        let t = t0 + p;
+        let support = &support[order[t]];
+        match formula[t] {
+            Formula::F1 => {
+                let f1 = ws.f1.get_or_insert_with(|| F1Scratch::new(n));
+                f1_row(d, t, support, row, f1)
+            }
+            Formula::F2 => f2_row(d, t, support, row, &mut ws.f2),
+            Formula::F3 => f3_row(d, t, row),
+        }
+    });
+}
+
+/// Adds rows `t0, t0 + 1, …` of a [`SchurPlan::Mixed`] block's share (as [`mixed_rows`] wrote
+/// them into `buf`) into the lower triangle of `out`.
+fn add_rows(plan: &BlockPlan, t0: usize, buf: &[f64], out: &mut Mat<f64>) {
+    let SchurPlan::Mixed { order, .. } = &plan.schur else {
+        return;
+    };
+    let (cons, nc) = (&plan.cons, plan.cons.len());
+    for (p, row) in buf.chunks_exact(nc).enumerate() {
+        let t = t0 + p;
+        let g1 = cons[order[t]].con;
+        for t2 in t..nc {
+            let g2 = cons[order[t2]].con;
+            let (i, j) = if g1 >= g2 { (g1, g2) } else { (g2, g1) };
+            out[(i, j)] += row[t2];
+        }
+    }
+}
+
+/// Block `k` ([`grouped`]) computed and added into `out` a group of rows at a time (at most
+/// [`ROW_GROUP`] entries of `rows`), the rows of a group in parallel when the solve is. Every
+/// entry of `out` receives the same value in the same order as from a whole share.
+fn grouped_rows(
+    an: &Analysis,
+    vals: &Values,
+    x: &[Mat<f64>],
+    f: &Factors,
+    k: usize,
+    out: &mut Mat<f64>,
+    rows: &mut Vec<f64>,
+) {
+    let plan = &an.blocks[k];
+    let nc = plan.cons.len();
+    let group = (ROW_GROUP / nc).max(1);
+    if rows.len() < group * nc {
+        rows.resize(group * nc, 0.0);
+    }
+    let mut t0 = 0;
+    while t0 < nc {
+        let t1 = (t0 + group).min(nc);
+        let buf = &mut rows[..(t1 - t0) * nc];
+        mixed_rows(plan, &vals.a[k], &x[k], &f.zinv[k], t0, buf, an.exec);
+        add_rows(plan, t0, buf, out);
+        t0 = t1;
     }
 }
 
@@ -557,15 +638,7 @@ fn add_share(
                 }
             }
         }
-        (Local::Sorted, SchurPlan::Mixed { order, .. }) => {
-            let nc = cons.len();
-            for t in 0..nc {
-                let g1 = cons[order[t]].con;
-                for t2 in t..nc {
-                    put(out, g1, cons[order[t2]].con, buf[t * nc + t2]);
-                }
-            }
-        }
+        (Local::Sorted, SchurPlan::Mixed { .. }) => add_rows(plan, 0, buf, out),
         (Local::Direct, SchurPlan::Lp { by_index }) => {
             let (xs, zs) = (x.col_as_slice(0), zinv.col_as_slice(0));
             for (l, list) in by_index.iter().enumerate() {
@@ -580,5 +653,98 @@ fn add_share(
             }
         }
         _ => {}
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::problem::ProblemBuilder;
+    use crate::solver::blockops::factor_all;
+    use crate::solver::structure::analyse;
+
+    /// A symmetric positive definite `n×n` matrix `I + 0.1·(B + Bᵀ)/n` from a sequence.
+    fn spd(n: usize, next: &mut impl FnMut() -> f64) -> Mat<f64> {
+        let b = Mat::from_fn(n, n, |_, _| next());
+        Mat::from_fn(n, n, |i, j| {
+            (if i == j { 1.0 } else { 0.0 }) + 0.1 * (b[(i, j)] + b[(j, i)]) / n as f64
+        })
+    }
+
+    /// A block whose share is assembled a group of rows at a time adds exactly the bits that
+    /// its whole `nc×nc` share adds (same values, same order per entry), on both executors.
+    #[test]
+    fn grouped_rows_add_the_bits_of_the_whole_share() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let (n, m) = (30, 600);
+        let mut builder = ProblemBuilder::new(m);
+        let block = builder.add_block(BlockKind::Psd, n);
+        for i in 0..m {
+            builder.set_b(i, next());
+            // Two to six entries per constraint, mixing sparse and denser rows.
+            for e in 0..2 + i % 5 {
+                let (r, c) = ((i * 7 + e * 3) % n, (i * 11 + e * 5) % n);
+                builder.add_a(i, block, r.min(c), r.max(c), next());
+            }
+        }
+        let problem = builder.build().expect("problem");
+        for exec in [Exec::Sequential, Exec::Parallel] {
+            let mut an = analyse(&problem).expect("analysis");
+            an.exec = exec;
+            assert!(
+                grouped(&an.blocks[0]),
+                "the test block must take the grouped path"
+            );
+            let vals = an.values(&problem).expect("values");
+            let x = vec![spd(n, &mut next)];
+            let s = vec![spd(n, &mut next)];
+            let fx = factor_all(&an, &x).expect("X factor");
+            let fs = factor_all(&an, &s).expect("S factor");
+            let f = Factors::new(&an, fx, fs);
+            let mut grouped_out = Mat::zeros(m, m);
+            let mut rows = Vec::new();
+            assemble(&an, &vals, &x, &f, &mut grouped_out, &mut rows);
+            assert!(
+                rows.len() <= ROW_GROUP + m,
+                "the row buffer stays within a group"
+            );
+            let mut whole = vec![0.0; m * m];
+            let local = local_share(
+                &an.blocks[0],
+                &vals.a[0],
+                None,
+                &x[0],
+                &f,
+                0,
+                exec,
+                &mut whole,
+            );
+            let mut whole_out = Mat::zeros(m, m);
+            add_share(
+                &an.blocks[0],
+                &vals.a[0],
+                &x[0],
+                &f.zinv[0],
+                local,
+                &whole,
+                &mut whole_out,
+            );
+            assert!((0..m).all(|i| whole_out[(i, i)] > 0.0), "M has a positive diagonal");
+            for j in 0..m {
+                for i in j..m {
+                    assert_eq!(
+                        grouped_out[(i, j)].to_bits(),
+                        whole_out[(i, j)].to_bits(),
+                        "entry ({i}, {j})"
+                    );
+                }
+            }
+        }
     }
 }
