@@ -33,21 +33,23 @@
 //! and the vertex count, are (up to the factor 2 of the balancing) the same for `A` and every
 //! `SAS⁻¹` with a diagonal `S` that balancing undoes (not always for a reducible `A`, e.g. a
 //! triangular Jordan block, whose nilpotency test `‖N^j‖_F ≤ tol·‖N‖_F^j` then depends on the
-//! scaling): e.g. the four modes of `eight-state-modal` (corpus) keep
+//! scaling): e.g. the four modes of `eight-state-modal` (corpus) keep, in the clusters' box,
 //! `2⁸` vertices in the diagonal normal form of `sporadic-ferrante2016` (`D` spanning `2²¹`),
 //! where the projector norms up to `3·10⁴` of the unbalanced matrix merged three of them and
 //! gave `2¹⁰`. A general similarity `S` changes the norms at most by the factor `κ(S)`; clusters
 //! of a defective eigenvalue (projector norms `∝ gap^{1−m}`) stay merged under any
 //! well-conditioned one. The spectral projectors themselves carry no similarity-invariant size
 //! (every projector is similar to an orthogonal one), so the merge criterion cannot be
-//! invariant under every similarity; only the choice below between the clusters and the whole
-//! spectrum depends on eigenvalues and the window alone.
+//! invariant under every similarity. Of the choice below between the clusters and the whole
+//! spectrum, the window condition depends on eigenvalues and the window alone, but the term
+//! counts it compares come from truncation bounds in the coordinates of `A` (not invariant).
 //!
 //! **Short windows** (not in the paper). On a window with `ρ(T1 + T2)/2 ≤ 1`, `ρ` the spread
 //! `max|λ_i − λ_j|` of the spectrum, the whole spectrum is taken as one cluster (the power series
-//! `e^{λ̄v}Σ_k v^k(A − λ̄I)^k/k!`, truncated with a rigorous remainder) whenever that keeps no more
-//! terms than the clusters: its box is the tighter one there (see
-//! [`ResidueExpansion::truncate`]; [`ResidueOptions::short_window_series`] turns this off).
+//! `e^{λ̄v}Σ_k v^k(A − λ̄I)^k/k!`, truncated with a rigorous remainder) whenever that keeps at
+//! most [`SHORT_WINDOW_EXTRA_TERMS`] more terms than the clusters: its box is the tighter one
+//! there (see [`ResidueExpansion::truncate`]; [`ResidueOptions::short_window_series`] turns this
+//! off).
 //!
 //! **Step 2–4.** Each kept moment contributes real matrices and scalar functions
 //! ([`CoefficientFunction`]); their exact ranges over `[T1, T2]` (43b) give a box whose
@@ -111,8 +113,9 @@ pub struct ResidueOptions {
     /// Largest admissible number of vertices. Default `2^16`.
     pub max_vertices: usize,
     /// Whether a short window (`ρ(T1 + T2)/2 ≤ 1`, `ρ` the spread of the spectrum) is embedded
-    /// with the power series of the whole spectrum when that keeps no more terms than the
-    /// clusters (see the module docs). Default `true`.
+    /// with the power series of the whole spectrum when that keeps at most
+    /// [`SHORT_WINDOW_EXTRA_TERMS`] more terms than the clusters (see the module docs). Default
+    /// `true`.
     pub short_window_series: bool,
 }
 
@@ -277,6 +280,10 @@ pub struct ResidueExpansion {
 /// genuinely distinct eigenvalues this close truncates with an error of order `1e-14 (‖A‖v)²`,
 /// well inside the self-check. Wider defective clusters are merged adaptively.
 const INITIAL_CLUSTER_DISTANCE: f64 = 1e-7;
+
+/// How many more terms than the clusters' box the power series of the whole spectrum may keep
+/// on a short window (each doubles the vertex count; see [`ResidueExpansion::truncate`]).
+pub const SHORT_WINDOW_EXTRA_TERMS: usize = 2;
 
 /// Minimal union–find over eigenvalue indices.
 struct UnionFind(Vec<usize>);
@@ -870,7 +877,7 @@ impl ResidueExpansion {
     /// error of the clusters they come from: those of [`ResidueExpansion::clusters`], or the
     /// whole spectrum as one cluster (`E = I`, no projector error) on a *short* window, where
     /// `ρ(T1 + T2)/2 ≤ 1` for the spread `ρ = max|λ_i − λ_j|` of the spectrum, when that keeps
-    /// no more terms.
+    /// at most [`SHORT_WINDOW_EXTRA_TERMS`] more terms.
     fn window_terms(
         &self,
         t1: f64,
@@ -885,7 +892,7 @@ impl ResidueExpansion {
             // Its tail bound `e^{(λ̄+‖N‖_F)v}` may overflow in badly scaled coordinates: then
             // the clusters are used.
             if let Ok(merged) = self.truncate_clusters(std::slice::from_ref(whole), t1, t2, scale)
-                && merged.terms.len() <= fine.terms.len()
+                && merged.terms.len() <= fine.terms.len() + SHORT_WINDOW_EXTRA_TERMS
             {
                 return Ok((merged, 0.0));
             }
