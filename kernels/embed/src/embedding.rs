@@ -63,8 +63,8 @@ pub enum Method {
         terms: usize,
         /// Number of terms with a non-degenerate range (`2^free_terms` vertices per piece).
         free_terms: usize,
-        /// Largest relative reconstruction error `‖Σ c_k(v) N_k − e^{Av}‖_F / ‖e^{Av}‖_F` on
-        /// the self-check grid.
+        /// Largest relative reconstruction error beyond the truncation remainder `δ`,
+        /// `(‖Σ c_k(v) N_k − e^{Av}‖_F − δ)⁺ / ‖e^{Av}‖_F`, on the self-check grid.
         reconstruction_error: f64,
         /// `‖Σ_c E_c − I‖_F / √n`.
         projector_sum_error: f64,

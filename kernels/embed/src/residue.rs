@@ -24,13 +24,41 @@
 //! eigenvalues they only decay; terms are kept until a rigorous tail bound (see
 //! [`ResidueExpansion::truncate`]) is negligible, and that bound is reported as a remainder.
 //!
+//! **Balanced coordinates** (issue 22). The clusters (and their moment counts) are those of the
+//! balanced matrix `B = D⁻¹AD` (`sporadic_linalg::balance`, LAPACK `gebal` scaling, `D` a
+//! diagonal of powers of 2), whose residues are mapped back exactly, `R_j(A) = D R_j(B) D⁻¹`;
+//! when `A` as given has clusters of the same structure its own residues are kept (bitwise
+//! those of an unbalanced computation, e.g. for the paper's Example 2). Balancing removes the diagonal scaling
+//! of the coordinates, so the projector norms the merging looks at, and with them the clusters
+//! and the vertex count, are (up to the factor 2 of the balancing) the same for `A` and every
+//! `SAS⁻¹` with a diagonal `S` that balancing undoes (not always for a reducible `A`, e.g. a
+//! triangular Jordan block, whose nilpotency test `‖N^j‖_F ≤ tol·‖N‖_F^j` then depends on the
+//! scaling): e.g. the four modes of `eight-state-modal` (corpus) keep, in the clusters' box,
+//! `2⁸` vertices in the diagonal normal form of `sporadic-ferrante2016` (`D` spanning `2²¹`),
+//! where the projector norms up to `3·10⁴` of the unbalanced matrix merged three of them and
+//! gave `2¹⁰`. A general similarity `S` changes the norms at most by the factor `κ(S)`; clusters
+//! of a defective eigenvalue (projector norms `∝ gap^{1−m}`) stay merged under any
+//! well-conditioned one. The spectral projectors themselves carry no similarity-invariant size
+//! (every projector is similar to an orthogonal one), so the merge criterion cannot be
+//! invariant under every similarity. Of the choice below between the clusters and the whole
+//! spectrum, the window condition depends on eigenvalues and the window alone, but the term
+//! counts it compares come from truncation bounds in the coordinates of `A` (not invariant).
+//!
+//! **Short windows** (not in the paper). On a window with `ρ(T1 + T2)/2 ≤ 1`, `ρ` the spread
+//! `max|λ_i − λ_j|` of the spectrum, the whole spectrum is taken as one cluster (the power series
+//! `e^{λ̄v}Σ_k v^k(A − λ̄I)^k/k!`, truncated with a rigorous remainder) whenever that keeps at
+//! most [`SHORT_WINDOW_EXTRA_TERMS`] more terms than the clusters: its box is the tighter one
+//! there (see [`ResidueExpansion::truncate`]; [`ResidueOptions::short_window_series`] turns this
+//! off).
+//!
 //! **Step 2–4.** Each kept moment contributes real matrices and scalar functions
 //! ([`CoefficientFunction`]); their exact ranges over `[T1, T2]` (43b) give a box whose
 //! `2^K` corners map to the vertices (43a). Coefficients with a single-valued range contribute
 //! one value only, so e.g. the eigenvalue `0` never doubles the vertex count.
 //!
-//! **Self-check.** `Σ_c E_c = I` and `max_v ‖Σ_k c_k(v) N_k − e^{Av}‖_F / ‖e^{Av}‖_F` on a
-//! grid must both be below [`ResidueOptions::check_tolerance`] (default `1e-10`); otherwise the
+//! **Self-check.** `Σ_c E_c = I` and `max_v (‖Σ_k c_k(v) N_k − e^{Av}‖_F − δ)⁺ / ‖e^{Av}‖_F` on a
+//! grid (`δ` the truncation remainder) must both be below [`ResidueOptions::check_tolerance`]
+//! (default `1e-10`); otherwise the
 //! containment is not claimed (see [`crate::Containment`]). On a window of a Hurwitz `A` longer
 //! than the decay of every mode the grid ends at `S = T1 + 72/|α|` ([`DECAY_EXPONENTS`]),
 //! and beyond it the whole expansion, `Σ_k max_{[S, T2]}|c_k|·‖N_k‖_F` from the exact ranges
@@ -43,6 +71,7 @@ use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::lu::partial_pivoting::{factor, solve};
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, MatRef, Par, c64};
+use sporadic_linalg::balance::{balance_a, balancing_scales};
 use sporadic_linalg::{expm_scaled, expm_stepper};
 
 use crate::EmbedError;
@@ -63,8 +92,9 @@ pub const DECAY_EXPONENTS: f64 = 72.0;
 /// Tuning of the residue embedding. The defaults suit matrices up to `n ≈ 15`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ResidueOptions {
-    /// Clusters whose spectral projector has a Frobenius norm above this are merged with their
-    /// nearest neighbour (nearly repeated eigenvalues). Default `1e4`.
+    /// Clusters whose spectral projector has a Frobenius norm above this in the balanced
+    /// coordinates (see the module docs) are merged with their nearest neighbour (nearly
+    /// repeated eigenvalues). Default `1e4`.
     pub max_projector_norm: f64,
     /// Moments kept beyond the algebraic multiplicity of a cluster of *distinct* eigenvalues,
     /// whose moments never vanish exactly. Each kept moment doubles the vertex count of a real
@@ -82,6 +112,11 @@ pub struct ResidueOptions {
     pub check_points: usize,
     /// Largest admissible number of vertices. Default `2^16`.
     pub max_vertices: usize,
+    /// Whether a short window (`ρ(T1 + T2)/2 ≤ 1`, `ρ` the spread of the spectrum) is embedded
+    /// with the power series of the whole spectrum when that keeps at most
+    /// [`SHORT_WINDOW_EXTRA_TERMS`] more terms than the clusters (see the module docs). Default
+    /// `true`.
+    pub short_window_series: bool,
 }
 
 impl Default for ResidueOptions {
@@ -94,6 +129,7 @@ impl Default for ResidueOptions {
             check_tolerance: 1e-10,
             check_points: 201,
             max_vertices: 1 << 16,
+            short_window_series: true,
         }
     }
 }
@@ -230,6 +266,10 @@ pub struct TruncatedExpansion {
 pub struct ResidueExpansion {
     a: Mat<f64>,
     clusters: Vec<EigenCluster>,
+    /// The whole spectrum as one cluster (`E = I`), when there is more than one cluster.
+    whole: Option<EigenCluster>,
+    /// `max |λ_i − λ_j|` over the computed eigenvalues.
+    spread: f64,
     projector_sum_error: f64,
     options: ResidueOptions,
 }
@@ -240,6 +280,10 @@ pub struct ResidueExpansion {
 /// genuinely distinct eigenvalues this close truncates with an error of order `1e-14 (‖A‖v)²`,
 /// well inside the self-check. Wider defective clusters are merged adaptively.
 const INITIAL_CLUSTER_DISTANCE: f64 = 1e-7;
+
+/// How many more terms than the clusters' box the power series of the whole spectrum may keep
+/// on a short window (each doubles the vertex count; see [`ResidueExpansion::truncate`]).
+pub const SHORT_WINDOW_EXTRA_TERMS: usize = 2;
 
 /// Minimal union–find over eigenvalue indices.
 struct UnionFind(Vec<usize>);
@@ -273,6 +317,17 @@ impl UnionFind {
         }
         by_root.into_iter().filter(|c| !c.is_empty()).collect()
     }
+}
+
+/// The structure of a decomposition: per cluster (sorted) the number of eigenvalues and of
+/// moments, and whether it is nilpotent and a conjugate pair.
+fn structure(clusters: &[EigenCluster]) -> Vec<(usize, usize, bool, bool)> {
+    let mut s: Vec<_> = clusters
+        .iter()
+        .map(|c| (c.eigenvalues.len(), c.moments.len(), c.nilpotent, c.pair))
+        .collect();
+    s.sort_unstable();
+    s
 }
 
 /// Index of the conjugate of every eigenvalue (a real eigenvalue is its own conjugate).
@@ -475,6 +530,57 @@ impl ResidueExpansion {
     pub fn with_options(a: MatRef<'_, f64>, options: ResidueOptions) -> Result<Self, EmbedError> {
         let n = check_square_finite(a, "A")?;
         options.validate()?;
+        // The clusters are those of the balanced matrix `B = D⁻¹AD`, whose residues are mapped
+        // back exactly (see the module docs); when `A` as given has clusters of the same
+        // structure, its own residues are kept (they are as accurate, and bitwise those of an
+        // unbalanced computation).
+        let (mut d, mut balanced) = (vec![1.0; n], None);
+        let (mut clusters, mut lambdas) = Self::decompose(a, &options)?;
+        let scales = balancing_scales(a);
+        if scales.iter().any(|&x| x != 1.0) {
+            let b = balance_a(a, &scales);
+            let (bc, bl) = Self::decompose(b.as_ref(), &options)?;
+            if structure(&bc) != structure(&clusters) {
+                (clusters, lambdas, d, balanced) = (bc, bl, scales, Some(b));
+            }
+        }
+        let b = balanced.as_ref().map_or(a, |b| b.as_ref());
+        let mut whole = (clusters.len() > 1).then(|| Self::whole_spectrum(b, &lambdas, &options));
+        for c in clusters.iter_mut().chain(whole.iter_mut()) {
+            for m in c.moments.iter_mut() {
+                *m = Mat::from_fn(n, n, |i, j| m[(i, j)] * (d[i] / d[j]));
+            }
+        }
+        let spread = lambdas
+            .iter()
+            .flat_map(|x| lambdas.iter().map(move |y| (x - y).norm()))
+            .fold(0.0, f64::max);
+        let mut sum = Mat::<f64>::zeros(n, n);
+        for c in &clusters {
+            let w = c.weight();
+            for j in 0..n {
+                for i in 0..n {
+                    sum[(i, j)] += w * c.moments[0][(i, j)].re;
+                }
+            }
+        }
+        let projector_sum_error = (&sum - Mat::<f64>::identity(n, n)).norm_l2() / (n as f64).sqrt();
+        Ok(Self {
+            a: a.to_owned(),
+            clusters,
+            whole,
+            spread,
+            projector_sum_error,
+            options,
+        })
+    }
+
+    /// The clusters and the eigenvalues of `a`.
+    fn decompose(
+        a: MatRef<'_, f64>,
+        options: &ResidueOptions,
+    ) -> Result<(Vec<EigenCluster>, Vec<c64>), EmbedError> {
+        let n = a.nrows();
         let sigma = a.norm_l2();
         let lambdas: Vec<c64> = if sigma == 0.0 {
             vec![c64::new(0.0, 0.0); n]
@@ -509,7 +615,7 @@ impl ResidueExpansion {
         let clusters = 'outer: loop {
             let comps = uf.components();
             if comps.len() == 1 {
-                break vec![Self::whole_spectrum(a, &lambdas, &options)];
+                break vec![Self::whole_spectrum(a, &lambdas, options)];
             }
             let mut clusters = Vec::new();
             for comp in &comps {
@@ -543,7 +649,7 @@ impl ResidueExpansion {
                     c.clone()
                 } else {
                     let c = Self::contour_cluster(
-                        a, &a_c, comp, &lambdas, centre, !self_conj, spread, dist, &options,
+                        a, &a_c, comp, &lambdas, centre, !self_conj, spread, dist, options,
                     )?;
                     cache.push((comp.clone(), c.clone()));
                     c
@@ -567,22 +673,7 @@ impl ResidueExpansion {
             }
             break clusters;
         };
-        let mut sum = Mat::<f64>::zeros(n, n);
-        for c in &clusters {
-            let w = c.weight();
-            for j in 0..n {
-                for i in 0..n {
-                    sum[(i, j)] += w * c.moments[0][(i, j)].re;
-                }
-            }
-        }
-        let projector_sum_error = (&sum - Mat::<f64>::identity(n, n)).norm_l2() / (n as f64).sqrt();
-        Ok(Self {
-            a: a.to_owned(),
-            clusters,
-            projector_sum_error,
-            options,
-        })
+        Ok((clusters, lambdas))
     }
 
     /// The single cluster containing the whole spectrum: `E = I`, `R_j = (A − λ̄I)^{j−1}`.
@@ -752,15 +843,16 @@ impl ResidueExpansion {
 
     /// The terms kept on `[t1, t2]`: per cluster the fewest moments whose dropped tail is below
     /// `tail_tolerance · scale`, with the rigorous bound on everything dropped.
-    fn truncate_with_scale(
+    fn truncate_clusters(
         &self,
+        clusters: &[EigenCluster],
         t1: f64,
         t2: f64,
         scale: f64,
     ) -> Result<TruncatedExpansion, EmbedError> {
         let mut terms = Vec::new();
         let mut remainder = 0.0;
-        for c in &self.clusters {
+        for c in clusters {
             let l = c.moments.len();
             let mut keep = l;
             let mut tail = Self::tail_bound(c, l, t1, t2)?;
@@ -781,14 +873,56 @@ impl ResidueExpansion {
         })
     }
 
+    /// The terms kept on `[t1, t2]` (see [`ResidueExpansion::truncate`]) and the projector-sum
+    /// error of the clusters they come from: those of [`ResidueExpansion::clusters`], or the
+    /// whole spectrum as one cluster (`E = I`, no projector error) on a *short* window, where
+    /// `ρ(T1 + T2)/2 ≤ 1` for the spread `ρ = max|λ_i − λ_j|` of the spectrum, when that keeps
+    /// at most [`SHORT_WINDOW_EXTRA_TERMS`] more terms.
+    fn window_terms(
+        &self,
+        t1: f64,
+        t2: f64,
+        scale: f64,
+    ) -> Result<(TruncatedExpansion, f64), EmbedError> {
+        let fine = self.truncate_clusters(&self.clusters, t1, t2, scale)?;
+        if let Some(whole) = &self.whole
+            && self.options.short_window_series
+            && self.spread * 0.5 * (t1 + t2) <= 1.0
+        {
+            // Its tail bound `e^{(λ̄+‖N‖_F)v}` may overflow in badly scaled coordinates: then
+            // the clusters are used.
+            if let Ok(merged) = self.truncate_clusters(std::slice::from_ref(whole), t1, t2, scale)
+                && merged.terms.len() <= fine.terms.len() + SHORT_WINDOW_EXTRA_TERMS
+            {
+                return Ok((merged, 0.0));
+            }
+        }
+        Ok((fine, self.projector_sum_error))
+    }
+
     /// The expansion terms kept on `[t1, t2]` and the rigorous bound on the dropped moments
-    /// (scale of the tail tolerance: `max(‖e^{AT1}‖_F, ‖e^{AT2}‖_F)`).
+    /// (scale of the tail tolerance: `max(‖e^{AT1}‖_F, ‖e^{AT2}‖_F)`): per cluster the fewest
+    /// moments whose dropped tail is below `tail_tolerance · scale`, the clusters being those
+    /// of [`ResidueExpansion::clusters`] or, on a short window, the whole spectrum as one
+    /// cluster (see the module docs).
+    ///
+    /// Why (not in the paper): the box (43) lets the coefficient functions of the clusters vary
+    /// independently, so besides `e^{Av}` it contains matrices whose clusters are at different
+    /// times of the window, `e^{λ_i v_i}` with `v_i ≠ v_j`; their distance from the curve grows
+    /// like `ρ(T2 − T1)`. The power series `e^{λ̄v} Σ_k v^k (A − λ̄I)^k/k!` of the whole
+    /// spectrum keeps the first-order term, `v(A − λ̄I)`, at one time; its first independent
+    /// term, `v²(A − λ̄I)²/2`, ranges over `ρ²(T2² − T1²)/2` (in the scale of the spectrum),
+    /// which is at most `ρ(T2 − T1)` exactly when `ρ(T1 + T2)/2 ≤ 1`. Both quantities are
+    /// similarity-invariant and do not change under a change of time unit (`A → kA`,
+    /// `T → T/k`). E.g. four lightly damped modes at 1–5 rad/s on `[0.01, 0.0185]`
+    /// (`ρ = 10`, `ρ(T1 + T2)/2 = 0.14`): the clusters' box is infeasible for LMI (41) where the
+    /// power series, with as many terms, certifies.
     pub fn truncate(&self, t1: f64, t2: f64) -> Result<TruncatedExpansion, EmbedError> {
         let iv = Interval::new(t1, t2)?;
         let scale = expm_scaled(self.a.as_ref(), iv.t1())?
             .norm_l2()
             .max(expm_scaled(self.a.as_ref(), iv.t2())?.norm_l2());
-        self.truncate_with_scale(iv.t1(), iv.t2(), scale)
+        Ok(self.window_terms(iv.t1(), iv.t2(), scale)?.0)
     }
 
     /// The end `S` of the self-check grid on `iv`: `T1 + DECAY_EXPONENTS/|α|` when `A` is
@@ -851,7 +985,7 @@ impl ResidueExpansion {
         if !scale.is_finite() {
             return Err(InputError::non_finite("e^{Av} on the sampling window").into());
         }
-        let truncated = self.truncate_with_scale(iv.t1(), iv.t2(), scale)?;
+        let (truncated, projector_sum_error) = self.window_terms(iv.t1(), iv.t2(), scale)?;
         let ranges: Vec<CoefficientRange> = truncated
             .terms
             .iter()
@@ -911,17 +1045,20 @@ impl ResidueExpansion {
         } else {
             0.0
         };
+        // The kept terms differ from the whole expansion by at most the truncation remainder
+        // (a rigorous bound, reported with the embedding): the self-check measures what is
+        // left beyond it, the error of the computed residues themselves.
         let reconstruction_error = reconstruction
             .iter()
             .zip(&exact)
-            .map(|(r, e)| r / e.norm_l2())
+            .map(|(r, e)| (r - truncated.remainder_bound).max(0.0) / e.norm_l2())
             .fold(tail_error, f64::max);
         let tol = self.options.check_tolerance;
         let method = Method::Residue {
             terms: truncated.terms.len(),
             free_terms: free,
             reconstruction_error,
-            projector_sum_error: self.projector_sum_error,
+            projector_sum_error,
         };
         let mut embedding = Embedding::new(
             a.to_owned(),
@@ -931,7 +1068,7 @@ impl ResidueExpansion {
             Containment::Guaranteed,
             truncated.remainder_bound + collapsed * (1.0 + 1e-12),
         );
-        if reconstruction_error > tol || self.projector_sum_error > tol {
+        if reconstruction_error > tol || projector_sum_error > tol {
             // The paper's argument does not apply to the computed residues; check e^{Av} on the
             // grid instead. Y(v) = Σ c_k(v) N_k lies in the hull (its coefficients lie in the
             // box), so dist(e^{Av}, hull) ≤ ‖Y(v) − e^{Av}‖_F; only where that bound is not
@@ -964,7 +1101,7 @@ impl ResidueExpansion {
                         "residue self-check failed (reconstruction error {reconstruction_error:.2e}, \
                          projector-sum error {:.2e}, tolerance {tol:.0e}) and e^(Av) lies {:.2e} \
                          (relative Frobenius distance) outside the hull at v = {}",
-                        self.projector_sum_error, worst.0, worst.1
+                        projector_sum_error, worst.0, worst.1
                     ),
                 }
             });

@@ -14,6 +14,11 @@
 //! `‖P‖₂ ≤ 1`, hence to the coordinates) is accepted when every vertex LMI of (41) is negative
 //! definite by more than rounding and the embedding's reconstruction error can explain
 //! (`strictly_negative`); the grid check of (12) on the user's data is made in every case.
+//! A residue box with a truncation remainder `δ` ([`TAIL_TOLERANCE`]) is solved first without
+//! it, at the vertices: a failure there is a failure of the robust form too (which implies
+//! (41) at the vertices), and a point at which every vertex LMI is negative definite by more
+//! than `2‖P‖₂δ` and rounding (`strictly_negative`) certifies the window as it stands; only a
+//! point in between is solved again in the robust form.
 //! The normal forms (not in the paper) are solved in the equivalent reduced form of
 //! [`LmiForm::Reduced`] (order `2n`, or `3n` with a remainder, instead of `3n` or `4n`), and a
 //! form whose embedding remainder makes the robust (41) infeasible on its face
@@ -67,7 +72,8 @@ use sporadic_sdp::lmi::Normalisation;
 #[derive(Debug, Clone)]
 pub struct DesignOptions {
     /// Polytopic embedding of `e^{Av}` (default: the residue box of §4.1,
-    /// `EmbeddingMethod::Residue(ResidueOptions::default())`).
+    /// `EmbeddingMethod::Residue` with [`ResidueOptions::default`] but the tail tolerance
+    /// [`TAIL_TOLERANCE`]).
     pub embedding: EmbeddingMethod,
     /// Number of equal sub-intervals of `[T1, T2]` whose vertex sets are united (default 1 = the
     /// paper's construction; more pieces reduce conservatism at a linear cost in vertices).
@@ -130,7 +136,10 @@ impl DesignOptions {
 impl Default for DesignOptions {
     fn default() -> Self {
         Self {
-            embedding: EmbeddingMethod::Residue(ResidueOptions::default()),
+            embedding: EmbeddingMethod::Residue(ResidueOptions {
+                tail_tolerance: TAIL_TOLERANCE,
+                ..ResidueOptions::default()
+            }),
             pieces: 1,
             form: LmiForm::Corollary1,
             lmi: FeasibilityOptions::default(),
@@ -140,6 +149,15 @@ impl Default for DesignOptions {
         }
     }
 }
+
+/// The tail tolerance of the residue expansion in a design (relative to the largest
+/// `‖e^{Av}‖_F` on the window; the embedding's own default is `1e-13`): only expansions that do
+/// not end (clusters of distinct eigenvalues, e.g. the power series of the whole spectrum on a
+/// short window) are truncated, each dropped moment halving the vertex count. The remainder
+/// `δ` it leaves is covered by the margin when LMI (41) holds at the vertices by more than
+/// `2‖P‖₂δ` (`strictly_negative`; with `‖P‖₂ ≤ 1` and `δ ≈ 10⁻⁹‖e^{Av}‖_F` far below the
+/// margins of a certified window), and by the robust form of (41) otherwise.
+pub const TAIL_TOLERANCE: f64 = 1e-9;
 
 /// The LMI certificate of a design or analysis.
 #[derive(Debug, Clone, PartialEq)]
@@ -208,13 +226,11 @@ pub struct Analysis {
 /// the remainder) the margin-problem instance of LMI (41) and solves it.
 fn solve_on(
     plant: &Plant,
-    embedding: &Embedding,
+    (vertices, delta): (&[Mat<f64>], f64),
     gain: GainTerm,
     (options, form): (&DesignOptions, LmiForm),
     cache: &mut LmiCache,
 ) -> Result<LmiResult, Error> {
-    let vertices = embedding.vertices();
-    let delta = embedding.remainder_bound();
     let lmis = &mut cache.lmis;
     let reusable = lmis
         .iter()
@@ -454,17 +470,16 @@ fn remainder_too_large(plant: &Plant, embedding: &Embedding) -> Option<String> {
 
 /// Whether LMI (41) holds at the solver's point `(P, F, J)` at every vertex by more than what
 /// rounding and the embedding's own error can explain: `λmax(Φ_i) < −τ` with
-/// `τ = 2‖P‖₂·max(ε_rec, 64u)·max_i‖X_i‖_F + 64u·3n·s` (`ε_rec` the relative reconstruction
-/// error of the residue expansion, `u` the unit roundoff, `s` the largest block norm of `Φ_i`).
-/// A backward-stable eigenvalue computation is within `O(u)‖Φ_i‖` of the exact one, and the true
-/// `e^{Av}` is within `ε_rec‖e^{Av}‖_F` of the hull, which moves `Φ` by at most `‖P‖₂` times that
-/// in its `(3,1)` block: so this is Corollary 1's strict LMI, decided without the solver's
-/// verification threshold (which is relative to the normalisation `‖P‖₂ ≤ 1` of the margin
-/// problem and so depends on the coordinates). Only for exact embeddings (no remainder).
+/// `τ = 2‖P‖₂·(max(ε_rec, 64u)·max_i‖X_i‖_F + δ) + 64u·3n·s` (`ε_rec` the relative
+/// reconstruction error of the residue expansion, `δ` the embedding's remainder bound, `u` the
+/// unit roundoff, `s` the largest block norm of `Φ_i`). A backward-stable eigenvalue computation
+/// is within `O(u)‖Φ_i‖` of the exact one, and the true `e^{Av}` is within
+/// `ε_rec‖e^{Av}‖_F + δ` of the hull, which moves `Φ` by at most `‖P‖₂` times that in its
+/// `(3,1)` block: so this is Corollary 1's strict LMI, decided without the solver's verification
+/// threshold (which is relative to the normalisation `‖P‖₂ ≤ 1` of the margin problem and so
+/// depends on the coordinates). Residue embeddings only.
 fn strictly_negative(plant: &Plant, embedding: &Embedding, r: &LmiResult) -> bool {
-    if embedding.remainder_bound() != 0.0 {
-        return false;
-    }
+    let delta = embedding.remainder_bound();
     let rec = match embedding.method() {
         sporadic_embed::Method::Residue {
             reconstruction_error,
@@ -484,7 +499,7 @@ fn strictly_negative(plant: &Plant, embedding: &Embedding, r: &LmiResult) -> boo
         .map(|x| x.norm_l2())
         .fold(0.0, f64::max);
     let scale = np.max(2.0 * nf).max(nc).max(np * xmax);
-    let tau = 2.0 * np * rec.max(64.0 * u) * xmax + 64.0 * u * (3 * n) as f64 * scale;
+    let tau = 2.0 * np * (rec.max(64.0 * u) * xmax + delta) + 64.0 * u * (3 * n) as f64 * scale;
     if !tau.is_finite() {
         return false;
     }
@@ -591,8 +606,36 @@ fn attempt(
     } else {
         LmiForm::Reduced
     };
-    let mut r = solve_on(&np, &embedding, GainTerm::Free, (options, form), cache)?;
-    if !r.feasible && r.margin.is_some_and(|t| t > 0.0) && strictly_negative(&np, &embedding, &r) {
+    // A residue box with a remainder `δ` (a truncated expansion) is first solved without it:
+    // the robust form implies (41) at the vertices, so a failure there is a failure of the
+    // robust form too, and a point at which (41) holds at the vertices by more than `δ` and
+    // rounding can explain (`strictly_negative`) certifies the window; only a point in between
+    // needs the robust form.
+    let delta = embedding.remainder_bound();
+    let vertices = embedding.vertices();
+    let absorb =
+        delta > 0.0 && matches!(embedding.method(), sporadic_embed::Method::Residue { .. });
+    let exact = if absorb { 0.0 } else { delta };
+    let mut r = solve_on(
+        &np,
+        (vertices, exact),
+        GainTerm::Free,
+        (options, form),
+        cache,
+    )?;
+    let margin = r.margin.is_some_and(|t| t > 0.0);
+    if absorb {
+        r.feasible = margin && strictly_negative(&np, &embedding, &r);
+        if margin && !r.feasible {
+            r = solve_on(
+                &np,
+                (vertices, delta),
+                GainTerm::Free,
+                (options, form),
+                cache,
+            )?;
+        }
+    } else if !r.feasible && margin && strictly_negative(&np, &embedding, &r) {
         r.feasible = true;
     }
     if !r.feasible {
@@ -746,7 +789,7 @@ pub fn analyse(
     )?;
     let r = solve_on(
         plant,
-        &embedding,
+        (embedding.vertices(), embedding.remainder_bound()),
         GainTerm::Fixed(l.to_owned()),
         (options, options.form),
         &mut LmiCache::default(),

@@ -28,10 +28,15 @@
 //!   again in the coordinates it gives, at most [`GRAMIAN_PASSES`] times, because in badly scaled
 //!   coordinates its rounding errors are relative to its largest eigenvalue). Under `x → Tx` the
 //!   Gramian becomes `T⁻ᵀWT⁻¹`, so the new coordinates are the same up to an orthogonal matrix
-//!   `Q` — and LMI (41), its spectral-norm normalisation, its margin and the Frobenius-norm choices
-//!   of the residue embedding (cluster merging on `‖E_c‖_F`, tail tolerance) are all invariant
-//!   under orthogonal changes of coordinates. Under `y → cy` the Gramian is multiplied by `c²` and
-//!   `G` by `c`: `C₁G⁻¹` does not change;
+//!   `Q` — and LMI (41), its spectral-norm normalisation and its margin are invariant under
+//!   orthogonal changes of coordinates. The residue embedding makes its choices on the balanced
+//!   matrix (`sporadic_embed::residue`), which is only invariant under diagonal changes of
+//!   coordinates: its cluster merging on `‖E_c‖_F` there decides the same in the forms of
+//!   equivalent problems unless a projector norm is near the merge limit `10⁴` (on
+//!   `eight-state-modal` they are below 30 in the Gramian form, below 2 in the diagonal one),
+//!   and its choice of the power series on a short window depends on eigenvalues and the window
+//!   only. Under `y → cy` the Gramian is multiplied by `c²` and `G` by `c`: `C₁G⁻¹` does not
+//!   change;
 //! * **outputs** (several outputs, Gramian form): `S = diag(s_k)` such that every output carries
 //!   the same share `tr(s_k²W_k W⁻¹) = n/q` of the Gramian `W = Σ s_k²W_k` (a fixed point reached
 //!   by a multiplicative iteration with a budget; the shares are similarity-invariant, and the
