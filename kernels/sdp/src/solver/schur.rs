@@ -735,7 +735,10 @@ mod tests {
                 &whole,
                 &mut whole_out,
             );
-            assert!((0..m).all(|i| whole_out[(i, i)] > 0.0), "M has a positive diagonal");
+            assert!(
+                (0..m).all(|i| whole_out[(i, i)] > 0.0),
+                "M has a positive diagonal"
+            );
             for j in 0..m {
                 for i in j..m {
                     assert_eq!(
