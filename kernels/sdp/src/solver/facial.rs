@@ -693,6 +693,19 @@ fn multiplier(blocks: &[Block], s0: &[Mat<f64>], e: &[Option<Mat<f64>>], tau: f6
     hi
 }
 
+/// Rows of the complementarity system of `problem`: `n²` per PSD block of order `n`, `n` per
+/// LP block.
+fn stacked_rows(problem: &Problem) -> usize {
+    problem
+        .blocks
+        .iter()
+        .map(|bd| match bd.block.kind {
+            BlockKind::Psd => bd.block.size * bd.block.size,
+            BlockKind::Lp => bd.block.size,
+        })
+        .sum()
+}
+
 /// The columns `A_j X` (`j` in `free`, in that order) and the right-hand side `S₀ X` of the
 /// complementarity equations `(S₀ − Σ_j δ_j A_j) X = 0`, every block's entries stacked
 /// (PSD block of order `n`: the `n²` entries of the product column by column; LP block: the
@@ -705,14 +718,7 @@ fn complementarity_system(
 ) -> (Mat<f64>, Vec<f64>) {
     let mut column = vec![usize::MAX; problem.b.len()];
     free.iter().enumerate().for_each(|(q, &j)| column[j] = q);
-    let rows: usize = problem
-        .blocks
-        .iter()
-        .map(|bd| match bd.block.kind {
-            BlockKind::Psd => bd.block.size * bd.block.size,
-            BlockKind::Lp => bd.block.size,
-        })
-        .sum();
+    let rows = stacked_rows(problem);
     let mut g = Mat::<f64>::zeros(rows, free.len());
     let mut h = Vec::with_capacity(rows);
     let mut offset = 0;
@@ -1081,18 +1087,9 @@ impl Reduction {
     /// within [`CORRECTION_ENTRIES`]; beyond it a face that is not optimal goes straight to the
     /// unreduced solve, whose time and memory are those of any solve.
     fn correction_fits(&self) -> bool {
-        self.rounds.iter().all(|r| {
-            let rows: usize = r
-                .problem
-                .blocks
-                .iter()
-                .map(|bd| match bd.block.kind {
-                    BlockKind::Psd => bd.block.size * bd.block.size,
-                    BlockKind::Lp => bd.block.size,
-                })
-                .sum();
-            rows.saturating_mul(r.kept.len()) <= CORRECTION_ENTRIES
-        })
+        self.rounds
+            .iter()
+            .all(|r| stacked_rows(&r.problem).saturating_mul(r.kept.len()) <= CORRECTION_ENTRIES)
     }
 
     /// The point of the original problem that `sol` (a solution of [`Reduction::problem`])
