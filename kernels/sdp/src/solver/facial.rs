@@ -706,35 +706,18 @@ fn stacked_rows(problem: &Problem) -> usize {
         .sum()
 }
 
-/// The columns `A_j X` (`j` in `free`, in that order) and the right-hand side `S₀ X` of the
-/// complementarity equations `(S₀ − Σ_j δ_j A_j) X = 0`, every block's entries stacked
-/// (PSD block of order `n`: the `n²` entries of the product column by column; LP block: the
-/// `n` products of entries).
-fn complementarity_system(
-    problem: &Problem,
-    x: &[Mat<f64>],
-    s0: &[Mat<f64>],
-    free: &[usize],
-) -> (Mat<f64>, Vec<f64>) {
+/// The columns `A_j X` (`j` in `free`, in that order) of the complementarity equations
+/// `(S₀ − Σ_j δ_j A_j) X = 0`, every block's entries stacked (PSD block of order `n`: the `n²`
+/// entries of the product column by column; LP block: the `n` products of entries). It does
+/// not depend on `y`; the right-hand side [`complementarity_rhs`] does.
+fn complementarity_matrix(problem: &Problem, x: &[Mat<f64>], free: &[usize]) -> Mat<f64> {
     let mut column = vec![usize::MAX; problem.b.len()];
     free.iter().enumerate().for_each(|(q, &j)| column[j] = q);
-    let rows = stacked_rows(problem);
-    let mut g = Mat::<f64>::zeros(rows, free.len());
-    let mut h = Vec::with_capacity(rows);
+    let mut g = Mat::<f64>::zeros(stacked_rows(problem), free.len());
     let mut offset = 0;
-    for ((bd, xk), sk) in problem.blocks.iter().zip(x).zip(s0) {
+    for (bd, xk) in problem.blocks.iter().zip(x) {
         let n = bd.block.size;
         let psd = bd.block.kind == BlockKind::Psd;
-        let product = if psd { mul(sk, xk) } else { Mat::new() };
-        for j in 0..if psd { n } else { 1 } {
-            for i in 0..n {
-                h.push(if psd {
-                    product[(i, j)]
-                } else {
-                    sk[(i, 0)] * xk[(i, 0)]
-                });
-            }
-        }
         for (j, a) in &bd.a {
             let q = column[*j];
             if q == usize::MAX {
@@ -759,51 +742,90 @@ fn complementarity_system(
         }
         offset += if psd { n * n } else { n };
     }
-    (g, h)
+    g
 }
 
-/// The least-squares solution of smallest norm of `G δ = h` and an orthonormal basis of the
-/// numerical null space of `G`, from a singular value decomposition (computed sequentially,
-/// for determinism) with the singular values below `max(rows, cols)·ε·σ_max` treated as zero
-/// (the rule of LAPACK's `xGELSS` and NumPy's `lstsq`); `None` if the decomposition fails.
-fn min_norm_and_null(g: &Mat<f64>, h: &[f64]) -> Option<(Vec<f64>, Mat<f64>)> {
-    use faer::linalg::svd::{ComputeSvdVectors, svd, svd_scratch};
-    let (rows, cols) = (g.nrows(), g.ncols());
-    let k = rows.min(cols);
-    let mut sv = Diag::<f64>::zeros(k);
-    let mut u = Mat::<f64>::zeros(rows, k);
-    let mut v = Mat::<f64>::zeros(cols, cols);
-    let mut mem = MemBuffer::new(svd_scratch::<f64>(
-        rows,
-        cols,
-        ComputeSvdVectors::Thin,
-        ComputeSvdVectors::Full,
-        Par::Seq,
-        Default::default(),
-    ));
-    svd(
-        g.as_ref(),
-        sv.as_mut(),
-        Some(u.as_mut()),
-        Some(v.as_mut()),
-        Par::Seq,
-        MemStack::new(&mut mem),
-        Default::default(),
-    )
-    .ok()?;
-    let sigma_max = (0..k).map(|i| sv[i]).fold(0.0f64, f64::max);
-    let cutoff = rows.max(cols) as f64 * f64::EPSILON * sigma_max;
-    let rank = (0..k).filter(|&i| sv[i] > cutoff).count();
-    let mut delta = vec![0.0; cols];
-    for i in 0..rank {
-        let coef = (0..rows).map(|r| u[(r, i)] * h[r]).sum::<f64>() / sv[i];
-        delta
-            .iter_mut()
-            .enumerate()
-            .for_each(|(c, d)| *d += coef * v[(c, i)]);
+/// The right-hand side `S₀ X` of the complementarity equations, stacked as the rows of
+/// [`complementarity_matrix`].
+fn complementarity_rhs(problem: &Problem, x: &[Mat<f64>], s0: &[Mat<f64>]) -> Vec<f64> {
+    let mut h = Vec::with_capacity(stacked_rows(problem));
+    for ((bd, xk), sk) in problem.blocks.iter().zip(x).zip(s0) {
+        let n = bd.block.size;
+        if bd.block.kind == BlockKind::Psd {
+            let product = mul(sk, xk);
+            for j in 0..n {
+                h.extend((0..n).map(|i| product[(i, j)]));
+            }
+        } else {
+            h.extend((0..n).map(|i| sk[(i, 0)] * xk[(i, 0)]));
+        }
     }
-    let null = Mat::from_fn(cols, cols - rank, |r, c| v[(r, rank + c)]);
-    Some((delta, null))
+    h
+}
+
+/// A singular value decomposition `G = U Σ Vᵀ` (computed sequentially, for determinism) for
+/// least-squares solutions of smallest norm of `G δ = h` and the numerical null space of `G`,
+/// with the singular values below `max(rows, cols)·ε·σ_max` treated as zero (the rule of
+/// LAPACK's `xGELSS` and NumPy's `lstsq`).
+struct MinNorm {
+    u: Mat<f64>,
+    sv: Diag<f64>,
+    v: Mat<f64>,
+    rank: usize,
+}
+
+impl MinNorm {
+    /// The decomposition of `g`; `None` if it fails.
+    fn new(g: &Mat<f64>) -> Option<Self> {
+        use faer::linalg::svd::{ComputeSvdVectors, svd, svd_scratch};
+        let (rows, cols) = (g.nrows(), g.ncols());
+        let k = rows.min(cols);
+        let mut sv = Diag::<f64>::zeros(k);
+        let mut u = Mat::<f64>::zeros(rows, k);
+        let mut v = Mat::<f64>::zeros(cols, cols);
+        let mut mem = MemBuffer::new(svd_scratch::<f64>(
+            rows,
+            cols,
+            ComputeSvdVectors::Thin,
+            ComputeSvdVectors::Full,
+            Par::Seq,
+            Default::default(),
+        ));
+        svd(
+            g.as_ref(),
+            sv.as_mut(),
+            Some(u.as_mut()),
+            Some(v.as_mut()),
+            Par::Seq,
+            MemStack::new(&mut mem),
+            Default::default(),
+        )
+        .ok()?;
+        let sigma_max = (0..k).map(|i| sv[i]).fold(0.0f64, f64::max);
+        let cutoff = rows.max(cols) as f64 * f64::EPSILON * sigma_max;
+        let rank = (0..k).filter(|&i| sv[i] > cutoff).count();
+        Some(Self { u, sv, v, rank })
+    }
+
+    /// The least-squares solution of smallest norm of `G δ = h`.
+    fn solve(&self, h: &[f64]) -> Vec<f64> {
+        let (rows, cols) = (self.u.nrows(), self.v.nrows());
+        let mut delta = vec![0.0; cols];
+        for i in 0..self.rank {
+            let coef = (0..rows).map(|r| self.u[(r, i)] * h[r]).sum::<f64>() / self.sv[i];
+            delta
+                .iter_mut()
+                .enumerate()
+                .for_each(|(c, d)| *d += coef * self.v[(c, i)]);
+        }
+        delta
+    }
+
+    /// An orthonormal basis of the numerical null space of `G`.
+    fn null(&self) -> Mat<f64> {
+        let cols = self.v.nrows();
+        Mat::from_fn(cols, cols - self.rank, |r, c| self.v[(r, self.rank + c)])
+    }
 }
 
 /// Largest number of entries of the complementarity system for which [`complementary_dual`]
@@ -847,24 +869,18 @@ fn complementary_dual(
     y: &mut [f64],
 ) {
     let m = kept.len();
-    let a: Vec<Vec<Mat<f64>>> = (0..m)
-        .map(|j| {
-            let aj: Vec<Mat<f64>> = face
-                .blocks
-                .iter()
-                .map(|bd| {
-                    let mut d = SparseSym::default().to_dense(bd.block);
-                    if let Ok(p) = bd.a.binary_search_by_key(&j, |(i, _)| *i) {
-                        scatter_sym(bd.block.kind, &bd.a[p].1, 1.0, &mut d);
-                    }
-                    d
-                })
-                .collect();
-            compress(z, &aj)
-        })
-        .collect();
+    let Ok(a) = (0..m)
+        .map(|j| face.dense_constraint(j).map(|aj| compress(z, &aj)))
+        .collect::<Result<Vec<_>, _>>()
+    else {
+        return;
+    };
+    // The equations' matrix does not depend on `y`: decomposed once for every step.
+    let Some(equations) = MinNorm::new(&complementarity_matrix(problem, q, kept)) else {
+        return;
+    };
     for _ in 0..NEWTON_STEPS {
-        let Some(step) = newton_step(problem, q, kept, face, z, &a, y) else {
+        let Some(step) = newton_step(problem, q, kept, face, z, &a, &equations, y) else {
             return;
         };
         let (delta, alpha, decrement) = step;
@@ -877,7 +893,7 @@ fn complementary_dual(
 
 /// One step of [`complementary_dual`]: `(δ, α, δᵀHδ)`, or `None` if `T(y)` is not positive
 /// definite or a decomposition fails. `a[j]` is `Zᵀ A_j Z` for the `j`-th constraint of
-/// `face`.
+/// `face`; `equations` the decomposition of [`complementarity_matrix`].
 fn newton_step(
     problem: &Problem,
     q: &[Mat<f64>],
@@ -885,12 +901,13 @@ fn newton_step(
     face: &Problem,
     z: &[Mat<f64>],
     a: &[Vec<Mat<f64>>],
+    equations: &MinNorm,
     y: &[f64],
 ) -> Option<(Vec<f64>, f64, f64)> {
     let m = kept.len();
     let mut full = vec![0.0; problem.b.len()];
     kept.iter().zip(y).for_each(|(&j, &v)| full[j] = v);
-    let (g, h) = complementarity_system(problem, q, &slack(problem, &full), kept);
+    let h = complementarity_rhs(problem, q, &slack(problem, &full));
     let t = compress(z, &slack(face, y));
     let linv: Vec<Mat<f64>> = t
         .iter()
@@ -922,7 +939,8 @@ fn newton_step(
             .map(|(u, v)| trace_of_product(u, v))
             .sum()
     });
-    let (particular, null) = min_norm_and_null(&g, &h)?;
+    let particular = equations.solve(&h);
+    let null = equations.null();
     // Newton step in the null space: (NᵀHN) w = −Nᵀ(∇f + H δ_p).
     let hp: Vec<f64> = (0..m)
         .map(|i| grad[i] + (0..m).map(|j| hess[(i, j)] * particular[j]).sum::<f64>())
@@ -936,7 +954,7 @@ fn newton_step(
     let w = if k == 0 {
         Vec::new()
     } else {
-        min_norm_and_null(&reduced, &rhs)?.0
+        MinNorm::new(&reduced)?.solve(&rhs)
     };
     let delta: Vec<f64> = (0..m)
         .map(|r| particular[r] + (0..k).map(|c| null[(r, c)] * w[c]).sum::<f64>())
@@ -1082,7 +1100,7 @@ impl Reduction {
         &self.reduced
     }
 
-    /// Whether the complementarity system of every round ([`complementarity_system`]: a dense
+    /// Whether the complementarity system of every round ([`complementarity_matrix`]: a dense
     /// `Σ_k n_k² × m` matrix and its singular value decomposition, `Σ_k n_k²·m²` flops) stays
     /// within [`CORRECTION_ENTRIES`]; beyond it a face that is not optimal goes straight to the
     /// unreduced solve, whose time and memory are those of any solve.
@@ -1428,7 +1446,8 @@ mod tests {
     #[test]
     fn min_norm_solution_and_null_space() {
         let g = Mat::from_fn(2, 3, |i, j| (i + 1) as f64 * [1.0, 2.0, 2.0][j]);
-        let (delta, null) = min_norm_and_null(&g, &[3.0, 6.0]).expect("svd");
+        let equations = MinNorm::new(&g).expect("svd");
+        let (delta, null) = (equations.solve(&[3.0, 6.0]), equations.null());
         let expected = [1.0 / 3.0, 2.0 / 3.0, 2.0 / 3.0];
         assert!(
             delta
