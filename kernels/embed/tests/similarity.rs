@@ -57,6 +57,7 @@ fn random_similarity(a: MatRef<'_, f64>, rng: &mut Rng) -> Mat<f64> {
 fn vertices(a: MatRef<'_, f64>, t1: f64, t2: f64) -> (usize, usize, bool) {
     let options = ResidueOptions {
         short_window_series: false,
+        balanced_clusters: true,
         ..ResidueOptions::default()
     };
     let exp = ResidueExpansion::with_options(a, options).unwrap();
