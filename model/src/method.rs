@@ -485,7 +485,9 @@ pub fn largest_window_with<M: ObserverMethod + ?Sized>(
         method: method.id(),
         source: e,
     };
-    let mut best: Option<(f64, DesignReport)> = None;
+    // The designs of the certified probes (the report keeps the one at the answer; a
+    // non-monotone search can certify beyond it).
+    let mut certified: Vec<(f64, DesignReport)> = Vec::new();
     // Every probe made, for a search the budget cuts short (the search's own list is lost).
     let mut made = Vec::new();
     let out_of_time = || MethodError::Numerical {
@@ -517,8 +519,8 @@ pub fn largest_window_with<M: ObserverMethod + ?Sized>(
         };
         progress(&probe);
         made.push(probe);
-        if v.certified && best.as_ref().is_none_or(|(b, _)| *b < t2) {
-            best = Some((t2, d));
+        if v.certified {
+            certified.push((t2, d));
         }
         Ok(v)
     };
@@ -535,6 +537,7 @@ pub fn largest_window_with<M: ObserverMethod + ?Sized>(
                 message: source.to_string(),
             });
             report.search_end = Some(crate::report::SearchEnd::BudgetExhausted);
+            let best = certified.into_iter().max_by(|a, b| a.0.total_cmp(&b.0));
             report.largest_certified_t2 = best.as_ref().map(|(t2, _)| *t2);
             // The smallest failing T2 above the largest certified one, as a finished search
             // reports it (a failure below it makes the verdicts non-monotone).
@@ -574,8 +577,9 @@ pub fn largest_window_with<M: ObserverMethod + ?Sized>(
         });
     }
     report.probes = search.probes;
-    report.design = best
-        .filter(|(t2, _)| Some(*t2) == search.best)
+    report.design = certified
+        .into_iter()
+        .find(|(t2, _)| Some(*t2) == search.best)
         .map(|(_, d)| d);
     report.seconds = start.elapsed().as_secs_f64();
     Ok(report)

@@ -8,7 +8,9 @@
 //! boundary, and embeddings that are re-split when the window grows, need not be monotone: the
 //! search therefore reports whether the verdicts of *all* its probes are consistent with
 //! monotone feasibility ([`WindowSearch::monotone`]) and answers with the bracket of the first
-//! certified → failed transition it found.
+//! certified → failed transition it found. A scan stops at its first failure; its points
+//! beyond are probed after the bisection, with what is left of the probe and wall-time budgets
+//! ([`sporadic_sdp::budget`]), only to check monotonicity.
 //!
 //! Every search ends: after at most [`WindowSearchOptions::max_probes`] probes it stops with
 //! [`SearchEnd::BudgetExhausted`] and the bracket found so far.
@@ -16,6 +18,7 @@
 use crate::outcome::Reason;
 use crate::report::{Probe, SearchEnd};
 use sporadic_linalg::InputError;
+use sporadic_sdp::budget;
 
 /// How the first bracket `[certified, failed]` is found.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -275,6 +278,7 @@ fn run<E: std::error::Error + 'static>(
     }
     // Bracketing: `good` certified (or the floor), `bad` failed.
     let (good, bad): (f64, f64);
+    let mut unchecked = Vec::new();
     match options.bracketing {
         Bracketing::Scan { points } => {
             if !probe!(fixed) {
@@ -295,23 +299,23 @@ fn run<E: std::error::Error + 'static>(
                     }
                 })
                 .collect();
-            let mut verdicts = Vec::with_capacity(points);
-            for &s in &scan {
-                let ok = probe!(s);
-                verdicts.push(ok);
-                if ok && verdicts.iter().all(|&v| v) {
-                    out.best = Some(s);
+            // Up to the first failure; the scan points beyond it are probed after the
+            // bisection, with what is left of the budgets, only to check monotonicity.
+            let mut first_fail = None;
+            for (i, &s) in scan.iter().enumerate() {
+                if !probe!(s) {
+                    first_fail = Some(i);
+                    break;
                 }
+                out.best = Some(s);
             }
-            let first_fail = verdicts.iter().position(|&ok| !ok);
-            out.monotone = first_fail.is_none_or(|i| verdicts[i..].iter().all(|&ok| !ok));
             let Some(i) = first_fail else {
-                out.best = Some(limit);
                 return Ok(finish(out, p, SearchEnd::ReachedLimit));
             };
             good = if i == 0 { fixed } else { scan[i - 1] };
             bad = scan[i];
             out.first_failure = Some(bad);
+            unchecked = scan[i + 1..].to_vec();
         }
         Bracketing::Doubling { start } => {
             let factor = if upper { 2.0 } else { 0.5 };
@@ -369,6 +373,20 @@ fn run<E: std::error::Error + 'static>(
         }
     }
     out.first_failure = Some(bad);
+    // Monotonicity check: the scan points beyond the first failure, while the probe budget
+    // and the wall-time budget last (a probe the time budget cuts short is no verdict, and
+    // the search has its answer already). A certified one makes the verdicts non-monotone.
+    for s in unchecked {
+        if p.probes.len() >= p.budget || budget::exhausted() {
+            break;
+        }
+        match p.at(s) {
+            Ok(Some(ok)) => out.monotone &= !ok,
+            Ok(None) => break,
+            Err(_) if budget::exhausted() => break,
+            Err(e) => return Err(SearchError::Probe(e)),
+        }
+    }
     let end = if out.best.is_none() {
         SearchEnd::NothingCertified
     } else {
@@ -406,6 +424,62 @@ mod tests {
         assert_eq!(r.end, SearchEnd::Converged);
         assert!(r.monotone);
         assert_eq!(r.probes[0].t2, 0.1);
+    }
+
+    /// Certified up to 1 and again from 5 on: not monotone.
+    fn two_intervals(s: f64) -> Result<Verdict, Never> {
+        Ok(if s <= 1.0 || s >= 5.0 {
+            Verdict::certified(None)
+        } else {
+            Verdict::failed(Reason::InfeasibleLmi {
+                message: "gap".into(),
+            })
+        })
+    }
+
+    #[test]
+    fn scan_points_beyond_the_first_failure_are_probed_last() {
+        // Scan 0.1·100^(i/6): 0.215, 0.464, 1, 2.15 (fails), then bisection in [1, 2.15],
+        // then 4.64 (fails) and 10 (certified: not monotone).
+        let r = search_upper(0.1, 10.0, &WindowSearchOptions::default(), two_intervals).unwrap();
+        let (b, f) = (r.best.unwrap(), r.first_failure.unwrap());
+        assert!(b <= 1.0 && 1.0 < f && f / b - 1.0 <= 4e-3, "{b} {f}");
+        assert_eq!(r.end, SearchEnd::Converged);
+        assert!(!r.monotone);
+        let t2: Vec<f64> = r.probes.iter().map(|p| p.t2).collect();
+        let n = t2.len();
+        assert_eq!(t2[n - 1], 10.0);
+        assert!((t2[n - 2] - 0.1 * 100f64.powf(5.0 / 6.0)).abs() < 1e-12);
+        assert!(
+            t2[5..n - 2].iter().all(|&s| (1.0..2.16).contains(&s)),
+            "{t2:?}"
+        );
+    }
+
+    #[test]
+    fn the_monotonicity_check_stops_with_the_time_budget() {
+        // The wall-time budget runs out during the bisection's last probe: the answer stands,
+        // and no scan point beyond the first failure is probed.
+        let flag = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let cancel = flag.clone();
+        let mut made = 0;
+        let r = budget::within(budget::Budget::unlimited().with_cancel(flag), || {
+            search_upper(0.1, 10.0, &WindowSearchOptions::default(), |s: f64| {
+                made += 1;
+                let v = two_intervals(s);
+                if made == 13 {
+                    cancel.store(true, std::sync::atomic::Ordering::Relaxed);
+                }
+                v
+            })
+        })
+        .unwrap();
+        assert_eq!(r.end, SearchEnd::Converged);
+        assert!(r.monotone);
+        assert_eq!(r.probes.len(), 13);
+        assert!(r.probes.iter().all(|p| p.t2 < 2.2), "{:?}", r.probes);
+        let (b, f) = (r.best.unwrap(), r.first_failure.unwrap());
+        assert!(b <= 1.0 && 1.0 < f && f / b - 1.0 <= 4e-3, "{b} {f}");
     }
 
     #[test]

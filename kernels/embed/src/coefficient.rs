@@ -9,11 +9,17 @@
 //!                  g*(v) = −2 e^{av} sin(bv) v^k / k!      (matrix Im R)
 //! ```
 //!
+//! and, for the power series of a short window about its centre `c` (not in the paper, see
+//! [`crate::residue`]), `b_c(v) = e^{λ(v−c)} (v−c)^k / k!`.
+//!
 //! The box vertices (43a) need `min`/`max` of every function on `[T1, T2]` (43b). These are
 //! computed **exactly** (up to rounding): the candidates are both ends plus *every* interior
 //! critical point, and the final range is rounded outward.
 //!
 //! * real λ: `b'(v) ∝ v^{k−1}(λv + k)`, so the only interior critical point is `v* = −k/λ`.
+//! * centred: with `s = v − c`, the range over `s ≥ 0` is that of `b` with the same `λ`, and
+//!   for `s = −u ≤ 0` the value is `(−1)^k e^{−λu} u^k/k!`, `b` with `−λ` at `u`; the two
+//!   sides are joined, the ends `t − c` widened by their rounding error.
 //! * complex: write `(av + k, bv) = ρ(v)(cos φ(v), sin φ(v))` (for `k = 0`: `(a, b)`). Then
 //!   `g'(v) ∝ cos(ψ(v))` and `g*'(v) ∝ sin(ψ(v))` with the phase `ψ(v) = bv + φ(v)`, and
 //!   `ψ'(v) = b(1 + k/ρ(v)²) > 0` for `b > 0`. The phase is continuous and strictly increasing,
@@ -76,6 +82,17 @@ pub enum CoefficientFunction {
         /// The power `k`.
         power: u32,
     },
+    /// `b_c(v) = e^{λ(v−c)} (v−c)^k / k!` — the power series of the whole spectrum about the
+    /// centre `c` of a short window (mean eigenvalue `λ`, matrix `e^{Ac}(A − λI)^k`; see
+    /// [`crate::residue`]).
+    Centred {
+        /// The mean eigenvalue `λ`.
+        lambda: f64,
+        /// The power `k`.
+        power: u32,
+        /// The centre `c` of the expansion.
+        centre: f64,
+    },
 }
 
 /// The range of a coefficient function over an interval.
@@ -124,9 +141,10 @@ impl CoefficientFunction {
     /// The power `k`.
     pub fn power(&self) -> u32 {
         match *self {
-            Self::Real { power, .. } | Self::Cosine { power, .. } | Self::Sine { power, .. } => {
-                power
-            }
+            Self::Real { power, .. }
+            | Self::Cosine { power, .. }
+            | Self::Sine { power, .. }
+            | Self::Centred { power, .. } => power,
         }
     }
 
@@ -140,6 +158,14 @@ impl CoefficientFunction {
             Self::Sine { re, im, power } => {
                 exp_times_power(re * v, -2.0 * (im * v).sin(), v, power)
             }
+            Self::Centred {
+                lambda,
+                power,
+                centre,
+            } => {
+                let s = v - centre;
+                exp_times_power(lambda * s, 1.0, s, power)
+            }
         }
     }
 
@@ -147,7 +173,7 @@ impl CoefficientFunction {
     /// `2e^{av}v^k/k!` for a complex one (the size of the evaluation error at `v`).
     fn envelope(&self, v: f64) -> f64 {
         match *self {
-            Self::Real { .. } => self.eval(v).abs(),
+            Self::Real { .. } | Self::Centred { .. } => self.eval(v).abs(),
             Self::Cosine { re, power, .. } | Self::Sine { re, power, .. } => {
                 exp_times_power(re * v, 2.0, v, power)
             }
@@ -156,7 +182,11 @@ impl CoefficientFunction {
 
     /// Whether the function is identically constant (`λ = 0`, `k = 0`: the value 1).
     pub fn is_constant(&self) -> bool {
-        matches!(*self, Self::Real { lambda, power: 0 } if lambda == 0.0)
+        matches!(
+            *self,
+            Self::Real { lambda, power: 0 } | Self::Centred { lambda, power: 0, .. }
+                if lambda == 0.0
+        )
     }
 
     /// Exact range over `[t1, t2]` (`0 ≤ t1 ≤ t2`), rounded outward by a small relative margin
@@ -188,6 +218,11 @@ impl CoefficientFunction {
                 |v| self.eval(v),
                 &mut critical,
             )?,
+            Self::Centred {
+                lambda,
+                power,
+                centre,
+            } => return centred_range(lambda, power, centre, t1, t2),
         }
         candidates.extend_from_slice(&critical);
         let (mut min, mut argmin, mut max, mut argmax) = (f64::INFINITY, t1, f64::NEG_INFINITY, t1);
@@ -213,7 +248,7 @@ impl CoefficientFunction {
             // a few ulps of its envelope times the size of the arguments there (see the module
             // docs); a relative margin of 1e-12 on top.
             let (a, b) = match *self {
-                Self::Real { lambda, .. } => (lambda, 0.0),
+                Self::Real { lambda, .. } | Self::Centred { lambda, .. } => (lambda, 0.0),
                 Self::Cosine { re, im, .. } | Self::Sine { re, im, .. } => (re, im),
             };
             let rounding = candidates
@@ -247,6 +282,70 @@ impl CoefficientFunction {
             critical_points: critical.len(),
         })
     }
+}
+
+/// Range of [`CoefficientFunction::Centred`] over `v ∈ [t1, t2]` (see the module docs): the
+/// range of `e^{λs}s^k/k!` over `s ∈ [t1 − c, t2 − c]`, joined from the side `s ≥ 0`
+/// (`b` with `λ`) and the side `s = −u ≤ 0` (`(−1)^k` times `b` with `−λ` at `u`). The ends are
+/// widened by one relative unit roundoff each, which covers the rounding of `t − c`.
+fn centred_range(
+    lambda: f64,
+    power: u32,
+    centre: f64,
+    t1: f64,
+    t2: f64,
+) -> Result<CoefficientRange, EmbedError> {
+    let s1 = t1 - centre;
+    let s1 = s1 - s1.abs() * f64::EPSILON;
+    let s2 = t2 - centre;
+    let s2 = s2 + s2.abs() * f64::EPSILON;
+    let mut sides = Vec::with_capacity(2);
+    if s2 >= 0.0 {
+        let r = CoefficientFunction::Real { lambda, power }.range(s1.max(0.0), s2)?;
+        sides.push(CoefficientRange {
+            argmin: r.argmin + centre,
+            argmax: r.argmax + centre,
+            ..r
+        });
+    }
+    if s1 < 0.0 {
+        let r = CoefficientFunction::Real {
+            lambda: -lambda,
+            power,
+        }
+        .range((-s2).max(0.0), -s1)?;
+        sides.push(if power.is_multiple_of(2) {
+            CoefficientRange {
+                argmin: centre - r.argmin,
+                argmax: centre - r.argmax,
+                ..r
+            }
+        } else {
+            CoefficientRange {
+                lower: -r.upper,
+                upper: -r.lower,
+                min: -r.max,
+                argmin: centre - r.argmax,
+                max: -r.min,
+                argmax: centre - r.argmin,
+                critical_points: r.critical_points,
+            }
+        });
+    }
+    // `s1 ≤ s2`, so at least one side is present.
+    let mut out = sides[0];
+    for r in &sides[1..] {
+        out.lower = out.lower.min(r.lower);
+        out.upper = out.upper.max(r.upper);
+        if r.min < out.min {
+            (out.min, out.argmin) = (r.min, r.argmin);
+        }
+        if r.max > out.max {
+            (out.max, out.argmax) = (r.max, r.argmax);
+        }
+        out.critical_points += r.critical_points;
+    }
+    Ok(out)
 }
 
 /// Phase `ψ(v) = bv + φ(v)` and its derivative (see the module documentation).
@@ -401,6 +500,30 @@ mod tests {
     }
 
     #[test]
+    fn centred_odd_power_changes_sign_at_the_centre() {
+        // (v − 1)³/6 on [0, 2.5] about 1: from −1/6 at v = 0 to 1.5³/6 at v = 2.5.
+        let f = CoefficientFunction::Centred {
+            lambda: 0.0,
+            power: 3,
+            centre: 1.0,
+        };
+        let r = f.range(0.0, 2.5).unwrap();
+        assert_relative_eq!(r.min, -1.0 / 6.0, max_relative = 1e-15);
+        assert_relative_eq!(r.max, 1.5f64.powi(3) / 6.0, max_relative = 1e-15);
+        assert!(r.argmin.abs() < 1e-15 && (r.argmax - 2.5).abs() < 1e-15);
+        assert!(r.lower < r.min && r.upper > r.max);
+        // e^{−2(v−1)}: decreasing, so its range is [e^{−3}, e^{2}] on [0, 2.5].
+        let g = CoefficientFunction::Centred {
+            lambda: -2.0,
+            power: 0,
+            centre: 1.0,
+        };
+        let r = g.range(0.0, 2.5).unwrap();
+        assert_relative_eq!(r.min, (-3.0f64).exp(), max_relative = 1e-15);
+        assert_relative_eq!(r.max, 2.0f64.exp(), max_relative = 1e-15);
+    }
+
+    #[test]
     fn constant_coefficient_is_a_single_value() {
         let f = CoefficientFunction::Real {
             lambda: 0.0,
@@ -495,7 +618,9 @@ mod tests {
             let (re, im, power, off) = match f {
                 CoefficientFunction::Cosine { re, im, power } => (re, im, power, FRAC_PI_2),
                 CoefficientFunction::Sine { re, im, power } => (re, im, power, 0.0),
-                CoefficientFunction::Real { .. } => unreachable!(),
+                CoefficientFunction::Real { .. } | CoefficientFunction::Centred { .. } => {
+                    unreachable!()
+                }
             };
             critical_points((re, im, power, off), 0.05, 6.0, |v| f.eval(v), &mut crit).unwrap();
             assert!(!crit.is_empty());
@@ -558,13 +683,15 @@ mod tests {
         #![proptest_config(ProptestConfig::with_cases(64))]
         #[test]
         fn range_encloses_dense_samples(
-            re in -3.0f64..1.0, im in 0.01f64..8.0, power in 0u32..4, kind in 0u8..3,
-            t1 in 0.0f64..2.0, len in 0.0f64..4.0,
+            re in -3.0f64..1.0, im in 0.01f64..8.0, power in 0u32..4, kind in 0u8..4,
+            t1 in 0.0f64..2.0, len in 0.0f64..4.0, at in -0.5f64..1.5,
         ) {
             let f = match kind {
                 0 => CoefficientFunction::Real { lambda: re, power },
                 1 => CoefficientFunction::Cosine { re, im, power },
-                _ => CoefficientFunction::Sine { re, im, power },
+                2 => CoefficientFunction::Sine { re, im, power },
+                // Centres inside, at the ends of, and outside the interval.
+                _ => CoefficientFunction::Centred { lambda: re, power, centre: t1 + at * len },
             };
             let t2 = t1 + len;
             let r = f.range(t1, t2).unwrap();

@@ -45,12 +45,16 @@
 //! spectrum, the window condition depends on eigenvalues and the window alone, but the term
 //! counts it compares come from truncation bounds in the coordinates of `A` (not invariant).
 //!
-//! **Short windows** (not in the paper). On a window with `ρ(T1 + T2)/2 ≤ 1`, `ρ` the spread
-//! `max|λ_i − λ_j|` of the spectrum, the whole spectrum is taken as one cluster (the power series
-//! `e^{λ̄v}Σ_k v^k(A − λ̄I)^k/k!`, truncated with a rigorous remainder) whenever that keeps at
-//! most [`SHORT_WINDOW_EXTRA_TERMS`] more terms than the clusters: its box is the tighter one
-//! there (see [`ResidueExpansion::truncate`]; [`ResidueOptions::short_window_series`] turns this
-//! off).
+//! **Short windows** (not in the paper). On a window with `ρ(T2 − T1)/2 ≤ 1`, `ρ` the spread
+//! `max|λ_i − λ_j|` of the spectrum, the whole spectrum is taken as one cluster expanded about
+//! the centre `c` of the window (the power series `e^{Ac}e^{λ̄s}Σ_k s^k(A − λ̄I)^k/k!`,
+//! `s = v − c`, truncated with a rigorous remainder) whenever that keeps at most
+//! [`SHORT_WINDOW_EXTRA_TERMS`] more terms than the clusters: its box is the tighter one there
+//! (see [`ResidueExpansion::truncate`]; [`ResidueOptions::short_window_series`] turns this
+//! off). Such a window is then halved while the halves together have no more vertices
+//! ([`ResidueExpansion::embed`]). The window condition depends on the eigenvalues and the
+//! window alone; it holds for a window of sampling jitter around any nominal period, not only
+//! near `v = 0`.
 //!
 //! **Step 2–4.** Each kept moment contributes real matrices and scalar functions
 //! ([`CoefficientFunction`]); their exact ranges over `[T1, T2]` (43b) give a box whose
@@ -113,8 +117,8 @@ pub struct ResidueOptions {
     pub check_points: usize,
     /// Largest admissible number of vertices. Default `2^16`.
     pub max_vertices: usize,
-    /// Whether a short window (`ρ(T1 + T2)/2 ≤ 1`, `ρ` the spread of the spectrum) is embedded
-    /// with the power series of the whole spectrum when that keeps at most
+    /// Whether a short window (`ρ(T2 − T1)/2 ≤ 1`, `ρ` the spread of the spectrum) is embedded
+    /// with the power series of the whole spectrum about its centre when that keeps at most
     /// [`SHORT_WINDOW_EXTRA_TERMS`] more terms than the clusters (see the module docs). Default
     /// `true`.
     pub short_window_series: bool,
@@ -293,6 +297,19 @@ const INITIAL_CLUSTER_DISTANCE: f64 = 1e-7;
 /// How many more terms than the clusters' box the power series of the whole spectrum may keep
 /// on a short window (each doubles the vertex count; see [`ResidueExpansion::truncate`]).
 pub const SHORT_WINDOW_EXTRA_TERMS: usize = 2;
+
+/// Where the variable of a cluster's series ranges (for its tail bound).
+#[derive(Debug, Clone, Copy)]
+enum Span {
+    /// `v ∈ [t1, t2]` (the expansion (42) about `v = 0`).
+    Window(f64, f64),
+    /// `s ∈ [−h, h]` (a series about the centre of the window).
+    Centred(f64),
+}
+
+/// How many times [`ResidueExpansion::embed`] may halve a window embedded by the centred power
+/// series (at most `2^4 = 16` pieces).
+pub const SERIES_SPLIT_DEPTH: usize = 4;
 
 /// Minimal union–find over eigenvalue indices.
 struct UnionFind(Vec<usize>);
@@ -824,32 +841,47 @@ impl ResidueExpansion {
         }
     }
 
-    /// Rigorous bound on `max_{v∈[t1,t2]} ‖Σ_{j ≥ keep} N^j v^j/j!‖_F · |e^{λ̄v}| · weight` for
-    /// a cluster, with `N = (A − λ̄I)E` (so `N^j = R_{j+1}`): the stored moments are used
-    /// exactly, and beyond them `‖N^{j}‖ ≤ ‖R_L‖ ‖N‖^{j−L+1}` gives the factor `e^{‖N‖v}`.
-    fn tail_bound(c: &EigenCluster, keep: usize, t1: f64, t2: f64) -> Result<f64, EmbedError> {
+    /// Rigorous bound on `max_v ‖Σ_{j ≥ keep} N^j s^j/j!‖_F · |e^{λ̄s}| · weight` for a cluster,
+    /// with `N = (A − λ̄I)E` (so `N^j = R_{j+1}`) and `s` ranging over `span`: the stored
+    /// moments are used exactly, and beyond them `‖N^{j}‖ ≤ ‖R_L‖ ‖N‖^{j−L+1}` gives the factor
+    /// `e^{‖N‖|s|}`.
+    fn tail_bound(c: &EigenCluster, keep: usize, span: Span) -> Result<f64, EmbedError> {
         let l = c.moments.len();
         let a = c.centre.re;
-        let max_of = |lambda: f64, k: usize| -> Result<f64, EmbedError> {
-            Ok(CoefficientFunction::Real {
-                lambda,
-                power: k as u32,
-            }
-            .range(t1, t2)?
-            .upper)
+        // max over the span of `e^{λs}·growth^{|s|}`-type envelopes `e^{(±a + g)|s|}|s|^k/k!`.
+        let max_of = |g: f64, k: usize| -> Result<f64, EmbedError> {
+            let power = k as u32;
+            Ok(match span {
+                Span::Window(t1, t2) => {
+                    CoefficientFunction::Real {
+                        lambda: a + g,
+                        power,
+                    }
+                    .range(t1, t2)?
+                    .upper
+                }
+                Span::Centred(h) => {
+                    let side = |lambda: f64| {
+                        CoefficientFunction::Real { lambda, power }
+                            .range(0.0, h)
+                            .map(|r| r.upper)
+                    };
+                    side(a + g)?.max(side(g - a)?)
+                }
+            })
         };
         let mut total = 0.0;
         // Moments known exactly: all stored ones for a nilpotent cluster, all but the last
         // (which seeds the geometric extrapolation) otherwise.
         let exact_end = if c.nilpotent { l } else { l - 1 };
         for k in keep..exact_end {
-            total += c.moments[k].norm_l2() * max_of(a, k)?;
+            total += c.moments[k].norm_l2() * max_of(0.0, k)?;
         }
         if !c.nilpotent {
             let norm_n = c.moments[1].norm_l2();
             let from = keep.max(l - 1);
             let last = c.moments[l - 1].norm_l2() * norm_n.powi((from - (l - 1)) as i32);
-            total += last * max_of(a + norm_n, from)?;
+            total += last * max_of(norm_n, from)?;
         }
         Ok(c.weight() * total)
     }
@@ -866,17 +898,7 @@ impl ResidueExpansion {
         let mut terms = Vec::new();
         let mut remainder = 0.0;
         for c in clusters {
-            let l = c.moments.len();
-            let mut keep = l;
-            let mut tail = Self::tail_bound(c, l, t1, t2)?;
-            for k in 1..=l {
-                let t = Self::tail_bound(c, k, t1, t2)?;
-                if t <= self.options.tail_tolerance * scale {
-                    keep = k;
-                    tail = t;
-                    break;
-                }
-            }
+            let (keep, tail) = self.keep(c, Span::Window(t1, t2), 1.0, scale)?;
             remainder += tail;
             self.push_terms(c, keep, &mut terms);
         }
@@ -886,11 +908,73 @@ impl ResidueExpansion {
         })
     }
 
+    /// The fewest moments of `c` whose dropped tail over `span`, times `factor`, is below
+    /// `tail_tolerance · scale` (all stored moments if none is), and that tail.
+    fn keep(
+        &self,
+        c: &EigenCluster,
+        span: Span,
+        factor: f64,
+        scale: f64,
+    ) -> Result<(usize, f64), EmbedError> {
+        let l = c.moments.len();
+        for k in 1..=l {
+            let t = factor * Self::tail_bound(c, k, span)?;
+            if t <= self.options.tail_tolerance * scale {
+                return Ok((k, t));
+            }
+        }
+        Ok((l, factor * Self::tail_bound(c, l, span)?))
+    }
+
+    /// The power series of the whole spectrum about the centre `c` of `[t1, t2]`:
+    /// `e^{Av} = e^{Ac} e^{λ̄s} Σ_k s^k (A − λ̄I)^k/k!`, `s = v − c ∈ [−h, h]`, terms
+    /// `(e^{Ac}(A − λ̄I)^k, b_c)` ([`CoefficientFunction::Centred`]) truncated like a cluster's,
+    /// the tail bound over `|s| ≤ h` times `‖e^{Ac}‖_F` (`‖e^{Ac}X‖_F ≤ ‖e^{Ac}‖_F‖X‖_F`;
+    /// `e^{Ac}` is the computed exponential, whose error the self-check of
+    /// [`ResidueExpansion::embed`] measures with that of the residues).
+    fn centred_series(
+        &self,
+        whole: &EigenCluster,
+        t1: f64,
+        t2: f64,
+        scale: f64,
+    ) -> Result<TruncatedExpansion, EmbedError> {
+        let centre = t1 + 0.5 * (t2 - t1);
+        let h = (centre - t1).max(t2 - centre);
+        let shift = expm_scaled(self.a.as_ref(), centre)?;
+        let factor = shift.norm_l2();
+        if !factor.is_finite() {
+            return Err(InputError::non_finite("e^{Ac} at the centre of the window").into());
+        }
+        let (keep, tail) = self.keep(whole, Span::Centred(h), factor, scale)?;
+        let n = self.a.nrows();
+        let terms = whole
+            .moments
+            .iter()
+            .take(keep)
+            .enumerate()
+            .map(|(k, m)| ExpansionTerm {
+                function: CoefficientFunction::Centred {
+                    lambda: whole.centre.re,
+                    power: k as u32,
+                    centre,
+                },
+                matrix: &shift * Mat::from_fn(n, n, |i, j| m[(i, j)].re),
+            })
+            .collect();
+        Ok(TruncatedExpansion {
+            terms,
+            remainder_bound: tail,
+        })
+    }
+
     /// The terms kept on `[t1, t2]` (see [`ResidueExpansion::truncate`]) and the projector-sum
     /// error of the clusters they come from: those of [`ResidueExpansion::clusters`], or the
-    /// whole spectrum as one cluster (`E = I`, no projector error) on a *short* window, where
-    /// `ρ(T1 + T2)/2 ≤ 1` for the spread `ρ = max|λ_i − λ_j|` of the spectrum, when that keeps
-    /// at most [`SHORT_WINDOW_EXTRA_TERMS`] more terms.
+    /// whole spectrum as one cluster about the centre of the window (`E = I`, no projector
+    /// error) on a *short* window, where `ρ(T2 − T1)/2 ≤ 1` for the spread
+    /// `ρ = max|λ_i − λ_j|` of the spectrum, when that keeps at most
+    /// [`SHORT_WINDOW_EXTRA_TERMS`] more terms.
     fn window_terms(
         &self,
         t1: f64,
@@ -900,11 +984,11 @@ impl ResidueExpansion {
         let fine = self.truncate_clusters(&self.clusters, t1, t2, scale)?;
         if let Some(whole) = &self.whole
             && self.options.short_window_series
-            && self.spread * 0.5 * (t1 + t2) <= 1.0
+            && self.spread * 0.5 * (t2 - t1) <= 1.0
         {
-            // Its tail bound `e^{(λ̄+‖N‖_F)v}` may overflow in badly scaled coordinates: then
-            // the clusters are used.
-            if let Ok(merged) = self.truncate_clusters(std::slice::from_ref(whole), t1, t2, scale)
+            // Its tail bound `‖e^{Ac}‖_F e^{(|λ̄|+‖N‖_F)h}` may overflow in badly scaled
+            // coordinates: then the clusters are used.
+            if let Ok(merged) = self.centred_series(whole, t1, t2, scale)
                 && merged.terms.len() <= fine.terms.len() + SHORT_WINDOW_EXTRA_TERMS
             {
                 return Ok((merged, 0.0));
@@ -922,14 +1006,15 @@ impl ResidueExpansion {
     /// Why (not in the paper): the box (43) lets the coefficient functions of the clusters vary
     /// independently, so besides `e^{Av}` it contains matrices whose clusters are at different
     /// times of the window, `e^{λ_i v_i}` with `v_i ≠ v_j`; their distance from the curve grows
-    /// like `ρ(T2 − T1)`. The power series `e^{λ̄v} Σ_k v^k (A − λ̄I)^k/k!` of the whole
-    /// spectrum keeps the first-order term, `v(A − λ̄I)`, at one time; its first independent
-    /// term, `v²(A − λ̄I)²/2`, ranges over `ρ²(T2² − T1²)/2` (in the scale of the spectrum),
-    /// which is at most `ρ(T2 − T1)` exactly when `ρ(T1 + T2)/2 ≤ 1`. Both quantities are
-    /// similarity-invariant and do not change under a change of time unit (`A → kA`,
-    /// `T → T/k`). E.g. four lightly damped modes at 1–5 rad/s on `[0.01, 0.0185]`
-    /// (`ρ = 10`, `ρ(T1 + T2)/2 = 0.14`): the clusters' box is infeasible for LMI (41) where the
-    /// power series, with as many terms, certifies.
+    /// like `ρ(T2 − T1)`. The power series `e^{Ac} e^{λ̄s} Σ_k s^k (A − λ̄I)^k/k!` of the whole
+    /// spectrum about the centre `c` of the window (`s = v − c ∈ [−h, h]`, `h = (T2 − T1)/2`)
+    /// keeps the first-order term, `s(A − λ̄I)`, at one time; its first independent term,
+    /// `s²(A − λ̄I)²/2`, ranges over `ρ²h²/2` (in the scale of the spectrum), which is at most
+    /// `ρ(T2 − T1)/4` when `ρh ≤ 1`. Both quantities are similarity-invariant and do not change
+    /// under a change of time unit (`A → kA`, `T → T/k`). E.g. four lightly damped modes at
+    /// 1–5 rad/s (`ρ = 10`) on `[0.01, 0.122]`: the clusters' box is infeasible for LMI (41);
+    /// the series about `v = 0` certifies with 512 vertices, the series about the centre with
+    /// 256 (4 pieces), and windows up to `T2 = 0.186`.
     pub fn truncate(&self, t1: f64, t2: f64) -> Result<TruncatedExpansion, EmbedError> {
         let iv = Interval::new(t1, t2)?;
         let scale = expm_scaled(self.a.as_ref(), iv.t1())?
@@ -964,8 +1049,53 @@ impl ResidueExpansion {
 
     /// Polytopic embedding of `{e^{Av} : v ∈ [t1, t2]}` (Ferrante et al. 2016, §4.1,
     /// (43a)–(43b)). `t1 = t2` gives the single vertex `e^{A t1}` (computed by `expm`).
+    ///
+    /// A window embedded by the power series about its centre (a short window, see the module
+    /// docs) is halved, recursively up to [`SERIES_SPLIT_DEPTH`] times, while the halves
+    /// together have no more vertices than it (not in the paper): on a half, `|v − c|` is
+    /// halved, so the series needs fewer terms and every coefficient's range shrinks; the
+    /// union of the halves' vertices still contains the curve (as for
+    /// [`crate::embed_split`]).
     pub fn embed(&self, t1: f64, t2: f64) -> Result<Embedding, EmbedError> {
         let iv = Interval::new(t1, t2)?;
+        let whole = self.embed_piece(iv)?;
+        let mut parts = Vec::new();
+        self.split_series(iv, whole, SERIES_SPLIT_DEPTH, &mut parts)?;
+        Ok(if parts.len() == 1 {
+            parts.pop().expect("one piece")
+        } else {
+            Embedding::union(iv, parts)
+        })
+    }
+
+    /// Pushes the embedding `e` of `iv`, or, when it is the centred series of a short window
+    /// and halving pays (see [`ResidueExpansion::embed`]), those of its halves.
+    fn split_series(
+        &self,
+        iv: Interval,
+        (e, centred): (Embedding, bool),
+        depth: usize,
+        out: &mut Vec<Embedding>,
+    ) -> Result<(), EmbedError> {
+        if depth > 0 && centred && e.vertices().len() > 1 {
+            let halves = iv.split(2)?;
+            let left = self.embed_piece(halves[0])?;
+            let right = self.embed_piece(halves[1])?;
+            let guaranteed = |e: &Embedding| matches!(e.containment(), Containment::Guaranteed);
+            if left.0.vertices().len() + right.0.vertices().len() <= e.vertices().len()
+                && (!guaranteed(&e) || (guaranteed(&left.0) && guaranteed(&right.0)))
+            {
+                self.split_series(halves[0], left, depth - 1, out)?;
+                return self.split_series(halves[1], right, depth - 1, out);
+            }
+        }
+        out.push(e);
+        Ok(())
+    }
+
+    /// The embedding of one piece (see [`ResidueExpansion::embed`]), and whether it is the
+    /// centred power series of a short window.
+    fn embed_piece(&self, iv: Interval) -> Result<(Embedding, bool), EmbedError> {
         let a = self.a.as_ref();
         if iv.is_point() {
             let x = expm_scaled(a, iv.t1())?;
@@ -975,13 +1105,16 @@ impl ResidueExpansion {
                 reconstruction_error: 0.0,
                 projector_sum_error: self.projector_sum_error,
             };
-            return Ok(Embedding::new(
-                a.to_owned(),
-                iv,
-                vec![x],
-                method,
-                Containment::Guaranteed,
-                0.0,
+            return Ok((
+                Embedding::new(
+                    a.to_owned(),
+                    iv,
+                    vec![x],
+                    method,
+                    Containment::Guaranteed,
+                    0.0,
+                ),
+                false,
             ));
         }
         let points = self.options.check_points;
@@ -999,6 +1132,10 @@ impl ResidueExpansion {
             return Err(InputError::non_finite("e^{Av} on the sampling window").into());
         }
         let (truncated, projector_sum_error) = self.window_terms(iv.t1(), iv.t2(), scale)?;
+        let centred = matches!(
+            truncated.terms.first().map(|t| t.function),
+            Some(CoefficientFunction::Centred { .. })
+        );
         let ranges: Vec<CoefficientRange> = truncated
             .terms
             .iter()
@@ -1119,7 +1256,7 @@ impl ResidueExpansion {
                 }
             });
         }
-        Ok(embedding)
+        Ok((embedding, centred))
     }
 }
 

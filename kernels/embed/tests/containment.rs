@@ -157,6 +157,47 @@ proptest! {
         }
     }
 
+    /// Short windows anywhere on the time axis (`ρ(T2 − T1)/2 ≤ 1` for `‖A‖_F = s`, since the
+    /// spread `ρ ≤ 2‖A‖₂`): the power series about the window's centre, halved while that
+    /// pays, contains the curve, and each centred coefficient lies in its range.
+    #[test]
+    fn short_window_series_contains_the_curve(
+        kind in 0usize..KINDS.len(),
+        n in 2usize..=6,
+        seed in any::<u64>(),
+        size in 0.5f64..8.0,
+        t1 in 0.0f64..6.0,
+        fraction in 0.01f64..1.0,
+    ) {
+        let mut a = random_matrix(KINDS[kind], n, seed);
+        let norm = a.norm_l2();
+        prop_assume!(norm > 0.0);
+        a *= faer::Scale(size / norm);
+        let t2 = t1 + fraction / size;
+        let expansion = ResidueExpansion::new(a.as_ref()).unwrap();
+        let emb = expansion.embed(t1, t2).unwrap();
+        let claimed = !matches!(emb.containment(), Containment::NotGuaranteed { .. });
+        prop_assume!(claimed || KINDS[kind] != Kind::Clustered);
+        prop_assert!(claimed, "{:?} {:?}", emb.containment(), emb.method());
+        let truncated = expansion.truncate(t1, t2).unwrap();
+        let mut rng = Rng(seed ^ 0xc3);
+        for k in 0..5 {
+            let tau = match k {
+                0 => t1,
+                1 => t2,
+                2 => 0.5 * (t1 + t2),
+                _ => rng.uniform(t1, t2),
+            };
+            prop_assert!(emb.contains(tau).unwrap(), "τ = {}: {:?}", tau, emb.hull_distance(tau));
+            for t in &truncated.terms {
+                let r = t.function.range(t1, t2).unwrap();
+                let c = t.function.eval(tau);
+                prop_assert!(r.lower <= c && c <= r.upper, "{:?} at {}", t.function, tau);
+            }
+            lp_check(&emb, tau)?;
+        }
+    }
+
     /// Splitting the residue embedding keeps containment with linearly many vertices.
     #[test]
     fn split_residue_embedding(

@@ -121,7 +121,7 @@ impl Ferrante2016 {
                 d.embedding.interval().t2() * d.scaling.time
             )
             .map_or_else(|_| String::from("[T1, T2]"), |w| w.to_string()),
-            self.design.pieces,
+            d.embedding.pieces().len(),
             d.stats.iterations,
             d.stats.decision_scalars,
         ));
