@@ -49,9 +49,9 @@
 //! `max|λ_i − λ_j|` of the spectrum, the whole spectrum is taken as one cluster expanded about
 //! the centre `c` of the window (the power series `e^{Ac}e^{λ̄s}Σ_k s^k(A − λ̄I)^k/k!`,
 //! `s = v − c`, truncated with a rigorous remainder) whenever that keeps at most
-//! [`SHORT_WINDOW_EXTRA_TERMS`] more terms than the clusters: its box is the tighter one there
-//! (see [`ResidueExpansion::truncate`]; [`ResidueOptions::short_window_series`] turns this
-//! off). Such a window is then halved while the halves together have no more vertices
+//! [`SHORT_WINDOW_EXTRA_TERMS`] more box coordinates than the clusters: its box is the tighter
+//! one there (see [`ResidueExpansion::truncate`]; [`ResidueOptions::short_window_series`] turns
+//! this off). Such a window is then halved while the halves together have no more vertices
 //! ([`ResidueExpansion::embed`]). The window condition depends on the eigenvalues and the
 //! window alone; it holds for a window of sampling jitter around any nominal period, not only
 //! near `v = 0`.
@@ -119,7 +119,7 @@ pub struct ResidueOptions {
     pub max_vertices: usize,
     /// Whether a short window (`ρ(T2 − T1)/2 ≤ 1`, `ρ` the spread of the spectrum) is embedded
     /// with the power series of the whole spectrum about its centre when that keeps at most
-    /// [`SHORT_WINDOW_EXTRA_TERMS`] more terms than the clusters (see the module docs). Default
+    /// [`SHORT_WINDOW_EXTRA_TERMS`] more box coordinates than the clusters (see the module docs). Default
     /// `true`.
     pub short_window_series: bool,
     /// Whether the clusters are taken from the balanced matrix when its cluster structure
@@ -294,8 +294,9 @@ pub struct ResidueExpansion {
 /// well inside the self-check. Wider defective clusters are merged adaptively.
 const INITIAL_CLUSTER_DISTANCE: f64 = 1e-7;
 
-/// How many more terms than the clusters' box the power series of the whole spectrum may keep
-/// on a short window (each doubles the vertex count; see [`ResidueExpansion::truncate`]).
+/// How many more box coordinates (terms with a range that is not a single value) than the
+/// clusters' box the power series of the whole spectrum may have on a short window (each
+/// doubles the vertex count; see [`ResidueExpansion::truncate`]).
 pub const SHORT_WINDOW_EXTRA_TERMS: usize = 2;
 
 /// Where the variable of a cluster's series ranges (for its tail bound).
@@ -974,7 +975,7 @@ impl ResidueExpansion {
     /// whole spectrum as one cluster about the centre of the window (`E = I`, no projector
     /// error) on a *short* window, where `ρ(T2 − T1)/2 ≤ 1` for the spread
     /// `ρ = max|λ_i − λ_j|` of the spectrum, when that keeps at most
-    /// [`SHORT_WINDOW_EXTRA_TERMS`] more terms.
+    /// [`SHORT_WINDOW_EXTRA_TERMS`] more box coordinates.
     fn window_terms(
         &self,
         t1: f64,
@@ -989,7 +990,8 @@ impl ResidueExpansion {
             // Its tail bound `‖e^{Ac}‖_F e^{(|λ̄|+‖N‖_F)h}` may overflow in badly scaled
             // coordinates: then the clusters are used.
             if let Ok(merged) = self.centred_series(whole, t1, t2, scale)
-                && merged.terms.len() <= fine.terms.len() + SHORT_WINDOW_EXTRA_TERMS
+                && free_terms(&merged, t1, t2)?
+                    <= free_terms(&fine, t1, t2)? + SHORT_WINDOW_EXTRA_TERMS
             {
                 return Ok((merged, 0.0));
             }
@@ -1258,6 +1260,19 @@ impl ResidueExpansion {
         }
         Ok((embedding, centred))
     }
+}
+
+/// Number of box coordinates of `t` on `[t1, t2]`: the terms whose range is not a single value
+/// once the small ones are folded into the remainder ([`collapse_small_terms`]); the box has
+/// `2^free` corners.
+fn free_terms(t: &TruncatedExpansion, t1: f64, t2: f64) -> Result<usize, EmbedError> {
+    let ranges: Vec<CoefficientRange> = t
+        .terms
+        .iter()
+        .map(|x| x.function.range(t1, t2))
+        .collect::<Result<_, _>>()?;
+    let (box_ranges, _) = collapse_small_terms(&t.terms, &ranges, t.remainder_bound);
+    Ok(box_ranges.iter().filter(|(lo, hi)| lo != hi).count())
 }
 
 /// The box ranges of the terms, with the terms whose whole variation is small folded into the
