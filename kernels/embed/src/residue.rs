@@ -51,10 +51,11 @@
 //! `s = v − c`, truncated with a rigorous remainder) whenever that keeps at most
 //! [`SHORT_WINDOW_EXTRA_TERMS`] more box coordinates than the clusters: its box is the tighter
 //! one there (see [`ResidueExpansion::truncate`]; [`ResidueOptions::short_window_series`] turns
-//! this off). Such a window is then halved while the halves together have no more vertices
-//! ([`ResidueExpansion::embed`]). The window condition depends on the eigenvalues and the
-//! window alone; it holds for a window of sampling jitter around any nominal period, not only
-//! near `v = 0`.
+//! this off). Such a window is then halved while the halves together have no more box
+//! corners, and a longer window is cut into short pieces when that costs at most the same factor
+//! in corners ([`ResidueExpansion::embed`]). The window condition depends on the eigenvalues and
+//! the window alone; it holds for a window of sampling jitter around any nominal period, not
+//! only near `v = 0`.
 //!
 //! **Step 2–4.** Each kept moment contributes real matrices and scalar functions
 //! ([`CoefficientFunction`]); their exact ranges over `[T1, T2]` (43b) give a box whose
@@ -311,6 +312,32 @@ enum Span {
 /// How many times [`ResidueExpansion::embed`] may halve a window embedded by the centred power
 /// series (at most `2^4 = 16` pieces).
 pub const SERIES_SPLIT_DEPTH: usize = 4;
+
+/// The embedding of one piece of a window, as [`ResidueExpansion::embed`] chooses pieces.
+struct Piece {
+    embedding: Embedding,
+    /// Whether it is the centred power series of a short window.
+    centred: bool,
+    /// Its number of box coordinates ([`free_terms`]): the choices between pieces compare
+    /// `2^free`, which depends on the eigenvalues and the kept powers, not on the norms that
+    /// decide which small terms are folded into the remainder (those change with the
+    /// coordinates).
+    free: usize,
+}
+
+impl Piece {
+    fn guaranteed(&self) -> bool {
+        matches!(self.embedding.containment(), Containment::Guaranteed)
+    }
+}
+
+/// `2^free`, saturating.
+fn corners(free: usize) -> usize {
+    u32::try_from(free)
+        .ok()
+        .and_then(|f| 1usize.checked_shl(f))
+        .unwrap_or(usize::MAX)
+}
 
 /// Minimal union–find over eigenvalue indices.
 struct UnionFind(Vec<usize>);
@@ -981,17 +1008,18 @@ impl ResidueExpansion {
         t1: f64,
         t2: f64,
         scale: f64,
+        series: bool,
     ) -> Result<(TruncatedExpansion, f64), EmbedError> {
         let fine = self.truncate_clusters(&self.clusters, t1, t2, scale)?;
         if let Some(whole) = &self.whole
+            && series
             && self.options.short_window_series
             && self.spread * 0.5 * (t2 - t1) <= 1.0
         {
             // Its tail bound `‖e^{Ac}‖_F e^{(|λ̄|+‖N‖_F)h}` may overflow in badly scaled
             // coordinates: then the clusters are used.
             if let Ok(merged) = self.centred_series(whole, t1, t2, scale)
-                && free_terms(&merged, t1, t2)?
-                    <= free_terms(&fine, t1, t2)? + SHORT_WINDOW_EXTRA_TERMS
+                && free_terms(&merged) <= free_terms(&fine) + SHORT_WINDOW_EXTRA_TERMS
             {
                 return Ok((merged, 0.0));
             }
@@ -1022,7 +1050,7 @@ impl ResidueExpansion {
         let scale = expm_scaled(self.a.as_ref(), iv.t1())?
             .norm_l2()
             .max(expm_scaled(self.a.as_ref(), iv.t2())?.norm_l2());
-        Ok(self.window_terms(iv.t1(), iv.t2(), scale)?.0)
+        Ok(self.window_terms(iv.t1(), iv.t2(), scale, true)?.0)
     }
 
     /// The end `S` of the self-check grid on `iv`: `T1 + DECAY_EXPONENTS/|α|` when `A` is
@@ -1053,16 +1081,27 @@ impl ResidueExpansion {
     /// (43a)–(43b)). `t1 = t2` gives the single vertex `e^{A t1}` (computed by `expm`).
     ///
     /// A window embedded by the power series about its centre (a short window, see the module
-    /// docs) is halved, recursively up to [`SERIES_SPLIT_DEPTH`] times, while the halves
-    /// together have no more vertices than it (not in the paper): on a half, `|v − c|` is
-    /// halved, so the series needs fewer terms and every coefficient's range shrinks; the
-    /// union of the halves' vertices still contains the curve (as for
-    /// [`crate::embed_split`]).
+    /// docs) is halved, recursively up to [`SERIES_SPLIT_DEPTH`] times, while the halves'
+    /// boxes together have no more corners than its own (not in the paper): on a half,
+    /// `|v − c|` is halved, so the series needs fewer terms and every coefficient's range
+    /// shrinks; the union of the halves' vertices still contains the curve (as for
+    /// [`crate::embed_split`]). A window that is not short is cut into the fewest `2^d` short
+    /// pieces (`d ≤` [`SERIES_SPLIT_DEPTH`]) when their boxes have at most
+    /// `2^`[`SHORT_WINDOW_EXTRA_TERMS`] times the corners of the clusters' box, the budget of
+    /// the choice on a short window. Corners are counted as `2^free`, `free` the terms whose
+    /// coefficient function is not constant, which depends on the eigenvalues and the kept
+    /// powers and not on the norms of the terms (the vertex count after small terms are folded
+    /// into the remainder does, and made the certified window depend on the coordinates).
     pub fn embed(&self, t1: f64, t2: f64) -> Result<Embedding, EmbedError> {
         let iv = Interval::new(t1, t2)?;
         let whole = self.embed_piece(iv)?;
         let mut parts = Vec::new();
-        self.split_series(iv, whole, SERIES_SPLIT_DEPTH, &mut parts)?;
+        if let Some(short) = self.short_pieces(iv, &whole)? {
+            parts = short;
+        } else {
+            self.split_series(iv, whole, SERIES_SPLIT_DEPTH, &mut parts)?;
+        }
+        let mut parts: Vec<Embedding> = parts.into_iter().map(|p| p.embedding).collect();
         Ok(if parts.len() == 1 {
             parts.pop().expect("one piece")
         } else {
@@ -1070,34 +1109,78 @@ impl ResidueExpansion {
         })
     }
 
-    /// Pushes the embedding `e` of `iv`, or, when it is the centred series of a short window
+    /// A window that is not short, cut into the fewest `2^d ≤ 2^SERIES_SPLIT_DEPTH` equal
+    /// pieces that are, each embedded as [`ResidueExpansion::embed`] embeds a short window, when
+    /// their boxes have at most `2^SHORT_WINDOW_EXTRA_TERMS` times the corners of `whole` (the
+    /// clusters' box of the window) and no weaker containment; `None` otherwise.
+    fn short_pieces(&self, iv: Interval, whole: &Piece) -> Result<Option<Vec<Piece>>, EmbedError> {
+        let ratio = self.spread * 0.5 * iv.length();
+        if self.whole.is_none() || !self.options.short_window_series || !(ratio > 1.0) {
+            return Ok(None);
+        }
+        let Some(depth) = (1..=SERIES_SPLIT_DEPTH).find(|&d| ratio <= (1u32 << d) as f64) else {
+            return Ok(None);
+        };
+        let budget = corners(whole.free.saturating_add(SHORT_WINDOW_EXTRA_TERMS));
+        let mut parts = Vec::new();
+        for piece in iv.split(1 << depth)? {
+            let p = self.embed_piece(piece)?;
+            if !p.centred {
+                return Ok(None);
+            }
+            self.split_series(piece, p, SERIES_SPLIT_DEPTH - depth, &mut parts)?;
+            let total = parts
+                .iter()
+                .fold(0usize, |t, p| t.saturating_add(corners(p.free)));
+            if total > budget || (whole.guaranteed() && !parts.iter().all(Piece::guaranteed)) {
+                return Ok(None);
+            }
+        }
+        Ok(Some(parts))
+    }
+
+    /// Pushes the embedding `p` of `iv`, or, when it is the centred series of a short window
     /// and halving pays (see [`ResidueExpansion::embed`]), those of its halves.
     fn split_series(
         &self,
         iv: Interval,
-        (e, centred): (Embedding, bool),
+        p: Piece,
         depth: usize,
-        out: &mut Vec<Embedding>,
+        out: &mut Vec<Piece>,
     ) -> Result<(), EmbedError> {
-        if depth > 0 && centred && e.vertices().len() > 1 {
+        if depth > 0 && p.centred && p.free > 0 {
             let halves = iv.split(2)?;
             let left = self.embed_piece(halves[0])?;
             let right = self.embed_piece(halves[1])?;
-            let guaranteed = |e: &Embedding| matches!(e.containment(), Containment::Guaranteed);
-            if left.0.vertices().len() + right.0.vertices().len() <= e.vertices().len()
-                && (!guaranteed(&e) || (guaranteed(&left.0) && guaranteed(&right.0)))
+            if corners(left.free).saturating_add(corners(right.free)) <= corners(p.free)
+                && (!p.guaranteed() || (left.guaranteed() && right.guaranteed()))
             {
                 self.split_series(halves[0], left, depth - 1, out)?;
                 return self.split_series(halves[1], right, depth - 1, out);
             }
         }
-        out.push(e);
+        out.push(p);
         Ok(())
     }
 
-    /// The embedding of one piece (see [`ResidueExpansion::embed`]), and whether it is the
-    /// centred power series of a short window.
-    fn embed_piece(&self, iv: Interval) -> Result<(Embedding, bool), EmbedError> {
+    /// The embedding of one piece (see [`ResidueExpansion::embed`]). When the centred series
+    /// fails the self-check (its matrices carry the rounding of `e^{Ac}`, e.g. `5·10⁻⁸` for a
+    /// defective `A` with `‖A‖c ≈ 32`), the piece is embedded by the clusters instead.
+    fn embed_piece(&self, iv: Interval) -> Result<Piece, EmbedError> {
+        let p = self.embed_piece_with(iv, true)?;
+        match p.embedding.method() {
+            Method::Residue {
+                reconstruction_error,
+                ..
+            } if p.centred && *reconstruction_error > self.options.check_tolerance => {
+                self.embed_piece_with(iv, false)
+            }
+            _ => Ok(p),
+        }
+    }
+
+    /// [`ResidueExpansion::embed_piece`], the centred series allowed or not.
+    fn embed_piece_with(&self, iv: Interval, series: bool) -> Result<Piece, EmbedError> {
         let a = self.a.as_ref();
         if iv.is_point() {
             let x = expm_scaled(a, iv.t1())?;
@@ -1107,8 +1190,8 @@ impl ResidueExpansion {
                 reconstruction_error: 0.0,
                 projector_sum_error: self.projector_sum_error,
             };
-            return Ok((
-                Embedding::new(
+            return Ok(Piece {
+                embedding: Embedding::new(
                     a.to_owned(),
                     iv,
                     vec![x],
@@ -1116,8 +1199,9 @@ impl ResidueExpansion {
                     Containment::Guaranteed,
                     0.0,
                 ),
-                false,
-            ));
+                centred: false,
+                free: 0,
+            });
         }
         let points = self.options.check_points;
         let head = Interval::new(iv.t1(), self.check_end(&iv))?;
@@ -1133,7 +1217,8 @@ impl ResidueExpansion {
         if !scale.is_finite() {
             return Err(InputError::non_finite("e^{Av} on the sampling window").into());
         }
-        let (truncated, projector_sum_error) = self.window_terms(iv.t1(), iv.t2(), scale)?;
+        let (truncated, projector_sum_error) =
+            self.window_terms(iv.t1(), iv.t2(), scale, series)?;
         let centred = matches!(
             truncated.terms.first().map(|t| t.function),
             Some(CoefficientFunction::Centred { .. })
@@ -1258,21 +1343,20 @@ impl ResidueExpansion {
                 }
             });
         }
-        Ok((embedding, centred))
+        Ok(Piece {
+            embedding,
+            centred,
+            free: free_terms(&truncated),
+        })
     }
 }
 
-/// Number of box coordinates of `t` on `[t1, t2]`: the terms whose range is not a single value
-/// once the small ones are folded into the remainder ([`collapse_small_terms`]); the box has
-/// `2^free` corners.
-fn free_terms(t: &TruncatedExpansion, t1: f64, t2: f64) -> Result<usize, EmbedError> {
-    let ranges: Vec<CoefficientRange> = t
-        .terms
-        .iter()
-        .map(|x| x.function.range(t1, t2))
-        .collect::<Result<_, _>>()?;
-    let (box_ranges, _) = collapse_small_terms(&t.terms, &ranges, t.remainder_bound);
-    Ok(box_ranges.iter().filter(|(lo, hi)| lo != hi).count())
+/// Number of box coordinates of `t`: its terms whose coefficient function is not constant.
+/// This depends on the eigenvalues and the kept powers only, not on the norms of the terms'
+/// matrices (which decide what [`collapse_small_terms`] folds, and change with the
+/// coordinates).
+fn free_terms(t: &TruncatedExpansion) -> usize {
+    t.terms.iter().filter(|x| !x.function.is_constant()).count()
 }
 
 /// The box ranges of the terms, with the terms whose whole variation is small folded into the
