@@ -51,7 +51,7 @@ pub use interval::Interval;
 pub use jacobian::{JacobianPolytope, jacobian_polytope, lipschitz_box};
 pub use residue::{
     Contour, DECAY_EXPONENTS, EigenCluster, ExpansionTerm, ResidueExpansion, ResidueOptions,
-    SHORT_WINDOW_EXTRA_TERMS, TruncatedExpansion, residue_embedding,
+    SERIES_SPLIT_DEPTH, SHORT_WINDOW_EXTRA_TERMS, TruncatedExpansion, residue_embedding,
 };
 pub use split::{EmbeddingMethod, embed, embed_split};
 pub use taylor::{TaylorOptions, TaylorOrder, taylor_embedding, taylor_weights, truncation_tail};
