@@ -445,8 +445,11 @@ pub(crate) fn run(
             let system = match mode {
                 Mode::Normal => {
                     // Schur complement, shared by predictor and corrector.
-                    assemble(an, vals, &x, &f, ws.linsys.matrix_mut(), &mut ws.schur_rows);
-                    if !ws.linsys.factorize() {
+                    let Workspace {
+                        linsys, schur_rows, ..
+                    } = &mut *ws;
+                    assemble(an, vals, &x, &f, linsys.matrix_mut(), schur_rows);
+                    if !linsys.factorize(|out| assemble(an, vals, &x, &f, out, schur_rows)) {
                         if lsq_failed {
                             break Next::Trouble;
                         }
