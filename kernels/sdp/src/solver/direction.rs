@@ -234,6 +234,8 @@ impl System<'_> {
                     let part = block_apply_a(an, vals, k, &dx);
                     (dx, (ds, part))
                 });
+                // The second-order terms are dead once `ΔX` is recovered.
+                drop(h);
                 let (dx, rest): (BlockMats, Vec<_>) = second.into_iter().unzip();
                 let (ds, parts): (BlockMats, Vec<_>) = rest.into_iter().unzip();
                 let mut adx = vec![0.0; an.m];
@@ -287,7 +289,11 @@ impl System<'_> {
         };
         let ds = match ds {
             Some(ds) if !refined => ds,
-            _ => an.map_blocks(|k, _| dual_block(an, vals, k, &dy, &it.rd[k])),
+            stale => {
+                // The `ΔS` of the unrefined `Δy` goes before the new one is formed.
+                drop(stale);
+                an.map_blocks(|k, _| dual_block(an, vals, k, &dy, &it.rd[k]))
+            }
         };
         Direction {
             dx,
@@ -495,9 +501,9 @@ fn refine(
         if !(norm > threshold) {
             break;
         }
-        let (delta, corr) = correction(&e);
-        let mut trial = dx.clone();
-        axpy(&mut trial, 1.0, &corr);
+        // `ΔX + change` is formed in the change's own storage (`c + d` is `d + 1·c` bitwise).
+        let (delta, mut trial) = correction(&e);
+        axpy(&mut trial, 1.0, dx);
         let (e2, n2) = residual(apply(&trial));
         if !(n2 < norm) {
             break;

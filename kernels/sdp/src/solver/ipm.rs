@@ -562,6 +562,10 @@ pub(crate) fn run(
             ],
             gamma,
         );
+        // The factors and residuals of the current iterate are dead once the step lengths are
+        // known: they go before the new point and its factors are formed.
+        drop(f);
+        drop(res);
         let Some([(ap, (xn, fxn)), (ad, (sn, fsn))]) = take_steps(an, (&x, &dx, ap), (&s, &ds, ad))
         else {
             break Status::NumericalTrouble;
