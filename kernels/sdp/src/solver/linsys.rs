@@ -345,9 +345,62 @@ impl SchurSolver {
 
 #[cfg(test)]
 mod tests {
-    use super::{RESIDUAL_TILE, SchurSolver};
+    use super::{RESIDUAL_TILE, SchurSolver, keeps_copy};
+    use crate::problem::{BlockKind, ProblemBuilder};
+    use crate::solver::structure::analyse;
     use faer::Mat;
     use proptest::prelude::*;
+
+    /// The memory contract on the two shapes of large SDPLIB problems: a Lovász theta problem
+    /// (`m` far above the block order) holds `M` once, factorised in place; a max-cut relaxation
+    /// (`m = n`, diagonal constraints) keeps the copy, which is no larger than an iterate.
+    #[test]
+    fn theta_holds_the_schur_matrix_once_and_max_cut_keeps_its_copy() {
+        let n = 24;
+        // theta: `tr X = 1` and `X_ij = 0` on the edges of a circulant graph of degree 10
+        // (`m = 121`, the shape of theta6: `m = 4375`, `n = 300`).
+        let edges: Vec<(usize, usize)> = (0..n)
+            .flat_map(|i| (1..=5).map(move |d| (i, (i + d) % n)))
+            .map(|(i, j)| (i.min(j), i.max(j)))
+            .collect();
+        let mut theta = ProblemBuilder::new(1 + edges.len());
+        let block = theta.add_block(BlockKind::Psd, n);
+        theta.set_b(0, 1.0);
+        for i in 0..n {
+            theta.add_a(0, block, i, i, 1.0);
+            for j in i..n {
+                theta.add_c(block, i, j, 1.0);
+            }
+        }
+        for (e, &(i, j)) in edges.iter().enumerate() {
+            theta.add_a(1 + e, block, i, j, 1.0);
+        }
+        let theta = analyse(&theta.build().expect("theta")).expect("analysis");
+        assert!(!keeps_copy(&theta));
+        let m = theta.m;
+        let mut solver = SchurSolver::new(m, keeps_copy(&theta));
+        for i in 0..m {
+            solver.matrix_mut()[(i, i)] = 2.0;
+        }
+        assert!(solver.factorize(|_| unreachable!("a definite M factorises at once")));
+        assert_eq!(
+            (solver.l.nrows(), solver.copy.nrows()),
+            (m, 0),
+            "one m×m array"
+        );
+        // max-cut: `X_ii = 1`, `C` the Laplacian of the same graph.
+        let mut max_cut = ProblemBuilder::new(n);
+        let block = max_cut.add_block(BlockKind::Psd, n);
+        for i in 0..n {
+            max_cut.set_b(i, 1.0);
+            max_cut.add_a(i, block, i, i, 1.0);
+        }
+        for &(i, j) in &edges {
+            max_cut.add_c(block, i, j, -0.25);
+        }
+        let max_cut = analyse(&max_cut.build().expect("max-cut")).expect("analysis");
+        assert!(keeps_copy(&max_cut));
+    }
 
     /// `r − M x` from the full symmetric matrix, column by column (each `res[i]` summed over
     /// `j` in order, zero `x_j` skipped): the reference the tiled residual must equal bitwise.
