@@ -74,13 +74,20 @@ const RESIDUAL_TILE: usize = 64;
 /// at several times the speed of the memory-bound pass over `M`).
 const PRODUCT_FLOP_RATIO: f64 = 8.0;
 
+/// A copy of `M` with fewer entries than this (8 MiB) is always kept: it costs little beside
+/// the process itself, and the residuals from the stored matrix keep the directions of the
+/// small ill-conditioned problems bitwise as they were (with operator residuals hinf15 ended
+/// in numerical trouble instead of almost optimal, and most hinf problems moved at the 8th
+/// digit).
+const SMALL_COPY: usize = 1 << 20;
+
 /// Whether the Schur solver of `an` keeps a copy of `M` for its refinement residuals: when the
-/// operator product `𝒜(X 𝒜ᵀ(v) S⁻¹)` (two dense products per PSD block, `4n³` flops, and two
-/// passes over the constraint entries) would cost more than [`PRODUCT_FLOP_RATIO`] times a
-/// pass over `M`. Problems with one or a few large blocks and `m` about their order (maxG,
-/// mcp, qpG, arch) keep it, and `M` is no larger than an iterate there; problems whose `m`
-/// far exceeds the block orders (theta: `m = 4375`, `n = 300`; control, truss) form the
-/// residuals from the operators and hold `M` once.
+/// copy is small ([`SMALL_COPY`]), or when the operator product `𝒜(X 𝒜ᵀ(v) S⁻¹)` (two dense
+/// products per PSD block, `4n³` flops, and two passes over the constraint entries) would
+/// cost more than [`PRODUCT_FLOP_RATIO`] times a pass over `M`. Problems with one or a few
+/// large blocks and `m` about their order (maxG, mcp, qpG) keep it, and `M` is no larger than
+/// an iterate there; problems whose `m` is large and far exceeds the block orders (theta3–6:
+/// `m = 1106…4375`, `n = 150…300`) form the residuals from the operators and hold `M` once.
 pub(crate) fn keeps_copy(an: &Analysis) -> bool {
     let product: f64 = an
         .blocks
@@ -95,8 +102,10 @@ pub(crate) fn keeps_copy(an: &Analysis) -> bool {
             dense + 4.0 * entries as f64
         })
         .sum();
-    let m = an.m as f64;
-    product > PRODUCT_FLOP_RATIO * 2.0 * m * m
+    an.m.saturating_mul(an.m) < SMALL_COPY || {
+        let m = an.m as f64;
+        product > PRODUCT_FLOP_RATIO * 2.0 * m * m
+    }
 }
 
 impl SchurSolver {
@@ -356,11 +365,11 @@ mod tests {
     /// (`m = n`, diagonal constraints) keeps the copy, which is no larger than an iterate.
     #[test]
     fn theta_holds_the_schur_matrix_once_and_max_cut_keeps_its_copy() {
-        let n = 24;
-        // theta: `tr X = 1` and `X_ij = 0` on the edges of a circulant graph of degree 10
-        // (`m = 121`, the shape of theta6: `m = 4375`, `n = 300`).
+        let n = 64;
+        // theta: `tr X = 1` and `X_ij = 0` on the edges of a circulant graph of degree 32
+        // (`m = 1025`, the shape of theta6: `m = 4375`, `n = 300`).
         let edges: Vec<(usize, usize)> = (0..n)
-            .flat_map(|i| (1..=5).map(move |d| (i, (i + d) % n)))
+            .flat_map(|i| (1..=16).map(move |d| (i, (i + d) % n)))
             .map(|(i, j)| (i.min(j), i.max(j)))
             .collect();
         let mut theta = ProblemBuilder::new(1 + edges.len());
