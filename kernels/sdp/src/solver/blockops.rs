@@ -9,14 +9,17 @@
 //! accepts non-symmetric `G` and then returns `⟨A_i, (G + Gᵀ)/2⟩ = ⟨A_i, G⟩` (`A_i` symmetric).
 //! All sums run in a fixed order, so results are bitwise reproducible.
 
-use faer::linalg::cholesky::llt::factor::{LltRegularization, cholesky_in_place};
+use faer::linalg::cholesky::llt::factor::{
+    LltRegularization, cholesky_in_place as faer_cholesky_in_place,
+};
 use faer::linalg::matmul::matmul;
 use faer::linalg::matmul::triangular::{BlockStructure, matmul as tri_matmul};
 use faer::linalg::triangular_inverse::invert_lower_triangular;
 use faer::{Accum, Mat, Par};
 
+use super::lsq::LeastSquares;
 use super::small;
-use super::structure::{Analysis, BlockPlan, Values};
+use super::structure::{Analysis, BlockPlan, SchurPlan, Values};
 use crate::problem::{BlockKind, SparseSym};
 
 /// One matrix per block (PSD `n×n`, LP `n×1`).
@@ -259,6 +262,22 @@ pub(crate) fn cholesky(a: &Mat<f64>) -> Option<Mat<f64>> {
         });
     }
     let mut l = a.clone();
+    if !cholesky_in_place(&mut l) {
+        return None;
+    }
+    for j in 1..n {
+        for i in 0..j {
+            l[(i, j)] = 0.0;
+        }
+    }
+    Some(l)
+}
+
+/// Overwrites the lower triangle of a symmetric matrix `a` (of order above [`small::SMALL`])
+/// with its Cholesky factor, the strict upper triangle left as it was, without the copy that
+/// [`cholesky`] returns; whether the matrix is numerically positive definite.
+pub(crate) fn cholesky_in_place(a: &mut Mat<f64>) -> bool {
+    let n = a.nrows();
     let mut mem = faer::dyn_stack::MemBuffer::new(
         faer::linalg::cholesky::llt::factor::cholesky_in_place_scratch::<f64>(
             n,
@@ -267,24 +286,15 @@ pub(crate) fn cholesky(a: &Mat<f64>) -> Option<Mat<f64>> {
         ),
     );
     let stack = faer::dyn_stack::MemStack::new(&mut mem);
-    cholesky_in_place(
-        l.as_mut(),
+    faer_cholesky_in_place(
+        a.as_mut(),
         LltRegularization::default(),
         Par::Seq,
         stack,
         Default::default(),
     )
-    .ok()?;
-    for j in 1..n {
-        for i in 0..j {
-            l[(i, j)] = 0.0;
-        }
-    }
-    if (0..n).all(|i| l[(i, i)].is_finite() && l[(i, i)] > 0.0) {
-        Some(l)
-    } else {
-        None
-    }
+    .is_ok()
+        && (0..n).all(|i| a[(i, i)].is_finite() && a[(i, i)] > 0.0)
 }
 
 /// Inverse of a lower-triangular matrix (lower triangular, strict upper part 0).
@@ -438,6 +448,12 @@ pub(crate) fn min_eig(kind: BlockKind, a: &Mat<f64>) -> f64 {
 ///
 /// PSD block: `X = L_X L_Xᵀ`, `S = L_S L_Sᵀ`, the inverses `L_X⁻¹`, `L_S⁻¹`, and
 /// `S⁻¹ = L_S⁻ᵀ L_S⁻¹`. LP block: only `zinv = 1/s` (the other fields are `0×0`, `linv_x = 1/x`).
+///
+/// Memory contract: the factors themselves are kept only where they are read, so a PSD block
+/// holds three `n×n` arrays (`L_X⁻¹`, `L_S⁻¹`, `S⁻¹`), plus `L_X` under a
+/// [`SchurPlan::Syrk`](super::structure::SchurPlan::Syrk) assembly, plus `L_X` and `L_S` when the
+/// least-squares form ([`LeastSquares::fits`]) and its conjugate-gradient stand-in can run; the
+/// others are `0×0`.
 #[derive(Debug, Clone)]
 pub(crate) struct Factors {
     /// `L_X`.
@@ -530,8 +546,16 @@ impl Factors {
         fx: (BlockMats, BlockMats),
         fs: (BlockMats, BlockMats),
     ) -> Self {
-        let (lx, linv_x) = fx;
-        let (ls, linv_s) = fs;
+        let (mut lx, linv_x) = fx;
+        let (mut ls, linv_s) = fs;
+        if !LeastSquares::fits(an) {
+            for (k, b) in an.blocks.iter().enumerate() {
+                if !matches!(b.schur, SchurPlan::Syrk) {
+                    lx[k] = Mat::new();
+                }
+                ls[k] = Mat::new();
+            }
+        }
         let zinv = an.map_blocks(|k, b| match b.kind {
             BlockKind::Lp => linv_s[k].clone(),
             BlockKind::Psd => inverse_from_linv(&linv_s[k]),

@@ -114,7 +114,7 @@ impl InfeasibilityCertificate {
             let gram = gram.get_or_insert_with(|| gram_solver(problem));
             for _ in 0..2 {
                 let (_, ax, _) = primal_ray_data(problem, &x).ok()?;
-                let z = gram.solve(&ax);
+                let z = gram.solve(&ax, None);
                 for (k, xk) in x.iter_mut().enumerate() {
                     *xk -= dense_block(problem, k, &z);
                 }
@@ -168,7 +168,8 @@ fn gram_solver(problem: &Problem) -> SchurSolver {
         }
     }
     let mut solver = SchurSolver::with_matrix(g);
-    solver.factorize();
+    // The solver keeps `g`: nothing is re-assembled.
+    solver.factorize(|_| {});
     solver
 }
 

@@ -445,8 +445,11 @@ pub(crate) fn run(
             let system = match mode {
                 Mode::Normal => {
                     // Schur complement, shared by predictor and corrector.
-                    assemble(an, vals, &x, &f, ws.linsys.matrix_mut(), &mut ws.schur_rows);
-                    if !ws.linsys.factorize() {
+                    let Workspace {
+                        linsys, schur_rows, ..
+                    } = &mut *ws;
+                    assemble(an, vals, &x, &f, linsys.matrix_mut(), schur_rows);
+                    if !linsys.factorize(|out| assemble(an, vals, &x, &f, out, schur_rows)) {
                         if lsq_failed {
                             break Next::Trouble;
                         }
@@ -559,6 +562,10 @@ pub(crate) fn run(
             ],
             gamma,
         );
+        // The factors and residuals of the current iterate are dead once the step lengths are
+        // known: they go before the new point and its factors are formed.
+        drop(f);
+        drop(res);
         let Some([(ap, (xn, fxn)), (ad, (sn, fsn))]) = take_steps(an, (&x, &dx, ap), (&s, &ds, ad))
         else {
             break Status::NumericalTrouble;

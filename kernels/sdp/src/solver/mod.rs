@@ -254,7 +254,7 @@ impl Solver {
         let m = analysis.m;
         let workspace = Workspace {
             schur_rows: Vec::new(),
-            linsys: SchurSolver::new(m),
+            linsys: SchurSolver::new(m, linsys::keeps_copy(&analysis)),
             lsq: None,
         };
         Ok(Solver {

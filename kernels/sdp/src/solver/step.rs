@@ -13,7 +13,7 @@
 
 use faer::Mat;
 
-use super::blockops::{cholesky, congruence, min_eig};
+use super::blockops::{cholesky_in_place, congruence, min_eig};
 use super::small;
 use super::structure::Analysis;
 use crate::problem::BlockKind;
@@ -43,8 +43,8 @@ fn allows(v: &Mat<f64>, dv: &Mat<f64>, shift: f64) -> bool {
             small::cholesky_in_place(buf, n)
         });
     }
-    let t = Mat::from_fn(n, n, |i, j| shift * v[(i, j)] + dv[(i, j)]);
-    cholesky(&t).is_some()
+    let mut t = Mat::from_fn(n, n, |i, j| shift * v[(i, j)] + dv[(i, j)]);
+    cholesky_in_place(&mut t)
 }
 
 /// `α_max = −1/λ_min(W)` (`∞` if `λ_min ≥ 0`, `NaN` if the eigenvalue computation failed).
