@@ -945,14 +945,24 @@ impl ResidueExpansion {
         factor: f64,
         scale: f64,
     ) -> Result<(usize, f64), EmbedError> {
+        // An overflow of the bound (`e^{(λ̄+‖N‖)v}` far from `v = 0` when the projector norms
+        // are large) is a numerical limit of the expansion, not bad input.
+        let bound = |k: usize| {
+            Self::tail_bound(c, k, span).map_err(|e| match e {
+                EmbedError::Input(InputError::NonFinite { what }) => EmbedError::Numerical(
+                    format!("the tail bound of the residue expansion overflows: {what}"),
+                ),
+                e => e,
+            })
+        };
         let l = c.moments.len();
         for k in 1..=l {
-            let t = factor * Self::tail_bound(c, k, span)?;
+            let t = factor * bound(k)?;
             if t <= self.options.tail_tolerance * scale {
                 return Ok((k, t));
             }
         }
-        Ok((l, factor * Self::tail_bound(c, l, span)?))
+        Ok((l, factor * bound(l)?))
     }
 
     /// The power series of the whole spectrum about the centre `c` of `[t1, t2]`:

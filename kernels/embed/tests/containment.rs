@@ -181,8 +181,9 @@ proptest! {
             Err(e) => {
                 // The clusters' rigorous tail bound `e^{(λ̄+‖N‖)v}` overflows far from `v = 0`
                 // when the projector norms are large (kept seed: order 4, `λ̄ + ‖N‖ = 95` at
-                // `v = 8.2`); the error is reported, not hidden.
-                prop_assume!(KINDS[kind] != Kind::Clustered);
+                // `v = 8.2`): a numerical limit, reported as one (not as bad input).
+                let numerical = matches!(e, sporadic_embed::EmbedError::Numerical(_));
+                prop_assume!(!(numerical && KINDS[kind] == Kind::Clustered));
                 return Err(TestCaseError::fail(e.to_string()));
             }
         };
