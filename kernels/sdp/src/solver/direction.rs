@@ -546,13 +546,8 @@ mod tests {
             seed in any::<u64>(),
             parallel in any::<bool>(),
         ) {
-            let mut state = seed | 1;
-            let mut next = move || {
-                state ^= state << 13;
-                state ^= state >> 7;
-                state ^= state << 17;
-                (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-            };
+            let mut rng = crate::solver::XorShift(seed | 1);
+            let mut next = move || rng.centred();
             let mut builder = ProblemBuilder::new(m);
             let blocks = [
                 (builder.add_block(BlockKind::Psd, n1), n1, BlockKind::Psd),

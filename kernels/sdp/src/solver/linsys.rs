@@ -437,13 +437,8 @@ mod tests {
             kind in 0usize..3,
             seed in any::<u64>(),
         ) {
-            let mut state = seed | 1;
-            let mut next = move || {
-                state ^= state << 13;
-                state ^= state >> 7;
-                state ^= state << 17;
-                (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-            };
+            let mut rng = crate::solver::XorShift(seed | 1);
+            let mut next = move || rng.centred();
             // `B Bᵀ` with `B` of rank `m` (definite), `m / 2` (singular) or `B J Bᵀ` with a
             // signature `J` of both signs (indefinite).
             let rank = if kind == 1 { m.div_ceil(2) } else { m };
@@ -493,13 +488,11 @@ mod tests {
         ) {
             // A cheap deterministic generator: entries of mixed signs and magnitudes, some
             // exact zeros in x.
-            let mut state = seed | 1;
+            let mut rng = crate::solver::XorShift(seed | 1);
             let mut next = move || {
-                state ^= state << 13;
-                state ^= state >> 7;
-                state ^= state << 17;
-                let u = (state >> 11) as f64 / (1u64 << 53) as f64;
-                (u - 0.5) * 10f64.powi((state % 7) as i32 - 3)
+                let bits = rng.bits();
+                let u = (bits >> 11) as f64 / (1u64 << 53) as f64;
+                (u - 0.5) * 10f64.powi((bits % 7) as i32 - 3)
             };
             let mut full = Mat::<f64>::zeros(m, m);
             for j in 0..m {

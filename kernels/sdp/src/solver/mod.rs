@@ -362,3 +362,24 @@ impl Solver {
         })
     }
 }
+
+/// Test data for the solver's unit tests: Marsaglia's xorshift64 generator (2003), one copy for
+/// every module.
+#[cfg(test)]
+pub(crate) struct XorShift(pub(crate) u64);
+
+#[cfg(test)]
+impl XorShift {
+    /// The next state.
+    pub(crate) fn bits(&mut self) -> u64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        self.0
+    }
+
+    /// Uniform in `[−0.5, 0.5)`.
+    pub(crate) fn centred(&mut self) -> f64 {
+        (self.bits() >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    }
+}

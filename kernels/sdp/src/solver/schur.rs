@@ -675,13 +675,8 @@ mod tests {
     /// its whole `nc×nc` share adds (same values, same order per entry), on both executors.
     #[test]
     fn grouped_rows_add_the_bits_of_the_whole_share() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut rng = crate::solver::XorShift(0x9e37_79b9_7f4a_7c15);
+        let mut next = move || rng.centred();
         let (n, m) = (30, 600);
         let mut builder = ProblemBuilder::new(m);
         let block = builder.add_block(BlockKind::Psd, n);
