@@ -758,7 +758,7 @@ fn reproduce_json_lists_the_figures_written() {
 /// paper, every figure of every paper as an image, a non-empty screenshot. Run by `.ci/run` when
 /// Chromium is installed (`apt-get install chromium`); it prints why it is skipped otherwise.
 #[test]
-#[ignore = "needs headless Chromium; run by .ci/run when `chromium` is installed"]
+#[ignore = "needs headless Chromium; run by .ci/run, which installs Debian's chromium when it is missing"]
 fn reproduce_all_index_renders_in_headless_chromium() {
     let Some(chromium) = ["chromium", "chromium-browser"].into_iter().find(|c| {
         Command::new(c)
