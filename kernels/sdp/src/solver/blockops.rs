@@ -424,6 +424,24 @@ pub(crate) fn symmetrize(g: &mut Mat<f64>) {
 /// the eigenvalue iteration fails.
 pub(crate) fn min_eig(kind: BlockKind, a: &Mat<f64>) -> f64 {
     match kind {
+        BlockKind::Psd if a.nrows() > small::JACOBI_MAX => min_eig_overwriting(&mut a.clone()),
+        _ => min_eig_of(kind, a),
+    }
+}
+
+/// [`min_eig`] of a matrix the caller no longer needs: a large PSD block is reduced to
+/// tridiagonal form in its own storage (only its lower triangle is read), so the eigenvalue
+/// costs no `n×n` copy.
+pub(crate) fn min_eig_in_place(kind: BlockKind, a: &mut Mat<f64>) -> f64 {
+    match kind {
+        BlockKind::Psd if a.nrows() > small::JACOBI_MAX => min_eig_overwriting(a),
+        _ => min_eig_of(kind, a),
+    }
+}
+
+/// [`min_eig`] of an LP block or of a PSD block of order at most [`small::JACOBI_MAX`].
+fn min_eig_of(kind: BlockKind, a: &Mat<f64>) -> f64 {
+    match kind {
         BlockKind::Lp => a
             .col_as_slice(0)
             .iter()
@@ -431,16 +449,57 @@ pub(crate) fn min_eig(kind: BlockKind, a: &Mat<f64>) -> f64 {
         BlockKind::Psd => match a.nrows() {
             0 => f64::INFINITY,
             1 => a[(0, 0)],
-            n if n <= small::JACOBI_MAX => small::with_bufs(n, |[ab]| {
+            n => small::with_bufs(n, |[ab]| {
                 load(a, ab);
                 small::min_eig(ab, n)
             }),
-            _ => a
-                .self_adjoint_eigenvalues(faer::Side::Lower)
-                .ok()
-                .and_then(|e| e.first().copied())
-                .unwrap_or(f64::NAN),
         },
+    }
+}
+
+/// Smallest eigenvalue of the symmetric matrix whose lower triangle is `a`, overwriting `a`:
+/// Householder reduction to tridiagonal form in place, then the eigenvalues of the tridiagonal
+/// matrix by the implicit QR algorithm (faer's `self_adjoint_eigenvalues` runs the same two
+/// steps on a copy). `NaN` if the data are not finite or the iteration fails.
+fn min_eig_overwriting(a: &mut Mat<f64>) -> f64 {
+    use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+    use faer::linalg::evd::{self, tridiag};
+
+    let n = a.nrows();
+    if !(0..n).all(|j| a.col_as_slice(j)[j..].iter().all(|v| v.is_finite())) {
+        return f64::NAN;
+    }
+    let par = faer::get_global_parallelism();
+    let bs = faer::linalg::qr::no_pivoting::factor::recommended_block_size::<f64>(n, n);
+    let mut householder = Mat::<f64>::zeros(bs, n - 1);
+    let mut mem = MemBuffer::new(StackReq::any_of(&[
+        tridiag::tridiag_in_place_scratch::<f64>(n, par, Default::default()),
+        faer::linalg::temp_mat_scratch::<f64>(n, 1).array(2),
+    ]));
+    tridiag::tridiag_in_place(
+        a.as_mut(),
+        householder.as_mut(),
+        par,
+        MemStack::new(&mut mem),
+        Default::default(),
+    );
+    let diag = faer::Col::<f64>::from_fn(n, |i| a[(i, i)]);
+    let sub = faer::Col::<f64>::from_fn(n, |i| if i + 1 < n { a[(i + 1, i)] } else { 0.0 });
+    let mut eig = faer::diag::Diag::<f64>::zeros(n);
+    match evd::tridiagonal_self_adjoint_evd(
+        diag.as_diagonal(),
+        sub.as_diagonal(),
+        eig.as_mut(),
+        None,
+        par,
+        MemStack::new(&mut mem),
+        Default::default(),
+    ) {
+        Ok(()) => eig
+            .column_vector()
+            .iter()
+            .fold(f64::INFINITY, |m, &v| m.min(v)),
+        Err(_) => f64::NAN,
     }
 }
 
@@ -567,5 +626,66 @@ impl Factors {
             ls,
             zinv,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::solver::XorShift;
+
+    /// `Q diag(λ) Qᵀ` for a random orthogonal `Q` (Householder reflections of random vectors).
+    fn with_spectrum(lambda: &[f64], rng: &mut XorShift) -> Mat<f64> {
+        let n = lambda.len();
+        let mut a = Mat::from_fn(n, n, |i, j| if i == j { lambda[i] } else { 0.0 });
+        for _ in 0..3 {
+            let v: Vec<f64> = (0..n).map(|_| rng.centred()).collect();
+            let vv: f64 = v.iter().map(|x| x * x).sum();
+            let h = Mat::from_fn(n, n, |i, j| {
+                f64::from(u8::from(i == j)) - 2.0 * v[i] * v[j] / vv
+            });
+            a = mul(&mul(&h, &a), &h);
+        }
+        symmetrize(&mut a);
+        a
+    }
+
+    #[test]
+    fn eigenvalue_in_place_matches_the_spectrum_and_the_copying_form() {
+        let mut rng = XorShift(0x5eed_0e16);
+        for n in [small::JACOBI_MAX + 1, 37, 130] {
+            let lambda: Vec<f64> = (0..n).map(|i| 3.0 - 0.05 * i as f64).collect();
+            let exact = lambda.iter().copied().fold(f64::INFINITY, f64::min);
+            let a = with_spectrum(&lambda, &mut rng);
+            let copied = min_eig(BlockKind::Psd, &a);
+            let mut b = a.clone();
+            let in_place = min_eig_in_place(BlockKind::Psd, &mut b);
+            assert!(
+                (copied - exact).abs() < 1e-13 * n as f64,
+                "n = {n}: {copied} vs {exact}"
+            );
+            assert_eq!(copied.to_bits(), in_place.to_bits(), "n = {n}");
+            // Only the lower triangle is read.
+            let mut lower = a.clone();
+            for j in 1..n {
+                for i in 0..j {
+                    lower[(i, j)] = f64::NAN;
+                }
+            }
+            assert_eq!(
+                min_eig_in_place(BlockKind::Psd, &mut lower).to_bits(),
+                in_place.to_bits()
+            );
+        }
+    }
+
+    #[test]
+    fn eigenvalue_of_non_finite_data_is_nan() {
+        let mut rng = XorShift(7);
+        let mut a = with_spectrum(&[1.0; 20], &mut rng);
+        a[(7, 3)] = f64::INFINITY;
+        assert!(min_eig(BlockKind::Psd, &a).is_nan());
+        a[(7, 3)] = f64::NAN;
+        assert!(min_eig_in_place(BlockKind::Psd, &mut a).is_nan());
     }
 }

@@ -13,7 +13,7 @@
 
 use faer::Mat;
 
-use super::blockops::{cholesky_in_place, congruence, min_eig};
+use super::blockops::{cholesky_in_place, congruence, min_eig, min_eig_in_place};
 use super::small;
 use super::structure::Analysis;
 use crate::problem::BlockKind;
@@ -47,9 +47,9 @@ fn allows(v: &Mat<f64>, dv: &Mat<f64>, shift: f64) -> bool {
     cholesky_in_place(&mut t)
 }
 
-/// `α_max = −1/λ_min(W)` (`∞` if `λ_min ≥ 0`, `NaN` if the eigenvalue computation failed).
-fn exact_step(w: &Mat<f64>) -> f64 {
-    let lam = min_eig(BlockKind::Psd, w);
+/// `α_max = −1/λ_min` for the smallest eigenvalue `λ_min` of `W` (`∞` if `λ_min ≥ 0`, `NaN`
+/// if the eigenvalue computation failed).
+fn exact_step(lam: f64) -> f64 {
     if lam.is_nan() {
         f64::NAN
     } else if lam < 0.0 {
@@ -137,17 +137,25 @@ pub(crate) fn step_lengths(an: &Analysis, sides: [Side<'_>; 2], gamma: f64) -> [
             }
         }
     }
-    let exact_first = an
-        .exec
-        .map(2, |i| match first[i].map(|(k, _)| &bounds[i][k]) {
-            Some(Bound::Pending(w, _)) => exact_step(w),
-            _ => f64::INFINITY,
-        });
+    // The most binding blocks' `W` are taken out of the list: their eigenvalues overwrite them.
+    let mut exact_first: [(Option<Mat<f64>>, f64); 2] =
+        [(None, f64::INFINITY), (None, f64::INFINITY)];
+    for (i, slot) in exact_first.iter_mut().enumerate() {
+        if let Some((k, _)) = first[i]
+            && let Bound::Pending(w, _) =
+                std::mem::replace(&mut bounds[i][k], Bound::Known(f64::INFINITY))
+        {
+            slot.0 = Some(w);
+        }
+    }
+    an.exec.for_each_mut(&mut exact_first, |_, (w, a)| {
+        if let Some(mut w) = w.take() {
+            *a = exact_step(min_eig_in_place(BlockKind::Psd, &mut w));
+        }
+    });
+    let exact_first = exact_first.map(|(_, a)| a);
     for i in 0..2 {
         alpha[i] = nan_min(alpha[i], exact_first[i]);
-        if let Some((k, _)) = first[i] {
-            bounds[i][k] = Bound::Known(f64::INFINITY);
-        }
     }
     // Every other pending block needs its eigenvalue only if it fails the test at that α.
     if first.iter().any(Option::is_some) {
@@ -163,7 +171,7 @@ pub(crate) fn step_lengths(an: &Analysis, sides: [Side<'_>; 2], gamma: f64) -> [
                     {
                         f64::INFINITY
                     } else {
-                        exact_step(w)
+                        exact_step(min_eig(BlockKind::Psd, w))
                     }
                 }
             })
