@@ -370,7 +370,15 @@ pub(crate) fn mul(a: &Mat<f64>, b: &Mat<f64>) -> Mat<f64> {
     out
 }
 
+/// Column panel of the in-place product `T ← T·L⁻ᵀ` in [`congruence`].
+const CONGRUENCE_PANEL: usize = 128;
+
 /// `linv · d · linvᵀ` for lower-triangular `linv` (the congruence used for step lengths).
+///
+/// Beyond the small blocks it takes one `n×n` array and an `n×`[`CONGRUENCE_PANEL`] panel:
+/// `T = L⁻¹ D`, then `T ← T L⁻ᵀ` in place, panel by panel from the right, since column panel
+/// `J` of the product reads only the columns of `T` up to the end of `J`. A block of order up
+/// to the panel width is a single panel (the same product as with a separate output).
 pub(crate) fn congruence(linv: &Mat<f64>, d: &Mat<f64>) -> Mat<f64> {
     let n = d.nrows();
     if n <= small::SMALL_PRODUCT {
@@ -393,19 +401,39 @@ pub(crate) fn congruence(linv: &Mat<f64>, d: &Mat<f64>) -> Mat<f64> {
         1.0,
         Par::Seq,
     );
-    let mut out = Mat::zeros(n, n);
-    tri_matmul(
-        out.as_mut(),
-        BlockStructure::Rectangular,
-        Accum::Replace,
-        t.as_ref(),
-        BlockStructure::Rectangular,
-        linv.transpose(),
-        BlockStructure::TriangularUpper,
-        1.0,
-        Par::Seq,
-    );
-    out
+    use faer::reborrow::{Reborrow, ReborrowMut};
+    let mut panel = Mat::zeros(n, CONGRUENCE_PANEL.min(n));
+    let mut end = n;
+    while end > 0 {
+        let start = end.saturating_sub(CONGRUENCE_PANEL);
+        let w = end - start;
+        let mut p = panel.as_mut().subcols_mut(0, w);
+        // T[:, J] L⁻¹[J, J]ᵀ + T[:, ..start] L⁻¹[J, ..start]ᵀ
+        tri_matmul(
+            p.rb_mut(),
+            BlockStructure::Rectangular,
+            Accum::Replace,
+            t.as_ref().subcols(start, w),
+            BlockStructure::Rectangular,
+            linv.as_ref().submatrix(start, start, w, w).transpose(),
+            BlockStructure::TriangularUpper,
+            1.0,
+            Par::Seq,
+        );
+        if start > 0 {
+            matmul(
+                p.rb_mut(),
+                Accum::Add,
+                t.as_ref().subcols(0, start),
+                linv.as_ref().submatrix(start, 0, w, start).transpose(),
+                1.0,
+                Par::Seq,
+            );
+        }
+        t.as_mut().subcols_mut(start, w).copy_from(p.rb());
+        end = start;
+    }
+    t
 }
 
 /// Replaces a square matrix by its symmetric part `(G + Gᵀ)/2`.
@@ -676,6 +704,31 @@ mod tests {
                 min_eig_in_place(BlockKind::Psd, &mut lower).to_bits(),
                 in_place.to_bits()
             );
+        }
+    }
+
+    #[test]
+    fn congruence_in_panels_matches_the_dense_product() {
+        let mut rng = XorShift(0xc0de);
+        for n in [
+            CONGRUENCE_PANEL - 1,
+            CONGRUENCE_PANEL,
+            2 * CONGRUENCE_PANEL + 37,
+        ] {
+            let linv = Mat::from_fn(n, n, |i, j| if i >= j { rng.centred() } else { 0.0 });
+            let mut d = Mat::from_fn(n, n, |_, _| rng.centred());
+            symmetrize(&mut d);
+            let reference = &linv * &d * linv.transpose();
+            let w = congruence(&linv, &d);
+            let scale = (n as f64) * (n as f64);
+            for j in 0..n {
+                for i in 0..n {
+                    assert!(
+                        (w[(i, j)] - reference[(i, j)]).abs() <= 1e-15 * scale,
+                        "n = {n}"
+                    );
+                }
+            }
         }
     }
 

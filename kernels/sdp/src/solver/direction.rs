@@ -150,9 +150,26 @@ fn add_parts(an: &Analysis, parts: impl IntoIterator<Item = Vec<f64>>, out: &mut
     }
 }
 
-/// The predictor `(ΔX_a, ΔS_a)` whose product `H = ΔX_a ΔS_a` is the corrector's second-order
-/// term.
-pub(crate) type Predictor<'a> = (&'a [Mat<f64>], &'a [Mat<f64>]);
+/// The corrector's second-order term `H = ΔX_a ΔS_a`, in the form its system reads it.
+pub(crate) enum SecondOrder {
+    /// `H` block by block ([`SecondOrder::of`] for the normal equations, which read only `H`,
+    /// so the predictor's two iterates are dropped before the corrector is formed).
+    Product(BlockMats),
+    /// The predictor's `(ΔX_a, ΔS_a)` (the least-squares form scales each factor on its side).
+    Predictor(BlockMats, BlockMats),
+}
+
+impl SecondOrder {
+    /// The second-order term of the predictor `(dx, ds)` for `system`.
+    pub(crate) fn of(an: &Analysis, system: &System<'_>, dx: BlockMats, ds: BlockMats) -> Self {
+        if system.is_normal() {
+            let h = an.map_blocks(|k, b| second_order(b, &dx[k], &ds[k]));
+            SecondOrder::Product(h)
+        } else {
+            SecondOrder::Predictor(dx, ds)
+        }
+    }
+}
 
 /// Maps a primal residual `e` to `(δ, change of ΔX)` with `𝒜(change) ≈ e` (see [`refine`]).
 type Correction<'a> = dyn Fn(&[f64]) -> (Vec<f64>, BlockMats) + 'a;
@@ -205,13 +222,12 @@ impl System<'_> {
         matches!(self, System::Normal(_))
     }
 
-    /// The direction for centring target `σμ`; `second` is the predictor `(ΔX_a, ΔS_a)` for the
-    /// corrector's second-order term.
+    /// The direction for centring target `σμ`; `second` is the corrector's second-order term.
     pub(crate) fn direction(
         &self,
         it: &Iterate<'_>,
         sigma_mu: f64,
-        second: Option<Predictor<'_>>,
+        second: Option<SecondOrder>,
     ) -> Direction {
         let (an, vals, x, f) = (it.an, it.vals, it.x, it.f);
         let product = |v: &[f64]| schur_product(an, vals, x, &f.zinv, v);
@@ -219,23 +235,28 @@ impl System<'_> {
         // `b + 𝒜(T)` (with the corrector's `H`), then `ΔS`, `ΔX` and `𝒜(ΔX)` from `Δy`.
         let (mut dx, mut dy, normal) = match self {
             System::Normal(solver) => {
-                let first = an.map_blocks(|k, b| {
-                    let h = second.map(|(dx, ds)| second_order(b, &dx[k], &ds[k]));
-                    let t = rhs_block(b, &x[k], &f.zinv[k], &it.rd[k], sigma_mu, h.as_ref());
-                    (h, block_apply_a(an, vals, k, &t))
+                let terms = second.map(|second| match second {
+                    SecondOrder::Product(h) => h,
+                    SecondOrder::Predictor(dx, ds) => {
+                        an.map_blocks(|k, b| second_order(b, &dx[k], &ds[k]))
+                    }
                 });
-                let (h, parts): (Vec<_>, Vec<_>) = first.into_iter().unzip();
+                let h = |k: usize| terms.as_ref().map(|h| &h[k]);
+                let parts = an.map_blocks(|k, b| {
+                    let t = rhs_block(b, &x[k], &f.zinv[k], &it.rd[k], sigma_mu, h(k));
+                    block_apply_a(an, vals, k, &t)
+                });
                 let mut r = vals.b.clone();
                 add_parts(an, parts, &mut r);
                 let dy = solver.solve(&r, Some(&product));
                 let second = an.map_blocks(|k, b| {
                     let ds = dual_block(an, vals, k, &dy, &it.rd[k]);
-                    let dx = recover_block(b, &x[k], &f.zinv[k], &ds, sigma_mu, h[k].as_ref());
+                    let dx = recover_block(b, &x[k], &f.zinv[k], &ds, sigma_mu, h(k));
                     let part = block_apply_a(an, vals, k, &dx);
                     (dx, (ds, part))
                 });
                 // The second-order terms are dead once `ΔX` is recovered.
-                drop(h);
+                drop(terms);
                 let (dx, rest): (BlockMats, Vec<_>) = second.into_iter().unzip();
                 let (ds, parts): (BlockMats, Vec<_>) = rest.into_iter().unzip();
                 let mut adx = vec![0.0; an.m];
@@ -243,7 +264,7 @@ impl System<'_> {
                 (dx, dy, Some((ds, adx)))
             }
             System::LeastSquares(ls) => {
-                let (dx, dy) = ls.direction(an, x, f, it.rd, it.rp, sigma_mu, second);
+                let (dx, dy) = ls.direction(an, x, f, it.rd, it.rp, sigma_mu, second.as_ref());
                 (dx, dy, None)
             }
         };
@@ -313,14 +334,22 @@ fn hkm_image(
     zinv: &[Mat<f64>],
     delta: &[f64],
 ) -> BlockMats {
-    let mut w = super::blockops::zeros(an);
-    apply_at(an, vals, delta, &mut w);
-    an.map_blocks(|k, b| match b.kind {
-        BlockKind::Lp => Mat::from_fn(b.n, 1, |l, _| x[k][(l, 0)] * w[k][(l, 0)] * zinv[k][(l, 0)]),
-        BlockKind::Psd => {
-            let mut c = mul(&mul(&x[k], &w[k]), &zinv[k]);
-            symmetrize(&mut c);
-            c
+    // Block by block, each temporary dropped as soon as it is used: a PSD block holds at most
+    // two `n×n` temporaries besides its result.
+    an.map_blocks(|k, b| {
+        let mut w = zero_block(b);
+        block_apply_at(an, vals, k, delta, &mut w);
+        match b.kind {
+            BlockKind::Lp => {
+                Mat::from_fn(b.n, 1, |l, _| x[k][(l, 0)] * w[(l, 0)] * zinv[k][(l, 0)])
+            }
+            BlockKind::Psd => {
+                let xw = mul(&x[k], &w);
+                drop(w);
+                let mut c = mul(&xw, &zinv[k]);
+                symmetrize(&mut c);
+                c
+            }
         }
     })
 }

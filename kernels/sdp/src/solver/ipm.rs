@@ -7,7 +7,7 @@ use faer::Mat;
 use super::Accept;
 use super::blockops::{BlockMats, Factored, Factors, c_dense, factor_all, inner, step_and_factor};
 use super::certificate::InfeasibilityCertificate;
-use super::direction::{Direction, Iterate, System};
+use super::direction::{Direction, Iterate, SecondOrder, System};
 use super::linsys::SchurSolver;
 use super::lsq::LeastSquares;
 use super::point::{Point, interior_start};
@@ -530,7 +530,10 @@ pub(crate) fn run(
             };
 
             // Corrector with the second-order term ΔX_a ΔS_a.
-            let corr = system.direction(&it, sigma * mu, Some((&pred.dx, &pred.ds)));
+            // The predictor's iterates go once its second-order term is formed.
+            let Direction { dx, ds, .. } = pred;
+            let second = SecondOrder::of(an, &system, dx, ds);
+            let corr = system.direction(&it, sigma * mu, Some(second));
             if switch(&corr) {
                 mode = Mode::LeastSquares;
                 continue;
