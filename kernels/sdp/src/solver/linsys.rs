@@ -13,8 +13,9 @@
 //! 4. if that still fails, a Bunch–Kaufman `L B Lᵀ` factorisation of `M̃`;
 //! 5. iterative refinement against the unregularised `M` (a few steps, stopped as soon as the
 //!    residual stops decreasing), which removes most of the error of steps 3–4; the residuals
-//!    come from a copy of `M` or, where that is cheaper than the memory it takes, from the
-//!    operators that define `M` ([`keeps_copy`]), and the Cholesky factor overwrites `M`.
+//!    come from a copy of `M` (its lower triangle, packed) or, where that is cheaper than the
+//!    memory it takes, from the operators that define `M` ([`keeps_copy`]), and the Cholesky
+//!    factor overwrites `M`.
 
 use faer::linalg::cholesky::llt::factor::{
     LltRegularization, cholesky_in_place, cholesky_in_place_scratch,
@@ -41,21 +42,21 @@ pub(crate) type Product<'a> = &'a dyn Fn(&[f64]) -> Vec<f64>;
 /// Factorised Schur matrix with reusable workspaces.
 ///
 /// Memory contract: the matrix is assembled into the array that then holds its Cholesky factor
-/// (in place), so a solver holds one `m×m` array, plus a copy of `M` only when it keeps one
-/// ([`keeps_copy`]): the copy then serves the refinement residuals and the regularised
-/// retries. Without it the residuals come from the caller's [`Product`], and a retry after a
+/// (in place), so a solver holds one `m×m` array, plus a copy of the lower triangle of `M`
+/// (`m(m+1)/2` entries, [`Packed`]) only when it keeps one ([`keeps_copy`]): the copy then
+/// serves the refinement residuals and the regularised retries. Without it the residuals come from the caller's [`Product`], and a retry after a
 /// failed factorisation re-assembles `M` (rare: only near the end of ill-conditioned solves).
 /// The Bunch–Kaufman fallback keeps faer's factor instead of the Cholesky array (transiently
 /// both while it factorises).
 pub(crate) struct SchurSolver {
-    /// Lower triangle of `M` until [`SchurSolver::factorize`] when no copy is kept (the strict
-    /// upper triangle is never read), then the Cholesky factor of `M̃ (+ ρI)` when
-    /// [`Factor::Llt`]; `0×0` after the LBLᵀ fallback until the next assembly.
+    /// Lower triangle of `M` until [`SchurSolver::factorize`] (the strict upper triangle is
+    /// never read), then the Cholesky factor of `M̃ (+ ρI)` when [`Factor::Llt`]; `0×0` after
+    /// the LBLᵀ fallback until the next assembly.
     l: Mat<f64>,
     /// Whether [`SchurSolver::copy`] holds `M`.
     keep: bool,
-    /// Lower triangle of `M` when [`SchurSolver::keep`] (assembled there), else `0×0`.
-    copy: Mat<f64>,
+    /// Lower triangle of `M`, saved by [`SchurSolver::factorize`] when [`SchurSolver::keep`].
+    copy: Packed,
     /// Equilibration `D`.
     d: Vec<f64>,
     factor: Factor,
@@ -63,6 +64,51 @@ pub(crate) struct SchurSolver {
     pub regularization: f64,
     /// Whether some diagonal entry of `M` was not positive (an empty constraint, or rounding).
     empty_row: bool,
+}
+
+/// Lower triangle of a symmetric matrix, packed by columns (column `j` holds rows `j..m`), as
+/// LAPACK's `'L'` packed storage: half the memory of the square array.
+struct Packed {
+    m: usize,
+    data: Vec<f64>,
+}
+
+impl Packed {
+    /// Empty (no matrix kept).
+    fn empty() -> Self {
+        Self {
+            m: 0,
+            data: Vec::new(),
+        }
+    }
+
+    /// Copies the lower triangle of `a` (the strict upper triangle is not read).
+    fn lower_of(&mut self, a: &Mat<f64>) {
+        let m = a.nrows();
+        self.m = m;
+        self.data.clear();
+        self.data.reserve_exact(m * (m + 1) / 2);
+        for j in 0..m {
+            self.data.extend_from_slice(&a.col_as_slice(j)[j..]);
+        }
+    }
+
+    /// Column `j` from row `i ≥ j` to row `end` (exclusive).
+    fn col(&self, j: usize, i: usize, end: usize) -> &[f64] {
+        let offset = self.offset(j);
+        &self.data[offset + (i - j)..offset + (end - j)]
+    }
+
+    /// Index of entry `(j, j)`: the columns before `j` hold `m + (m − 1) + … + (m − j + 1)`
+    /// entries.
+    fn offset(&self, j: usize) -> usize {
+        j * self.m - j * j.saturating_sub(1) / 2
+    }
+
+    /// `M_ij` for `i ≥ j`.
+    fn get(&self, i: usize, j: usize) -> f64 {
+        self.data[self.offset(j) + (i - j)]
+    }
 }
 
 /// Rows of `M` whose entries above the diagonal [`SchurSolver::residual`] reads together, as a
@@ -114,7 +160,7 @@ impl SchurSolver {
         Self {
             l: Mat::zeros(m, m),
             keep,
-            copy: if keep { Mat::zeros(m, m) } else { Mat::new() },
+            copy: Packed::empty(),
             d: vec![1.0; m],
             factor: Factor::Llt,
             regularization: 0.0,
@@ -127,19 +173,16 @@ impl SchurSolver {
     pub(crate) fn with_matrix(lower: Mat<f64>) -> Self {
         let m = lower.nrows();
         Self {
-            copy: lower,
+            l: lower,
             keep: true,
-            ..Self::new(m, false)
+            d: vec![1.0; m],
+            ..Self::new(0, false)
         }
     }
 
     /// The matrix to assemble `M` into (lower triangle) before [`SchurSolver::factorize`].
     pub(crate) fn matrix_mut(&mut self) -> &mut Mat<f64> {
-        if self.keep {
-            &mut self.copy
-        } else {
-            self.cholesky_array()
-        }
+        self.cholesky_array()
     }
 
     /// The `m×m` array of the Cholesky factor, allocated again after the LBLᵀ fallback freed it.
@@ -161,7 +204,7 @@ impl SchurSolver {
         } = self;
         for j in 0..m {
             for i in j..m {
-                let mij = if *keep { copy[(i, j)] } else { l[(i, j)] };
+                let mij = if *keep { copy.get(i, j) } else { l[(i, j)] };
                 l[(i, j)] = d[i] * mij * d[j];
             }
             l[(j, j)] += rho;
@@ -191,12 +234,11 @@ impl SchurSolver {
     pub(crate) fn factorize(&mut self, mut reassemble: impl FnMut(&mut Mat<f64>)) -> bool {
         let m = self.d.len();
         self.empty_row = false;
+        if self.keep {
+            self.copy.lower_of(&self.l);
+        }
         for j in 0..m {
-            let dj = if self.keep {
-                self.copy[(j, j)]
-            } else {
-                self.l[(j, j)]
-            };
+            let dj = self.l[(j, j)];
             self.d[j] = if dj > 0.0 && dj.is_finite() {
                 1.0 / dj.sqrt()
             } else {
@@ -226,7 +268,7 @@ impl SchurSolver {
         for j in 0..m {
             for i in j..m {
                 let mij = if self.keep {
-                    self.copy[(i, j)]
+                    self.copy.get(i, j)
                 } else {
                     scaled[(i, j)]
                 };
@@ -286,7 +328,7 @@ impl SchurSolver {
         while j0 < m {
             let j1 = (j0 + RESIDUAL_TILE).min(m);
             for (i, ri) in res.iter_mut().enumerate().take(j0) {
-                let col = &self.copy.col_as_slice(i)[j0..j1];
+                let col = self.copy.col(i, j0, j1);
                 for (mij, &xj) in col.iter().zip(&x[j0..j1]) {
                     if xj != 0.0 {
                         *ri -= mij * xj;
@@ -298,9 +340,9 @@ impl SchurSolver {
                 for (j, &xj) in x.iter().enumerate().take(j1).skip(j0) {
                     if xj != 0.0 {
                         let mij = if j <= i {
-                            self.copy[(i, j)]
+                            self.copy.get(i, j)
                         } else {
-                            self.copy[(j, i)]
+                            self.copy.get(j, i)
                         };
                         ri -= mij * xj;
                     }
@@ -309,7 +351,7 @@ impl SchurSolver {
             }
             for (j, &xj) in x.iter().enumerate().take(j1).skip(j0) {
                 if xj != 0.0 {
-                    let col = &self.copy.col_as_slice(j)[j1..];
+                    let col = self.copy.col(j, j1, m);
                     for (ri, mij) in res[j1..].iter_mut().zip(col) {
                         *ri -= mij * xj;
                     }
@@ -393,7 +435,7 @@ mod tests {
         }
         assert!(solver.factorize(|_| unreachable!("a definite M factorises at once")));
         assert_eq!(
-            (solver.l.nrows(), solver.copy.nrows()),
+            (solver.l.nrows(), solver.copy.data.len()),
             (m, 0),
             "one m×m array"
         );
@@ -506,7 +548,8 @@ mod tests {
             let x: Vec<f64> = (0..m).map(|i| if i % 5 == 3 { 0.0 } else { next() }).collect();
             // Only the lower triangle is given; the upper one holds garbage that must not be read.
             let lower = Mat::from_fn(m, m, |i, j| if i >= j { full[(i, j)] } else { f64::NAN });
-            let solver = SchurSolver::with_matrix(lower);
+            let mut solver = SchurSolver::with_matrix(lower);
+            solver.copy.lower_of(&solver.l);
             let tiled = solver.stored_residual(&r, &x);
             let reference = by_columns(&full, &r, &x);
             prop_assert!(tiled.iter().zip(&reference).all(|(a, b)| a.to_bits() == b.to_bits()));
