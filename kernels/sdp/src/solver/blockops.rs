@@ -59,18 +59,6 @@ pub(crate) fn block_inner(u: &Mat<f64>, v: &Mat<f64>) -> f64 {
     s
 }
 
-/// Frobenius norm over all blocks.
-pub(crate) fn norm_fro(a: &[Mat<f64>]) -> f64 {
-    inner(a, a).sqrt()
-}
-
-/// Largest absolute entry over all blocks.
-pub(crate) fn norm_max(a: &[Mat<f64>]) -> f64 {
-    a.iter()
-        .flat_map(|u| (0..u.ncols()).flat_map(move |j| u.col_as_slice(j).iter()))
-        .fold(0.0f64, |acc, v| acc.max(v.abs()))
-}
-
 /// `a ← a + alpha·b`.
 pub(crate) fn axpy(a: &mut [Mat<f64>], alpha: f64, b: &[Mat<f64>]) {
     for (u, v) in a.iter_mut().zip(b) {
@@ -100,15 +88,6 @@ fn add_entry(kind: BlockKind, out: &mut Mat<f64>, i: usize, j: usize, v: f64) {
             }
         }
     }
-}
-
-/// Dense `C`, block by block.
-pub(crate) fn c_dense(an: &Analysis, vals: &Values) -> BlockMats {
-    let mut out = zeros(an);
-    for (k, b) in an.blocks.iter().enumerate() {
-        scatter_sym(b.kind, &vals.c[k], 1.0, &mut out[k]);
-    }
-    out
 }
 
 /// `⟨A_p, G⟩` for every local constraint `p` of block `k`.

@@ -5,8 +5,9 @@ use std::time::Instant;
 use faer::Mat;
 
 use super::Accept;
-use super::blockops::{BlockMats, Factored, Factors, c_dense, factor_all, inner, step_and_factor};
+use super::blockops::{BlockMats, Factored, Factors, factor_all, inner, step_and_factor};
 use super::certificate::InfeasibilityCertificate;
+use super::cost::Cost;
 use super::direction::{Direction, Iterate, SecondOrder, System};
 use super::linsys::SchurSolver;
 use super::lsq::LeastSquares;
@@ -187,7 +188,7 @@ const PREFILTER: f64 = 1e-4;
 /// iterating, `∞` for the last attempt before a stall is reported).
 fn detect_infeasibility(
     problem: &Problem,
-    c_dense: &[Mat<f64>],
+    cost: &Cost,
     res: &Residuals,
     x: &[Mat<f64>],
     y: &[f64],
@@ -200,12 +201,11 @@ fn detect_infeasibility(
     if res.dobj > 0.0 && res.pinf > settings.tol_feas {
         // ‖𝒜ᵀ(y) + S‖_F = ‖C − R_d‖_F bounds λ_max(𝒜ᵀ(y)) from above.
         let mut sq = 0.0;
-        for (c, r) in c_dense.iter().zip(&res.rd) {
-            for j in 0..c.ncols() {
-                for (a, b) in c.col_as_slice(j).iter().zip(r.col_as_slice(j)) {
-                    sq += (a - b) * (a - b);
-                }
-            }
+        for (k, r) in res.rd.iter().enumerate() {
+            cost.block(k).for_each(r.nrows(), r.ncols(), |i, j, a| {
+                let b = r[(i, j)];
+                sq += (a - b) * (a - b);
+            });
         }
         if sq.sqrt() / res.dobj <= prefilter
             && let Some(cert) = InfeasibilityCertificate::primal(problem, y)
@@ -319,7 +319,7 @@ pub(crate) fn run(
     mut accept: Option<&mut Accept<'_>>,
 ) -> Solution {
     let started = Instant::now();
-    let cd = c_dense(an, vals);
+    let cd = Cost::new(an, vals);
     let norms = DataNorms::new(&vals.b, &cd);
     let nu = an.nu as f64;
     let (mut x, mut y, mut s) = match start {

@@ -76,6 +76,7 @@
 
 mod blockops;
 mod certificate;
+mod cost;
 mod direction;
 mod facial;
 mod ipm;

@@ -3,7 +3,8 @@
 
 use faer::Mat;
 
-use super::blockops::{BlockMats, c_dense, cholesky, min_eig, symmetrize};
+use super::blockops::{BlockMats, cholesky, min_eig, symmetrize};
+use super::cost::Cost;
 use super::par::Exec;
 use super::residuals::{DataNorms, measures, residuals};
 use super::solution::{Measures, Solution};
@@ -127,7 +128,7 @@ pub fn point_measures(
     let vals = an.values(problem)?;
     check_point(&an, y, x, s)?;
     let (x, s) = (symmetrized(&an, x), symmetrized(&an, s));
-    let cd = c_dense(&an, &vals);
+    let cd = Cost::new(&an, &vals);
     let norms = DataNorms::new(&vals.b, &cd);
     let res = residuals(&an, &vals, &cd, &norms, &x, y, &s);
     Ok(measures(&an, &norms, &res, &x, &s))

@@ -6,9 +6,8 @@
 
 use faer::Mat;
 
-use super::blockops::{
-    BlockMats, block_apply_a, block_apply_at, block_inner, min_eig, norm_fro, norm_max, zero_block,
-};
+use super::blockops::{BlockMats, block_apply_a, block_apply_at, block_inner, min_eig, zero_block};
+use super::cost::Cost;
 use super::solution::Measures;
 use super::structure::{Analysis, Values};
 
@@ -26,12 +25,12 @@ pub(crate) struct DataNorms {
 }
 
 impl DataNorms {
-    pub(crate) fn new(b: &[f64], c_dense: &[Mat<f64>]) -> Self {
+    pub(crate) fn new(b: &[f64], cost: &Cost) -> Self {
         Self {
             b2: b.iter().map(|v| v * v).sum::<f64>().sqrt(),
             b_inf: b.iter().fold(0.0f64, |m, v| m.max(v.abs())),
-            c_fro: norm_fro(c_dense),
-            c_max: norm_max(c_dense),
+            c_fro: cost.norm_fro(),
+            c_max: cost.norm_max(),
         }
     }
 }
@@ -86,7 +85,7 @@ impl Residuals {
 pub(crate) fn residuals(
     an: &Analysis,
     vals: &Values,
-    c_dense: &[Mat<f64>],
+    cost: &Cost,
     norms: &DataNorms,
     x: &[Mat<f64>],
     y: &[f64],
@@ -98,17 +97,12 @@ pub(crate) fn residuals(
         let ax = block_apply_a(an, vals, k, &x[k]);
         let mut r = zero_block(b);
         block_apply_at(an, vals, k, y, &mut r);
-        let (c, sk) = (&c_dense[k], &s[k]);
-        for j in 0..r.ncols() {
-            for i in 0..r.nrows() {
-                r[(i, j)] = c[(i, j)] - r[(i, j)] - sk[(i, j)];
-            }
-        }
-        let shares = [
-            block_inner(c, &x[k]),
-            block_inner(&x[k], sk),
-            block_inner(&r, &r),
-        ];
+        let (c, sk) = (cost.block(k), &s[k]);
+        let (rows, cols) = (r.nrows(), r.ncols());
+        c.for_each(rows, cols, |i, j, cij| {
+            r[(i, j)] = cij - r[(i, j)] - sk[(i, j)]
+        });
+        let shares = [c.inner(&x[k]), block_inner(&x[k], sk), block_inner(&r, &r)];
         (ax, r, shares)
     });
     let mut ax = vec![0.0; an.m];
