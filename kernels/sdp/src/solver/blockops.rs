@@ -253,8 +253,9 @@ pub(crate) fn cholesky(a: &Mat<f64>) -> Option<Mat<f64>> {
 }
 
 /// Overwrites the lower triangle of a symmetric matrix `a` (of order above [`small::SMALL`])
-/// with its Cholesky factor, the strict upper triangle left as it was, without the copy that
-/// [`cholesky`] returns; whether the matrix is numerically positive definite.
+/// with its Cholesky factor, without the copy that [`cholesky`] returns; whether the matrix is
+/// numerically positive definite. faer uses the strict upper triangle as workspace: it is not
+/// read, and holds no meaningful values afterwards.
 pub(crate) fn cholesky_in_place(a: &mut Mat<f64>) -> bool {
     let n = a.nrows();
     let mut mem = faer::dyn_stack::MemBuffer::new(

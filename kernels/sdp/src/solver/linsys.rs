@@ -127,13 +127,20 @@ const PRODUCT_FLOP_RATIO: f64 = 8.0;
 /// digit).
 const SMALL_COPY: usize = 1 << 20;
 
+/// [`keeps_copy`]: a copy of `M` larger than this many arrays of the blocks' size is not kept
+/// (an iteration holds about ten: `X`, `S`, their inverse factors, `S⁻¹`, the dual residual,
+/// a direction and the step-length temporaries).
+const ITERATE_ARRAYS: f64 = 10.0;
+
 /// Whether the Schur solver of `an` keeps a copy of `M` for its refinement residuals: when the
 /// copy is small ([`SMALL_COPY`]), or when the operator product `𝒜(X 𝒜ᵀ(v) S⁻¹)` (two dense
 /// products per PSD block, `4n³` flops, and two passes over the constraint entries) would
-/// cost more than [`PRODUCT_FLOP_RATIO`] times a pass over `M`. Problems with one or a few
-/// large blocks and `m` about their order (maxG, mcp, qpG) keep it, and `M` is no larger than
-/// an iterate there; problems whose `m` is large and far exceeds the block orders (theta3–6:
-/// `m = 1106…4375`, `n = 150…300`) form the residuals from the operators and hold `M` once.
+/// cost more than [`PRODUCT_FLOP_RATIO`] times a pass over `M` and the copy is no larger than
+/// [`ITERATE_ARRAYS`] arrays of the blocks. Problems with one or a few large blocks and `m`
+/// about their order (maxG, mcp, qpG, thetaG11) keep it; problems whose `m` is large and far
+/// exceeds the block orders (theta3–6: `m = 1106…4375`, `n = 150…300`; thetaG51: `m = 6910`,
+/// `n = 1001`, whose copy would take 191 MB, more than all its iterates) form the residuals
+/// from the operators and hold `M` once.
 pub(crate) fn keeps_copy(an: &Analysis) -> bool {
     let product: f64 = an
         .blocks
@@ -148,9 +155,17 @@ pub(crate) fn keeps_copy(an: &Analysis) -> bool {
             dense + 4.0 * entries as f64
         })
         .sum();
+    let arrays: f64 = an
+        .blocks
+        .iter()
+        .map(|b| match b.kind {
+            BlockKind::Psd => (b.n * b.n) as f64,
+            BlockKind::Lp => b.n as f64,
+        })
+        .sum();
     an.m.saturating_mul(an.m) < SMALL_COPY || {
         let m = an.m as f64;
-        product > PRODUCT_FLOP_RATIO * 2.0 * m * m
+        product > PRODUCT_FLOP_RATIO * 2.0 * m * m && m * (m + 1.0) / 2.0 <= ITERATE_ARRAYS * arrays
     }
 }
 
@@ -451,6 +466,22 @@ mod tests {
         }
         let max_cut = analyse(&max_cut.build().expect("max-cut")).expect("analysis");
         assert!(keeps_copy(&max_cut));
+        // theta on 300 vertices with 1999 edges (the shape of thetaG51: `m = 6910`, `n = 1001`):
+        // the product costs more than a pass over `M` (1.1·10⁸ against 6.4·10⁷ flops), but the
+        // copy (2.0·10⁶ entries) would be larger than ten iterates (9·10⁵), so it is not kept.
+        let n = 300;
+        let mut theta = ProblemBuilder::new(2000);
+        let block = theta.add_block(BlockKind::Psd, n);
+        theta.set_b(0, 1.0);
+        for i in 0..n {
+            theta.add_a(0, block, i, i, 1.0);
+        }
+        let edges = (0..n).flat_map(|i| (1..=7).map(move |d| (i, (i + d) % n)));
+        for (e, (i, j)) in edges.take(1999).enumerate() {
+            theta.add_a(1 + e, block, i.min(j), i.max(j), 1.0);
+        }
+        let theta = analyse(&theta.build().expect("theta")).expect("analysis");
+        assert!(!keeps_copy(&theta));
     }
 
     /// `r − M x` from the full symmetric matrix, column by column (each `res[i]` summed over
