@@ -15,6 +15,7 @@ use faer::linalg::cholesky::llt::factor::{
 use faer::linalg::matmul::matmul;
 use faer::linalg::matmul::triangular::{BlockStructure, matmul as tri_matmul};
 use faer::linalg::triangular_inverse::invert_lower_triangular;
+use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::{Accum, Mat, Par};
 
 use super::lsq::LeastSquares;
@@ -381,7 +382,6 @@ pub(crate) fn congruence(linv: &Mat<f64>, d: &Mat<f64>) -> Mat<f64> {
         1.0,
         Par::Seq,
     );
-    use faer::reborrow::{Reborrow, ReborrowMut};
     let mut panel = Mat::zeros(n, CONGRUENCE_PANEL.min(n));
     let mut end = n;
     while end > 0 {

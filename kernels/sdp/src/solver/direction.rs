@@ -150,26 +150,9 @@ fn add_parts(an: &Analysis, parts: impl IntoIterator<Item = Vec<f64>>, out: &mut
     }
 }
 
-/// The corrector's second-order term `H = ΔX_a ΔS_a`, in the form its system reads it.
-pub(crate) enum SecondOrder {
-    /// `H` block by block ([`SecondOrder::of`] for the normal equations, which read only `H`,
-    /// so the predictor's two iterates are dropped before the corrector is formed).
-    Product(BlockMats),
-    /// The predictor's `(ΔX_a, ΔS_a)` (the least-squares form scales each factor on its side).
-    Predictor(BlockMats, BlockMats),
-}
-
-impl SecondOrder {
-    /// The second-order term of the predictor `(dx, ds)` for `system`.
-    pub(crate) fn of(an: &Analysis, system: &System<'_>, dx: BlockMats, ds: BlockMats) -> Self {
-        if system.is_normal() {
-            let h = an.map_blocks(|k, b| second_order(b, &dx[k], &ds[k]));
-            SecondOrder::Product(h)
-        } else {
-            SecondOrder::Predictor(dx, ds)
-        }
-    }
-}
+/// The predictor `(ΔX_a, ΔS_a)` whose product `H = ΔX_a ΔS_a` is the corrector's second-order
+/// term.
+pub(crate) type Predictor<'a> = (&'a [Mat<f64>], &'a [Mat<f64>]);
 
 /// Maps a primal residual `e` to `(δ, change of ΔX)` with `𝒜(change) ≈ e` (see [`refine`]).
 type Correction<'a> = dyn Fn(&[f64]) -> (Vec<f64>, BlockMats) + 'a;
@@ -222,12 +205,14 @@ impl System<'_> {
         matches!(self, System::Normal(_))
     }
 
-    /// The direction for centring target `σμ`; `second` is the corrector's second-order term.
+    /// The direction for centring target `σμ`; `second` is the predictor `(ΔX_a, ΔS_a)` for the
+    /// corrector's second-order term. The normal equations read only `H = ΔX_a ΔS_a`: they
+    /// drop the predictor once `H` is formed, before the corrector's arrays exist.
     pub(crate) fn direction(
         &self,
         it: &Iterate<'_>,
         sigma_mu: f64,
-        second: Option<SecondOrder>,
+        second: Option<(BlockMats, BlockMats)>,
     ) -> Direction {
         let (an, vals, x, f) = (it.an, it.vals, it.x, it.f);
         let product = |v: &[f64]| schur_product(an, vals, x, &f.zinv, v);
@@ -235,12 +220,8 @@ impl System<'_> {
         // `b + 𝒜(T)` (with the corrector's `H`), then `ΔS`, `ΔX` and `𝒜(ΔX)` from `Δy`.
         let (mut dx, mut dy, normal) = match self {
             System::Normal(solver) => {
-                let terms = second.map(|second| match second {
-                    SecondOrder::Product(h) => h,
-                    SecondOrder::Predictor(dx, ds) => {
-                        an.map_blocks(|k, b| second_order(b, &dx[k], &ds[k]))
-                    }
-                });
+                let terms =
+                    second.map(|(dx, ds)| an.map_blocks(|k, b| second_order(b, &dx[k], &ds[k])));
                 let h = |k: usize| terms.as_ref().map(|h| &h[k]);
                 let parts = an.map_blocks(|k, b| {
                     let t = rhs_block(b, &x[k], &f.zinv[k], &it.rd[k], sigma_mu, h(k));
@@ -264,7 +245,10 @@ impl System<'_> {
                 (dx, dy, Some((ds, adx)))
             }
             System::LeastSquares(ls) => {
-                let (dx, dy) = ls.direction(an, x, f, it.rd, it.rp, sigma_mu, second.as_ref());
+                let second = second
+                    .as_ref()
+                    .map(|(dx, ds)| (dx.as_slice(), ds.as_slice()));
+                let (dx, dy) = ls.direction(an, x, f, it.rd, it.rp, sigma_mu, second);
                 (dx, dy, None)
             }
         };

@@ -8,7 +8,7 @@ use super::Accept;
 use super::blockops::{BlockMats, Factored, Factors, factor_all, inner, step_and_factor};
 use super::certificate::InfeasibilityCertificate;
 use super::cost::Cost;
-use super::direction::{Direction, Iterate, SecondOrder, System};
+use super::direction::{Direction, Iterate, System};
 use super::linsys::SchurSolver;
 use super::lsq::LeastSquares;
 use super::point::{Point, interior_start};
@@ -530,10 +530,8 @@ pub(crate) fn run(
             };
 
             // Corrector with the second-order term ΔX_a ΔS_a.
-            // The predictor's iterates go once its second-order term is formed.
             let Direction { dx, ds, .. } = pred;
-            let second = SecondOrder::of(an, &system, dx, ds);
-            let corr = system.direction(&it, sigma * mu, Some(second));
+            let corr = system.direction(&it, sigma * mu, Some((dx, ds)));
             if switch(&corr) {
                 mode = Mode::LeastSquares;
                 continue;

@@ -90,7 +90,7 @@ use faer::{Conj, Mat, MatMut, Par};
 use rayon::prelude::*;
 
 use super::blockops::{BlockMats, Factors, load, load_transposed, mul, store, symmetrize};
-use super::direction::SecondOrder;
+use super::direction::Predictor;
 use super::par::Exec;
 use super::small;
 use super::structure::{Analysis, Values};
@@ -406,8 +406,8 @@ impl LeastSquares {
         })
     }
 
-    /// The stacked `g = vec G` (see the module documentation); `second` is the corrector's
-    /// second-order term `H = ΔX_a ΔS_a`.
+    /// The stacked `g = vec G` (see the module documentation); `second` is the predictor
+    /// `(ΔX_a, ΔS_a)` whose product `H = ΔX_a ΔS_a` enters the corrector.
     fn scaled_rhs(
         &self,
         an: &Analysis,
@@ -415,7 +415,7 @@ impl LeastSquares {
         f: &Factors,
         rd: &[Mat<f64>],
         sigma_mu: f64,
-        second: Option<&SecondOrder>,
+        second: Option<Predictor<'_>>,
     ) -> Vec<f64> {
         let mut out = vec![0.0; self.rows];
         let mut parts = Vec::with_capacity(an.blocks.len());
@@ -431,10 +431,7 @@ impl LeastSquares {
         }
         an.exec.for_each_mut(&mut parts, |k, part| {
             let b = &an.blocks[k];
-            let second = second.map(|second| match second {
-                SecondOrder::Predictor(dx, ds) => Term::Factors(&dx[k], &ds[k]),
-                SecondOrder::Product(h) => Term::Product(&h[k]),
-            });
+            let second = second.map(|(dx, ds)| (&dx[k], &ds[k]));
             match b.kind {
                 BlockKind::Lp => {
                     let (xs, zs, rs) = (
@@ -443,10 +440,7 @@ impl LeastSquares {
                         rd[k].col_as_slice(0),
                     );
                     for (l, g) in part.iter_mut().enumerate() {
-                        let h = second.map_or(0.0, |t| match t {
-                            Term::Factors(dx, ds) => dx[(l, 0)] * ds[(l, 0)],
-                            Term::Product(h) => h[(l, 0)],
-                        });
+                        let h = second.map_or(0.0, |(dx, ds)| dx[(l, 0)] * ds[(l, 0)]);
                         // x s = x / zinv; all products kept in scaled form.
                         let xs_prod = xs[l] / zs[l];
                         *g = -xs_prod.sqrt()
@@ -471,7 +465,7 @@ impl LeastSquares {
         rd: &[Mat<f64>],
         rp: &[f64],
         sigma_mu: f64,
-        second: Option<&SecondOrder>,
+        second: Option<Predictor<'_>>,
     ) -> (BlockMats, Vec<f64>) {
         let m = self.m;
         let mut c = self.scaled_rhs(an, x, f, rd, sigma_mu, second);
@@ -505,24 +499,15 @@ impl LeastSquares {
     }
 }
 
-/// One block's second-order term `H = ΔX_a ΔS_a` of the corrector.
-#[derive(Clone, Copy)]
-enum Term<'a> {
-    /// `(ΔX_a, ΔS_a)`.
-    Factors(&'a Mat<f64>, &'a Mat<f64>),
-    /// `H` itself.
-    Product(&'a Mat<f64>),
-}
-
 /// `vec G` of PSD block `k` into `out` (`n²` entries, column-major), with
-/// `G = −L_Xᵀ (L_S + R_d L_S⁻ᵀ) + σμ L_X⁻¹ L_S⁻ᵀ − L_X⁻¹ H L_S⁻ᵀ` (the last term only for the
-/// corrector, as `(L_X⁻¹ ΔX_a)(ΔS_a L_S⁻ᵀ)` from the predictor's factors when `second` has them).
+/// `G = −L_Xᵀ (L_S + R_d L_S⁻ᵀ) + σμ L_X⁻¹ L_S⁻ᵀ − (L_X⁻¹ ΔX_a)(ΔS_a L_S⁻ᵀ)` (the last term only
+/// for the corrector, from the predictor's `(ΔX_a, ΔS_a)` in `second`).
 fn scaled_rhs_block(
     f: &Factors,
     k: usize,
     rd: &Mat<f64>,
     sigma_mu: f64,
-    second: Option<Term<'_>>,
+    second: Option<(&Mat<f64>, &Mat<f64>)>,
     out: &mut [f64],
 ) {
     let (lx, linv_x, ls, linv_s) = (&f.lx[k], &f.linv_x[k], &f.ls[k], &f.linv_s[k]);
@@ -550,21 +535,12 @@ fn scaled_rhs_block(
                     *gi += qi * sigma_mu;
                 }
             }
-            if let Some(term) = second {
+            if let Some((dx, ds)) = second {
                 load(linv_x, p);
-                match term {
-                    Term::Factors(dx, ds) => {
-                        load(dx, u);
-                        small::mul(p, u, n, q);
-                        load(ds, u);
-                        small::mul(u, lst, n, w);
-                    }
-                    Term::Product(h) => {
-                        load(h, u);
-                        small::mul(p, u, n, q);
-                        w.copy_from_slice(lst);
-                    }
-                }
+                load(dx, u);
+                small::mul(p, u, n, q);
+                load(ds, u);
+                small::mul(u, lst, n, w);
                 small::mul(q, w, n, u);
                 for (gi, ui) in g.iter_mut().zip(u.iter()) {
                     *gi -= ui;
@@ -584,17 +560,10 @@ fn scaled_rhs_block(
         let nmat = mul(linv_x, &linv_s.transpose().to_owned());
         g += &(nmat * faer::Scale(sigma_mu));
     }
-    match second {
-        Some(Term::Factors(dx, ds)) => {
-            let left = mul(linv_x, dx);
-            let right = mul(ds, &linv_s.transpose().to_owned());
-            g -= &mul(&left, &right);
-        }
-        Some(Term::Product(h)) => {
-            let left = mul(linv_x, h);
-            g -= &mul(&left, &linv_s.transpose().to_owned());
-        }
-        None => {}
+    if let Some((dx, ds)) = second {
+        let left = mul(linv_x, dx);
+        let right = mul(ds, &linv_s.transpose().to_owned());
+        g -= &mul(&left, &right);
     }
     for j in 0..n {
         out[j * n..(j + 1) * n].copy_from_slice(g.col_as_slice(j));
@@ -764,8 +733,7 @@ mod tests {
         }
 
         /// `G = −L_Xᵀ (L_S + R_d L_S⁻ᵀ) + σμ L_X⁻¹ L_S⁻ᵀ − (L_X⁻¹ ΔX_a)(ΔS_a L_S⁻ᵀ)` against
-        /// faer's dense products, with and without the corrector term, given as the factors or
-        /// as their product.
+        /// faer's dense products, with and without the corrector term.
         #[test]
         fn scaled_rhs_matches_dense_formula(
             n in 1usize..=12,
@@ -782,14 +750,9 @@ mod tests {
                 zinv: vec![Mat::zeros(n, n)],
             };
             let (rd, dx, ds) = (m(1), m(2), m(4));
-            let second = corrector.then_some(Term::Factors(&dx, &ds));
+            let second = corrector.then_some((&dx, &ds));
             let mut out = vec![f64::NAN; n * n];
             scaled_rhs_block(&f, 0, &rd, sigma_mu, second, &mut out);
-            // The same term given as the product `H = ΔX_a ΔS_a`.
-            let h = &dx * &ds;
-            let mut from_product = vec![f64::NAN; n * n];
-            let second = corrector.then_some(Term::Product(&h));
-            scaled_rhs_block(&f, 0, &rd, sigma_mu, second, &mut from_product);
             let (lx, linv_x, ls, linv_s) = (&f.lx[0], &f.linv_x[0], &f.ls[0], &f.linv_s[0]);
             let mut reference = -(lx.transpose() * (ls + &rd * linv_s.transpose()))
                 + linv_x * linv_s.transpose() * faer::Scale(sigma_mu);
@@ -797,7 +760,6 @@ mod tests {
                 reference -= (linv_x * &dx) * (&ds * linv_s.transpose());
             }
             prop_assert!(max_diff(&out, &reference) <= 1e-13 * (n * n) as f64);
-            prop_assert!(max_diff(&from_product, &reference) <= 1e-13 * (n * n) as f64);
         }
     }
 }
