@@ -203,7 +203,7 @@ fn mixed_rows(
     else {
         return;
     };
-    let (nc, n) = (plan.cons.len(), plan.n);
+    let nc = plan.cons.len();
     let d = RowData {
         order,
         cons: &plan.cons,
@@ -215,10 +215,7 @@ fn mixed_rows(
         let t = t0 + p;
         let support = &support[order[t]];
         match formula[t] {
-            Formula::F1 => {
-                let f1 = ws.f1.get_or_insert_with(|| F1Scratch::new(n));
-                f1_row(d, t, support, row, f1)
-            }
+            Formula::F1 => f1_row(d, t, support, row, &mut ws.f1),
             Formula::F2 => f2_row(d, t, support, row, &mut ws.f2),
             Formula::F3 => f3_row(d, t, row),
         }
@@ -380,7 +377,7 @@ struct RowData<'a> {
 /// Per-task buffers of the row formulas (allocated on first use, then reused for every row).
 #[derive(Default)]
 struct RowScratch {
-    f1: Option<F1Scratch>,
+    f1: F1Scratch,
     f2: F2Scratch,
 }
 
@@ -461,8 +458,10 @@ fn f2_row(d: RowData<'_>, t: usize, support: &[usize], row: &mut [f64], ws: &mut
     }
 }
 
-/// Reusable `n×n` buffers of [`f1_row`] (one set per block or per task, so the rows of a block
-/// allocate nothing).
+/// Reusable buffers of [`f1_row`] (one set per task, so the rows of a block allocate nothing
+/// once the buffers have grown to the shapes they need): each grows to the largest shape a row
+/// asks of it, so a task that forms only dense rows holds three `n×n` arrays (`A_p`, `X A_p`,
+/// `G`) and one that forms only rows on a support `J` arrays of `|J|` columns or rows.
 struct F1Scratch {
     a: Mat<f64>,
     xa: Mat<f64>,
@@ -471,16 +470,25 @@ struct F1Scratch {
     zj: Mat<f64>,
 }
 
-impl F1Scratch {
-    fn new(n: usize) -> Self {
+impl Default for F1Scratch {
+    fn default() -> Self {
+        let empty = || Mat::zeros(0, 0);
         Self {
-            a: Mat::zeros(n, n),
-            xa: Mat::zeros(n, n),
-            g: Mat::zeros(n, n),
-            xj: Mat::zeros(n, n),
-            zj: Mat::zeros(n, n),
+            a: empty(),
+            xa: empty(),
+            g: empty(),
+            xj: empty(),
+            zj: empty(),
         }
     }
+}
+
+/// The leading `rows×cols` part of `buf`, which is first enlarged (zero-filled) if it is smaller.
+fn grown(buf: &mut Mat<f64>, rows: usize, cols: usize) -> MatMut<'_, f64> {
+    if buf.nrows() < rows || buf.ncols() < cols {
+        *buf = Mat::zeros(rows.max(buf.nrows()), cols.max(buf.ncols()));
+    }
+    buf.as_mut().submatrix_mut(0, 0, rows, cols)
 }
 
 /// Row `t` (sorted order) with formula F1: `G = X A_p S⁻¹` on the support of `A_p`, then
@@ -498,8 +506,9 @@ fn f1_row(d: RowData<'_>, t: usize, support: &[usize], row: &mut [f64], ws: &mut
     let v = &vals[p];
     let n = x.nrows();
     let nj = support.len();
+    let mut g = grown(&mut ws.g, n, n);
     if 10 * nj >= 7 * n {
-        let a = &mut ws.a;
+        let mut a = grown(&mut ws.a, n, n);
         a.fill(0.0);
         for e in 0..v.len() {
             let (r, c) = (pat.rows[e], pat.cols[e]);
@@ -508,25 +517,26 @@ fn f1_row(d: RowData<'_>, t: usize, support: &[usize], row: &mut [f64], ws: &mut
                 a[(c, r)] += v[e];
             }
         }
+        let mut xa = grown(&mut ws.xa, n, n);
         matmul(
-            ws.xa.as_mut(),
+            xa.rb_mut(),
             Accum::Replace,
             x.as_ref(),
-            a.as_ref(),
+            a.rb(),
             1.0,
             Par::Seq,
         );
         matmul(
-            ws.g.as_mut(),
+            g.rb_mut(),
             Accum::Replace,
-            ws.xa.as_ref(),
+            xa.rb(),
             zinv.as_ref(),
             1.0,
             Par::Seq,
         );
     } else {
         let pos = |i: usize| support.binary_search(&i).unwrap_or(0);
-        let mut a = ws.a.as_mut().submatrix_mut(0, 0, nj, nj);
+        let mut a = grown(&mut ws.a, nj, nj);
         a.fill(0.0);
         for e in 0..v.len() {
             let (r, c) = (pos(pat.rows[e]), pos(pat.cols[e]));
@@ -535,26 +545,18 @@ fn f1_row(d: RowData<'_>, t: usize, support: &[usize], row: &mut [f64], ws: &mut
                 a[(c, r)] += v[e];
             }
         }
-        let mut xj = ws.xj.as_mut().submatrix_mut(0, 0, n, nj);
+        let mut xj = grown(&mut ws.xj, n, nj);
         for (c, &sc) in support.iter().enumerate() {
             xj.rb_mut().col_mut(c).copy_from(x.col(sc));
         }
-        let mut zj = ws.zj.as_mut().submatrix_mut(0, 0, nj, n);
+        let mut zj = grown(&mut ws.zj, nj, n);
         for (r, &sr) in support.iter().enumerate() {
             zj.rb_mut().row_mut(r).copy_from(zinv.row(sr));
         }
-        let mut xa = ws.xa.as_mut().submatrix_mut(0, 0, n, nj);
+        let mut xa = grown(&mut ws.xa, n, nj);
         matmul(xa.rb_mut(), Accum::Replace, xj.rb(), a.rb(), 1.0, Par::Seq);
-        matmul(
-            ws.g.as_mut(),
-            Accum::Replace,
-            xa.rb(),
-            zj.rb(),
-            1.0,
-            Par::Seq,
-        );
+        matmul(g.rb_mut(), Accum::Replace, xa.rb(), zj.rb(), 1.0, Par::Seq);
     }
-    let g = &mut ws.g;
     // Upper triangle of G + Gᵀ (diagonal kept as G_rr).
     for c in 0..n {
         for r in 0..c {
