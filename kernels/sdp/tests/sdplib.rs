@@ -61,7 +61,7 @@ const DEFAULT: &[&str] = &[
 ];
 
 /// Problems that miss the issue-3 cap of [`MAX_ITERATIONS`], with the cap the default run
-/// holds them to instead. hinf12 takes 51 iterations: its SDPA-primal optimum is not attained
+/// holds them to instead. hinf12 takes 56 iterations: its SDPA-primal optimum is not attained
 /// (`‖x‖` reaches about `1e9` while the objective falls only linearly, by about 0.6 per
 /// iteration, towards `0`), and neither reference meets the cap either (CSDP 6.2 takes 65
 /// iterations and stops at a relative gap of 1e-5; SDPA 7 stops after 21 with `pFEAS` and
@@ -200,10 +200,10 @@ const RECOMPUTED_SLACK: f64 = 1e-3;
 /// Problems on which the solver stops early at a point *outside* the reduced tolerance: status
 /// `NumericalTrouble` is accepted for them (an improvement to `Optimal`/`AlmostOptimal` is too),
 /// with recomputed relative infeasibilities up to the given bound. On this box (largest DIMACS
-/// error, always the relative gap): hinf12 3.0e-4 (no attained optimum); hinf13 and hinf15
+/// error, always the relative gap): hinf12 3.0e-5 (no attained optimum); hinf13 and hinf15
 /// (printed values known to be wrong, see [`CERTIFIED`]) end `AlmostOptimal` at 4.3e-7 and
 /// 9.9e-7, too close to the reduced tolerance to require it. The reference solvers also stop short on these (CSDP "partial success",
-/// SDPA `pFEAS`; `shared/notes/sdp-solvers.md` §2.4). Every other feasible problem must end
+/// SDPA `pFEAS`). Every other feasible problem must end
 /// `Optimal` or `AlmostOptimal`; hinf10, hinf11, hinf14 and qap6–8 did not before the
 /// least-squares solve regularised its dependent constraints (issue 23, see
 /// [`end_game_dependent_constraints`]).
