@@ -18,10 +18,11 @@ use sporadic_sim::{Adversarial, JumpMap, Periodic, SamplingRule, SimOptions, Uni
 /// Candidate intervals of the worst-case sampling scenario's greedy adversary.
 const WORST_CASE_GRID: usize = 64;
 
-use crate::design::{Design, DesignOptions, LmiCache, design};
+use crate::design::{Design, DesignOptions, LmiCache};
 use crate::error::Error;
 use crate::normalise::Coordinates;
 use crate::prove::prove_condition12;
+use crate::refine::{Refinement, refined};
 use crate::simulation::simulate_error;
 use crate::system::Plant;
 use crate::verify::Verification;
@@ -40,6 +41,8 @@ const ID: &str = "ferrante2016";
 /// let method = Ferrante2016::default(); // the paper's construction (residue embedding, 1 piece)
 /// assert_eq!(method.id(), "ferrante2016");
 /// assert_eq!(method.design.pieces, 1);
+/// // … refined up to 16 pieces when LMI (41) is infeasible on it
+/// assert_eq!(method.refinement.max_pieces, 16);
 /// ```
 #[derive(Debug, Clone, Default)]
 pub struct Ferrante2016 {
@@ -48,6 +51,9 @@ pub struct Ferrante2016 {
     /// normalised by `‖·‖₂ ≤ 1` and the margin capped at 1, grid check of (12) on 2801 points,
     /// Remark 3 precheck on 1001 points plus the aliasing instants).
     pub design: DesignOptions,
+    /// How far the embedding is split when LMI (41) is infeasible on the design's own
+    /// ([`crate::refine`]; [`Refinement::none`] for the paper's construction alone).
+    pub refinement: Refinement,
 }
 
 impl Ferrante2016 {
@@ -428,7 +434,8 @@ impl ObserverMethod for Ferrante2016 {
             unreachable_round_robin()?
         };
         let p = self.plant_of(plant)?;
-        match design(&p, window, &self.design) {
+        let mut cache = LmiCache::default();
+        match refined(&p, window, &self.design, &mut cache, &self.refinement) {
             Ok(d) => Ok(self.report(plant, sampling, &d, start.elapsed().as_secs_f64())),
             Err(e) => match e.reason() {
                 Some(r) => Ok(self.failed(plant, sampling, r, start.elapsed().as_secs_f64())),
@@ -466,8 +473,8 @@ impl ObserverMethod for Ferrante2016 {
             let Sampling::Synchronous(window) = s else {
                 unreachable_round_robin()?
             };
-            let (v, d) =
-                probe(&p, window, &options_of_probes, &mut cache).map_err(not_a_verdict)?;
+            let (v, d) = probe(&p, window, &options_of_probes, &mut cache, &self.refinement)
+                .map_err(not_a_verdict)?;
             Ok(match (d, v.reason) {
                 (Some(d), _) => self.report(plant, s, &d, probe_start.elapsed().as_secs_f64()),
                 (None, Some(reason)) => {

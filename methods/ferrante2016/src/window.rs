@@ -23,8 +23,9 @@
 //! consistent with monotone feasibility ([`WindowSearch::monotone`]), and answers with the
 //! bracket `[last certified, first failed]` of the first transition.
 
-use crate::design::{Design, DesignOptions, LmiCache, design_cached};
+use crate::design::{Design, DesignOptions, LmiCache};
 use crate::error::Error;
+use crate::refine::{Refinement, refined};
 use crate::system::Plant;
 use sporadic_model::{
     SamplingWindow, SearchError, Verdict, WindowSearch, WindowSearchOptions, search_lower,
@@ -50,7 +51,7 @@ pub fn largest_t2(
     let mut cache = LmiCache::default();
     let mut run = |t2: f64| -> Result<Verdict, Error> {
         let window = SamplingWindow::new(t1, t2)?;
-        Ok(probe(plant, &window, design, &mut cache)?.0)
+        Ok(probe(plant, &window, design, &mut cache, &Refinement::none())?.0)
     };
     search_upper(t1, t2_limit, search, &mut run).map_err(from_search)
 }
@@ -69,7 +70,7 @@ pub fn smallest_t1(
     let mut cache = LmiCache::default();
     let mut run = |t1: f64| -> Result<Verdict, Error> {
         let window = SamplingWindow::new(t1, t2)?;
-        Ok(probe(plant, &window, design, &mut cache)?.0)
+        Ok(probe(plant, &window, design, &mut cache, &Refinement::none())?.0)
     };
     search_lower(t2, t1_limit, search, &mut run).map_err(from_search)
 }
@@ -84,16 +85,18 @@ pub(crate) fn probe_options(design: &DesignOptions) -> DesignOptions {
     options
 }
 
-/// One probe of a window search: the design at `window` with the compiled LMI kept in `cache`,
-/// as a verdict (and the design, when certified); errors that are not verdicts on the plant
-/// ([`Error::reason`] is `None`) are passed on.
+/// One probe of a window search: the design at `window` with the compiled LMI kept in `cache`
+/// (and the embedding refined as `refinement` allows, [`crate::refine`]), as a verdict (and the
+/// design, when certified); errors that are not verdicts on the plant ([`Error::reason`] is
+/// `None`) are passed on.
 pub(crate) fn probe(
     plant: &Plant,
     window: &SamplingWindow,
     design: &DesignOptions,
     cache: &mut LmiCache,
+    refinement: &Refinement,
 ) -> Result<(Verdict, Option<Design>), Error> {
-    match design_cached(plant, window, design, cache) {
+    match refined(plant, window, design, cache, refinement) {
         Ok(d) => Ok((Verdict::certified(Some(d.certificate.margin)), Some(d))),
         Err(e) => match e.reason() {
             Some(r) => Ok((Verdict::failed(r), None)),

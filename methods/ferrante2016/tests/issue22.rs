@@ -142,14 +142,18 @@ fn three_mass_chain_fails_by_the_conservatism_of_the_paper_residue_box() {
     use sporadic_ferrante2016::sporadic_embed::EmbeddingMethod;
     use sporadic_ferrante2016::sporadic_sdp::lmi::{Expr, Model};
     use sporadic_ferrante2016::{
-        DesignOptions, FeasibilityOptions, Outcome, Plant, VerifyOptions, analyse, verify,
+        DesignOptions, FeasibilityOptions, Outcome, Plant, Refinement, VerifyOptions, analyse,
+        verify,
     };
     let mut paper_box = DesignOptions::default();
     let EmbeddingMethod::Residue(residue) = &mut paper_box.embedding else {
         panic!("the default embedding is the residue box");
     };
     residue.short_window_series = false;
-    let with = |design: DesignOptions| Ferrante2016 { design };
+    let with = |design: DesignOptions| Ferrante2016 {
+        design,
+        refinement: Refinement::none(),
+    };
     let a = mat![
         [0.0, 1.0, 0.0, 0.0, 0.0, 0.0],
         [-2.0, -0.1, 1.0, 0.0, 0.0, 0.0],
@@ -230,4 +234,58 @@ fn three_mass_chain_fails_by_the_conservatism_of_the_paper_residue_box() {
         "{:?}",
         r.notes
     );
+}
+
+/// An unstable double pole (one Jordan block at `+0.5`, position measured) on `[0.05, 1]`: the
+/// paper's residue box lets `e^{0.5v}` and `v e^{0.5v}` range independently, and LMI (41) at its
+/// 4 vertices is infeasible from `T2 ≈ 0.39` on; the method splits the window (the union of the
+/// pieces' boxes still contains the curve) and certifies it. The certificate is checked here
+/// against the exact `e^{Av} = e^{0.5v}[[1, v], [0, 1]]`, and the time-scaled plant (`A × 10`,
+/// window ÷ 10) gets the same verdict.
+#[test]
+fn an_unstable_double_pole_is_certified_by_a_refined_embedding() {
+    use sporadic_ferrante2016::Refinement;
+    let (a, c) = (mat![[0.5, 1.0], [0.0, 0.5]], mat![[1.0, 0.0]]);
+    let (t1, t2) = (0.05, 1.0);
+    let paper = Ferrante2016 {
+        refinement: Refinement::none(),
+        ..Ferrante2016::default()
+    }
+    .design(
+        &plant(a.clone(), c.clone()),
+        &sync(t1, t2),
+        &MethodOptions::default(),
+    )
+    .unwrap();
+    assert!(
+        matches!(paper.reason, Some(Reason::InfeasibleLmi { .. })),
+        "{:?}",
+        paper.reason
+    );
+    let r = design(&plant(a.clone(), c.clone()), t1, t2);
+    assert_eq!(r.status, Status::Certified, "{:?}", r.reason);
+    assert!(
+        r.notes.iter().any(|n| n.contains("16 piece(s)")),
+        "{:?}",
+        r.notes
+    );
+    let rows = |r: &[Vec<f64>]| Mat::from_fn(r.len(), r[0].len(), |i, j| r[i][j]);
+    let l = rows(&r.gains[0].rows);
+    let p = rows(&r.certificate.iter().find(|m| m.name == "P").unwrap().rows);
+    // (I − LC)' e^{A'v} P e^{Av} (I − LC) − P ≺ 0 on a fine grid of the window, exactly.
+    let jump = Mat::<f64>::identity(2, 2) - &l * &c;
+    for i in 0..=400 {
+        let v = t1 + (t2 - t1) * f64::from(i) / 400.0;
+        let e = mat![[1.0, v], [0.0, 1.0]] * faer::Scale((0.5 * v).exp());
+        let m = &e * &jump;
+        let lhs = m.transpose() * &p * &m - &p;
+        let worst = lhs
+            .self_adjoint_eigenvalues(faer::Side::Lower)
+            .unwrap()
+            .into_iter()
+            .fold(f64::NEG_INFINITY, f64::max);
+        assert!(worst < 0.0, "(12) fails at v = {v}: {worst:e}");
+    }
+    let scaled = design(&plant(a * faer::Scale(10.0), c), t1 / 10.0, t2 / 10.0);
+    assert_eq!(scaled.status, Status::Certified, "{:?}", scaled.reason);
 }

@@ -173,6 +173,7 @@ fn invalid_input_is_an_error_not_a_verdict() {
             pieces: 0,
             ..Default::default()
         },
+        ..Default::default()
     };
     let e = method
         .design(&oscillator(), &sync(0.5, 1.0), &MethodOptions::default())
