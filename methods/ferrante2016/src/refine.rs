@@ -8,7 +8,7 @@
 //! pieces' vertices gives a polytope that still contains the curve and is tighter (a piece's box
 //! lies in the whole window's box). When (41) is infeasible at the paper's polytope, the method
 //! contract ([`crate::Ferrante2016`]) then tries the finest split into 2, 4, 8, … pieces that
-//! fits the vertex and piece limits of [`Refinement`] (and the time budget) before it reports
+//! fits the vertex, work and piece limits of [`Refinement`] (and the time budget) before it reports
 //! the window as not certified ([`refined`]).
 //!
 //! Measured on a plant with an unstable double pole (`A = [[0.5, 1], [0, 0.5]]`, `C = [1, 0]`,
@@ -26,7 +26,7 @@ use sporadic_embed::embed_split;
 use sporadic_model::SamplingWindow;
 
 /// Limits of the refinement (see the module docs).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Refinement {
     /// Most pieces of a refined embedding (the design's own `pieces`, then twice that, … up to
     /// this); at most the design's `pieces` turns the refinement off.
@@ -34,14 +34,23 @@ pub struct Refinement {
     /// Most vertices of a refined embedding (all pieces together, counted on the plant as
     /// given): each vertex is one LMI of order `3n` in the margin problem.
     pub max_vertices: usize,
+    /// Most `vertices × n⁶` of a refined embedding (`n` the plant's order): an interior-point
+    /// iteration of the margin problem forms, for each vertex LMI of order `3n`, a share of a
+    /// Schur matrix over about `1.5n²` decision scalars, so its cost grows like `vertices × n⁶`.
+    /// The default `2²⁰` allows the 256 vertices at order 4 and 22 at order 6: on the corpus
+    /// plant three-mass-chain (order 6) the refinement to 256 vertices raised the largest
+    /// certified `T2` from 0.2999 to 0.4142 but `compare` from 6.1 s to 12.7 s, above the 10 s
+    /// that a comparison on a plant of order ≤ 6 is to take.
+    pub max_work: f64,
 }
 
 impl Default for Refinement {
-    /// Up to 16 pieces and 256 vertices.
+    /// Up to 16 pieces, 256 vertices and `vertices × n⁶ ≤ 2²⁰`.
     fn default() -> Self {
         Self {
             max_pieces: 16,
             max_vertices: 256,
+            max_work: (1u64 << 20) as f64,
         }
     }
 }
@@ -52,6 +61,7 @@ impl Refinement {
         Self {
             max_pieces: 1,
             max_vertices: 0,
+            max_work: 0.0,
         }
     }
 }
@@ -102,8 +112,8 @@ pub(crate) fn refined(
 }
 
 /// The finest split of `window` within `refinement` (pieces a power-of-two multiple of the
-/// design's own, above it), with its vertex count on the plant as given; `None` when no split
-/// above the design's own fits.
+/// design's own, above it; vertices and work counted on the plant as given), with its vertex
+/// count; `None` when no split above the design's own fits.
 fn finest(
     plant: &Plant,
     window: &SamplingWindow,
@@ -125,6 +135,9 @@ fn finest(
             &options.embedding,
         )
         .ok()?;
-        (e.vertex_count() <= refinement.max_vertices).then_some((pieces, e.vertex_count()))
+        let vertices = e.vertex_count();
+        let work = vertices as f64 * (plant.n() as f64).powi(6);
+        (vertices <= refinement.max_vertices && work <= refinement.max_work)
+            .then_some((pieces, vertices))
     })
 }
