@@ -9,7 +9,7 @@
 //! lies in the whole window's box). When (41) is infeasible at the paper's polytope, the method
 //! contract ([`crate::Ferrante2016`]) then tries the finest split into 2, 4, 8, … pieces that
 //! fits the vertex, work and piece limits of [`Refinement`] (and the time budget) before it reports
-//! the window as not certified ([`refined`]).
+//! the window as not certified.
 //!
 //! Measured on a plant with an unstable double pole (`A = [[0.5, 1], [0, 0.5]]`, `C = [1, 0]`,
 //! `T1 = 0.05`): the paper's box certifies up to `T2 ≈ 0.39` (margin 1.0e-5 at 0.38, the optimal
