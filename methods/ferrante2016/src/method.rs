@@ -22,7 +22,7 @@ use crate::design::{Design, DesignOptions, LmiCache};
 use crate::error::Error;
 use crate::normalise::Coordinates;
 use crate::prove::prove_condition12;
-use crate::refine::{Refinement, refined};
+use crate::refine::{Refinement, refined, refined_analysis};
 use crate::simulation::simulate_error;
 use crate::system::Plant;
 use crate::verify::Verification;
@@ -578,42 +578,46 @@ impl ObserverMethod for Ferrante2016 {
                 p.check_lyapunov_matrix(pm.as_ref()).map_err(invalid)?;
                 (pm, Vec::new(), false)
             }
-            None => match crate::analyse(&p, window, l.as_ref(), &self.design) {
-                Ok(an) => match an.certificate {
-                    Some(c) => (
-                        c.p,
-                        vec![
-                            NamedMatrix::new("F", c.f.as_ref(), "multiplier of LMI (41)"),
-                            NamedMatrix::new("J", c.j.as_ref(), "J = FL in LMI (41)"),
-                        ],
-                        true,
-                    ),
-                    None => {
-                        let reason = Reason::InfeasibleLmi {
-                            message: format!(
-                                "LMI (41) with the given L fixed (J = FL) has no strictly                                  feasible P on the {} vertices of the embedding (margin {});                                  Corollary 1 is only sufficient",
-                                an.embedding.vertex_count(),
-                                an.margin
-                                    .map_or_else(|| "none".into(), sporadic_model::significant)
-                            ),
-                        };
-                        return Ok(self.failed(
-                            plant,
-                            sampling,
-                            reason,
-                            start.elapsed().as_secs_f64(),
-                        ));
-                    }
-                },
-                Err(e) => {
-                    return match e.reason() {
-                        Some(r) => {
-                            Ok(self.failed(plant, sampling, r, start.elapsed().as_secs_f64()))
+            None => {
+                match refined_analysis(&p, window, l.as_ref(), &self.design, &self.refinement) {
+                    Ok(an) => match an.certificate {
+                        Some(c) => (
+                            c.p,
+                            vec![
+                                NamedMatrix::new("F", c.f.as_ref(), "multiplier of LMI (41)"),
+                                NamedMatrix::new("J", c.j.as_ref(), "J = FL in LMI (41)"),
+                            ],
+                            true,
+                        ),
+                        None => {
+                            let reason = Reason::InfeasibleLmi {
+                                message: format!(
+                                    "LMI (41) with the given L fixed (J = FL) has no strictly \
+                                 feasible P on the {} vertices of the embedding (margin {}); \
+                                 Corollary 1 is only sufficient",
+                                    an.embedding.vertex_count(),
+                                    an.margin
+                                        .map_or_else(|| "none".into(), sporadic_model::significant)
+                                ),
+                            };
+                            return Ok(self.failed(
+                                plant,
+                                sampling,
+                                reason,
+                                start.elapsed().as_secs_f64(),
+                            ));
                         }
-                        None => Err(not_a_verdict(e)),
-                    };
+                    },
+                    Err(e) => {
+                        return match e.reason() {
+                            Some(r) => {
+                                Ok(self.failed(plant, sampling, r, start.elapsed().as_secs_f64()))
+                            }
+                            None => Err(not_a_verdict(e)),
+                        };
+                    }
                 }
-            },
+            }
         };
         let v = crate::verify(&p, window, l.as_ref(), pm.as_ref(), &self.design.verify)
             .map_err(not_a_verdict)?;

@@ -19,9 +19,10 @@
 //! The pieces are equal in `v`, so a refined design is the same for the plant in other units of
 //! time or in other state coordinates (given that the embedding of each piece is).
 
-use crate::design::{Design, DesignOptions, LmiCache, design_cached};
+use crate::design::{Analysis, Design, DesignOptions, LmiCache, analyse, design_cached};
 use crate::error::Error;
 use crate::system::Plant;
+use faer::MatRef;
 use sporadic_embed::embed_split;
 use sporadic_model::SamplingWindow;
 
@@ -109,6 +110,32 @@ pub(crate) fn refined(
         }),
         Err(_) => Err(first),
     }
+}
+
+/// The analysis of a given gain `L` at `window` ([`analyse`], LMI (41) with `J = FL`), refined
+/// as [`refined`] refines a design: when the design's own embedding gives no certificate, the
+/// finest split within the limits is analysed, and its analysis is returned (certified or not,
+/// so that a failure reports the vertices it was decided on). A gain that the method's design
+/// certified on a refined embedding is then certified by its check too.
+pub(crate) fn refined_analysis(
+    plant: &Plant,
+    window: &SamplingWindow,
+    l: MatRef<'_, f64>,
+    options: &DesignOptions,
+    refinement: &Refinement,
+) -> Result<Analysis, Error> {
+    let first = analyse(plant, window, l, options)?;
+    if first.certificate.is_some() || sporadic_sdp::budget::exhausted() {
+        return Ok(first);
+    }
+    let Some((pieces, _)) = finest(plant, window, options, refinement) else {
+        return Ok(first);
+    };
+    let finer = DesignOptions {
+        pieces,
+        ..options.clone()
+    };
+    Ok(analyse(plant, window, l, &finer).unwrap_or(first))
 }
 
 /// The finest split of `window` within `refinement` (pieces a power-of-two multiple of the

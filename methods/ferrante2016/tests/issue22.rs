@@ -286,6 +286,25 @@ fn an_unstable_double_pole_is_certified_by_a_refined_embedding() {
             .fold(f64::NEG_INFINITY, f64::max);
         assert!(worst < 0.0, "(12) fails at v = {v}: {worst:e}");
     }
+    // The method's check of the gain alone (no certificate given) refines as its design does.
+    let check = |method: Ferrante2016| {
+        method
+            .verify(
+                &plant(a.clone(), c.clone()),
+                &sync(t1, t2),
+                &r.gains,
+                &[],
+                &MethodOptions::default(),
+            )
+            .unwrap()
+            .status
+    };
+    assert_eq!(check(Ferrante2016::default()), Status::Certified);
+    let paper_check = Ferrante2016 {
+        refinement: Refinement::none(),
+        ..Ferrante2016::default()
+    };
+    assert_eq!(check(paper_check), Status::NotCertified);
     let scaled = design(&plant(a * faer::Scale(10.0), c), t1 / 10.0, t2 / 10.0);
     assert_eq!(scaled.status, Status::Certified, "{:?}", scaled.reason);
 }
