@@ -593,8 +593,8 @@ impl ObserverMethod for Ferrante2016 {
                             let reason = Reason::InfeasibleLmi {
                                 message: format!(
                                     "LMI (41) with the given L fixed (J = FL) has no strictly \
-                                 feasible P on the {} vertices of the embedding (margin {}); \
-                                 Corollary 1 is only sufficient",
+                                     feasible P on the {} vertices of the embedding (margin \
+                                     {}); Corollary 1 is only sufficient",
                                     an.embedding.vertex_count(),
                                     an.margin
                                         .map_or_else(|| "none".into(), sporadic_model::significant)
