@@ -412,6 +412,66 @@ fn a_margin_solve_can_stop_at_its_first_verified_point() {
     assert_eq!(early.margin, full.margin);
 }
 
+/// `Compiled::solve_accepting`: the caller's own certificate test ends a margin solve at the
+/// first iterate it accepts. Here the test is an independent eigenvalue check of the Lyapunov
+/// LMI at the iterate's `P` (no verification threshold): the solve stops no later than the
+/// verified stop, and earlier than the full solve, is shown only positive margins, and returns
+/// the accepted `P`; a test that accepts nothing leaves the full solve's result; objective mode
+/// refuses it.
+#[test]
+fn a_margin_solve_can_stop_at_a_point_its_caller_accepts() {
+    let a = mat![[-1.0, 3.0], [-0.5, -0.2]];
+    let mut m = Model::new();
+    let p = m.symmetric("P", 2);
+    m.constrain(p.gt(0.0).named("P > 0")).unwrap();
+    let lhs = a.transpose() * p.expr() + p.expr() * &a;
+    m.constrain(lhs.lt(0.0).named("A'P + PA < 0")).unwrap();
+    let eig = |x: &Mat<f64>| sporadic_linalg::max_eigenvalue(x.as_ref()).unwrap();
+    let lyapunov = |pv: &Mat<f64>| eig(&(a.transpose() * pv + pv * &a)) < 0.0 && eig(&-pv) < 0.0;
+    let full = m.feasibility(&FeasibilityOptions::default()).unwrap();
+    let mut verified = FeasibilityOptions::default();
+    verified.stop_when_verified = true;
+    let verified = m.feasibility(&verified).unwrap();
+
+    let mut c = m
+        .compile_feasibility(&FeasibilityOptions::default())
+        .unwrap();
+    let (mut shown, mut margins) = (0, Vec::new());
+    let early = c
+        .solve_accepting(&mut |it| {
+            shown += 1;
+            margins.push(it.margin());
+            lyapunov(&it.value(&p).unwrap())
+        })
+        .unwrap();
+    assert_eq!(early.sdp.status, sporadic_sdp::Status::Accepted);
+    assert!(
+        shown >= 1 && margins.iter().all(|&t| t > 0.0),
+        "{margins:?}"
+    );
+    assert!(
+        early.sdp.iterations <= verified.sdp.iterations
+            && early.sdp.iterations < full.sdp.iterations,
+        "{} {} {}",
+        early.sdp.iterations,
+        verified.sdp.iterations,
+        full.sdp.iterations
+    );
+    assert!(lyapunov(&early.value(&p).unwrap()));
+    assert_eq!(early.margin, margins.last().copied());
+
+    let never = c.solve_accepting(&mut |_| false).unwrap();
+    assert_eq!(never.sdp.status, full.sdp.status);
+    assert_eq!(never.margin, full.margin);
+    assert_eq!(never.outcome, full.outcome);
+
+    let mut objective = m.compile(&SolveOptions::default()).unwrap();
+    assert!(matches!(
+        objective.solve_accepting(&mut |_| true),
+        Err(ModelError::InvalidArgument(_))
+    ));
+}
+
 /// An infeasible non-strict LMI is reported from the solver's certificate.
 #[test]
 fn infeasible_lmi_is_certified() {

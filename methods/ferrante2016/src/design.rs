@@ -9,11 +9,16 @@
 //! The precheck is made on the Gramian normal form of the problem ([`crate::normalise`]), the
 //! LMI on the data as given, then on the normal forms (time unit `T2`, or `T1` plus the decay
 //! horizon of a Hurwitz `A` on a longer window, with Gramian coordinates,
-//! then with power-of-two diagonal scalings), the first certificate being mapped back. A solver point whose margin is positive but below
-//! the solver's verification threshold (which is relative to the margin problem's normalisation
-//! `‖P‖₂ ≤ 1`, hence to the coordinates) is accepted when every vertex LMI of (41) is negative
-//! definite by more than rounding and the embedding's reconstruction error can explain
-//! (`strictly_negative`); the grid check of (12) on the user's data is made in every case.
+//! then with power-of-two diagonal scalings), the first certificate being mapped back.
+//! With the residue box, every interior-point iterate with a positive margin is tested for
+//! every vertex LMI of (41) being negative definite by more than rounding and the embedding's
+//! reconstruction error can explain (`strictly_negative`), a certificate decided without the
+//! solver's verification threshold (which is relative to the margin problem's normalisation
+//! `‖P‖₂ ≤ 1`, hence to the coordinates, and passes near the end of the largest window much
+//! later than this test, if at all). A probe of a window search ends its solve at the first
+//! such iterate; a design solves for the largest margin and returns the last such iterate when
+//! the optimal point is not one, so that it certifies every window a probe certifies. The grid
+//! check of (12) on the user's data is made in every case.
 //! A residue box with a truncation remainder `δ` ([`TAIL_TOLERANCE`]) is solved first without
 //! it, at the vertices: a failure there is a failure of the robust form too (which implies
 //! (41) at the vertices), and a point at which every vertex LMI is negative definite by more
@@ -58,7 +63,7 @@ use sporadic_sdp::lmi::{FeasibilityOptions, Outcome};
 
 use crate::detectability::{DetectabilityOptions, DetectabilityReport, check_detectability};
 use crate::error::Error;
-use crate::lmi::{GainTerm, Lmi41, LmiForm, LmiResult, LmiSize, Objective, gain_from};
+use crate::lmi::{GainTerm, Lmi41, LmiForm, LmiResult, LmiSize, Objective, Point41, gain_from};
 use crate::normalise;
 use crate::system::Plant;
 use crate::verify::{Verification, VerifyOptions, verify};
@@ -230,6 +235,7 @@ fn solve_on(
     gain: GainTerm,
     (options, form): (&DesignOptions, LmiForm),
     cache: &mut LmiCache,
+    certifies: Option<&Embedding>,
 ) -> Result<LmiResult, Error> {
     let lmis = &mut cache.lmis;
     let reusable = lmis
@@ -254,7 +260,47 @@ fn solve_on(
         lmis.remove(0);
     }
     lmis.push(lmi);
-    lmis.last_mut().expect("pushed above").solve()
+    let lmi = lmis.last_mut().expect("pushed above");
+    let Some(embedding) = certifies else {
+        return lmi.solve();
+    };
+    // Every iterate with a positive margin is tested for (41) holding by more than rounding and
+    // the embedding's error (`strictly_negative`), a sound certificate that the LMI layer's
+    // verification threshold (relative to the margin problem's normalisation) passes much
+    // later, if at all. A probe of a window search, which needs a certificate and not the
+    // largest margin, ends at the first such iterate; a design goes on to the optimal margin and
+    // keeps the last such iterate for the case that the optimal point itself is no certificate
+    // (the margin measures (41) against the normalisation, not against rounding), so that a
+    // design certifies every window a probe certifies.
+    let stop = options.lmi.stop_when_verified;
+    let mut last: Option<Point41> = None;
+    let r = lmi.solve_accepting(&mut |point| {
+        if !strictly_negative(
+            plant,
+            embedding,
+            point.p.as_ref(),
+            point.f.as_ref(),
+            point.j.as_ref(),
+        ) {
+            return false;
+        }
+        if !stop {
+            last = Some(point);
+        }
+        stop
+    })?;
+    let certified = |r: &LmiResult| {
+        r.margin.is_some_and(|t| t > 0.0)
+            && strictly_negative(plant, embedding, r.p.as_ref(), r.f.as_ref(), r.j.as_ref())
+    };
+    Ok(match last {
+        Some(point) if !certified(&r) => point.into_result(
+            r,
+            "the last interior-point iterate at which (41) holds at every vertex by more than \
+             rounding and the embedding's error (the optimal point does not)",
+        ),
+        _ => r,
+    })
 }
 
 /// What a window search keeps across its probes.
@@ -468,7 +514,7 @@ fn remainder_too_large(plant: &Plant, embedding: &Embedding) -> Option<String> {
     })
 }
 
-/// Whether LMI (41) holds at the solver's point `(P, F, J)` at every vertex by more than what
+/// Whether LMI (41) holds at a point `(P, F, J)` at every vertex by more than what
 /// rounding and the embedding's own error can explain: `λmax(Φ_i) < −τ` with
 /// `τ = 2‖P‖₂·(max(ε_rec, 64u)·max_i‖X_i‖_F + δ) + 64u·3n·s` (`ε_rec` the relative
 /// reconstruction error of the residue expansion, `δ` the embedding's remainder bound, `u` the
@@ -478,7 +524,13 @@ fn remainder_too_large(plant: &Plant, embedding: &Embedding) -> Option<String> {
 /// `(3,1)` block: so this is Corollary 1's strict LMI, decided without the solver's verification
 /// threshold (which is relative to the normalisation `‖P‖₂ ≤ 1` of the margin problem and so
 /// depends on the coordinates). Residue embeddings only.
-fn strictly_negative(plant: &Plant, embedding: &Embedding, r: &LmiResult) -> bool {
+fn strictly_negative(
+    plant: &Plant,
+    embedding: &Embedding,
+    p: MatRef<'_, f64>,
+    f: MatRef<'_, f64>,
+    j: MatRef<'_, f64>,
+) -> bool {
     let delta = embedding.remainder_bound();
     let rec = match embedding.method() {
         sporadic_embed::Method::Residue {
@@ -489,7 +541,6 @@ fn strictly_negative(plant: &Plant, embedding: &Embedding, r: &LmiResult) -> boo
         sporadic_embed::Method::Taylor { .. } => return false,
     };
     let (n, u) = (plant.n(), f64::EPSILON);
-    let (p, f, j) = (r.p.as_ref(), r.f.as_ref(), r.j.as_ref());
     let coupling = f - j * plant.c();
     let norm2 = |m: MatRef<'_, f64>| m.singular_values().map_or(f64::INFINITY, |s| s[0]);
     let (np, nf, nc) = (norm2(p), norm2(f), norm2(coupling.as_ref()));
@@ -616,16 +667,20 @@ fn attempt(
     let absorb =
         delta > 0.0 && matches!(embedding.method(), sporadic_embed::Method::Residue { .. });
     let exact = if absorb { 0.0 } else { delta };
+    let residue = matches!(embedding.method(), sporadic_embed::Method::Residue { .. });
+    let certifies = residue.then_some(&embedding);
     let mut r = solve_on(
         &np,
         (vertices, exact),
         GainTerm::Free,
         (options, form),
         cache,
+        certifies,
     )?;
     let margin = r.margin.is_some_and(|t| t > 0.0);
     if absorb {
-        r.feasible = margin && strictly_negative(&np, &embedding, &r);
+        r.feasible =
+            margin && strictly_negative(&np, &embedding, r.p.as_ref(), r.f.as_ref(), r.j.as_ref());
         if margin && !r.feasible {
             r = solve_on(
                 &np,
@@ -633,9 +688,13 @@ fn attempt(
                 GainTerm::Free,
                 (options, form),
                 cache,
+                certifies,
             )?;
         }
-    } else if !r.feasible && margin && strictly_negative(&np, &embedding, &r) {
+    } else if !r.feasible
+        && margin
+        && strictly_negative(&np, &embedding, r.p.as_ref(), r.f.as_ref(), r.j.as_ref())
+    {
         r.feasible = true;
     }
     if !r.feasible {
@@ -793,6 +852,7 @@ pub fn analyse(
         GainTerm::Fixed(l.to_owned()),
         (options, options.form),
         &mut LmiCache::default(),
+        None,
     )?;
     let (certificate, verification) = if r.feasible {
         let v = verify(plant, window, l, r.p.as_ref(), &options.verify)?;

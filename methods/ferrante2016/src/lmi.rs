@@ -132,6 +132,36 @@ pub(crate) struct LmiResult {
     pub size: LmiSize,
 }
 
+/// An interior-point iterate of the margin problem of (41), as shown to the test of
+/// [`Lmi41::solve_accepting`].
+pub(crate) struct Point41 {
+    /// The margin `t` of the iterate (positive).
+    pub margin: f64,
+    pub p: Mat<f64>,
+    pub f: Mat<f64>,
+    pub j: Mat<f64>,
+    pub mu: Option<f64>,
+}
+
+impl Point41 {
+    /// This point in place of the returned one of `r`, whose solver statistics are kept but
+    /// for the status ([`Status::Accepted`](sporadic_sdp::Status::Accepted): the point is an
+    /// iterate accepted by the caller's test) and the reason, which says so.
+    pub fn into_result(self, mut r: LmiResult, reason: &str) -> LmiResult {
+        r.stats.status = sporadic_sdp::Status::Accepted;
+        r.stats.reason = format!("{reason}; the solve ended: {}", r.stats.reason);
+        LmiResult {
+            feasible: false,
+            margin: Some(self.margin),
+            p: self.p,
+            f: self.f,
+            j: self.j,
+            mu: self.mu,
+            ..r
+        }
+    }
+}
+
 /// A compiled instance of (41) whose vertices can be replaced (same count, same remainder sign)
 /// and re-solved with the solver's structure analysis reused.
 pub(crate) struct Lmi41 {
@@ -302,6 +332,45 @@ impl Lmi41 {
     /// Solves the margin (or min-trace) problem and reads the certificate.
     pub fn solve(&mut self) -> Result<LmiResult, Error> {
         let sol = self.compiled.solve()?;
+        self.result(sol)
+    }
+
+    /// Solves the margin problem, showing every interior-point iterate with a positive margin
+    /// to `accept` and ending at the first one it accepts
+    /// ([`Compiled::solve_accepting`](sporadic_sdp::lmi::Compiled::solve_accepting)); what an
+    /// accepted point certifies is the caller's to decide (`LmiResult::feasible` is the LMI
+    /// layer's verdict as for [`Lmi41::solve`]).
+    pub fn solve_accepting(
+        &mut self,
+        accept: &mut (dyn FnMut(Point41) -> bool + Send),
+    ) -> Result<LmiResult, Error> {
+        let (p, f, gain, mu) = (&self.p, &self.f, &self.gain, &self.mu);
+        let sol = self.compiled.solve_accepting(&mut |it| {
+            let read = || -> Result<Point41, sporadic_sdp::lmi::ModelError> {
+                let f = it.value(f)?;
+                let j = match gain {
+                    GainValue::Variable(j) => it.value(j)?,
+                    GainValue::Fixed(l) => &f * l,
+                };
+                let mu = match mu {
+                    Some(mu) => Some(it.value(mu)?[(0, 0)]),
+                    None => None,
+                };
+                Ok(Point41 {
+                    margin: it.margin(),
+                    p: it.value(p)?,
+                    f,
+                    j,
+                    mu,
+                })
+            };
+            read().is_ok_and(&mut *accept)
+        })?;
+        self.result(sol)
+    }
+
+    /// Reads the certificate of a solve.
+    fn result(&self, sol: sporadic_sdp::lmi::LmiSolution) -> Result<LmiResult, Error> {
         let p = sol.value(&self.p)?;
         let f = sol.value(&self.f)?;
         let j = match &self.gain {

@@ -251,8 +251,9 @@ fn margin_definition(options: &DesignOptions, d: &Design) -> String {
         Normalisation::Free => "no bound on P, F, J".into(),
     };
     let which = if d.stats.status.is_accepted() {
-        "the t of the first verified iterate (not maximised: a window search stops the solve \
-         there) with"
+        "the t of an interior-point iterate that is already a certificate (not maximised: a \
+         window search stops the solve at the first such iterate, and a design returns the last \
+         one when its optimal point is none) with"
     } else {
         "the largest t with"
     };

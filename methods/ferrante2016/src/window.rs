@@ -76,9 +76,10 @@ pub fn smallest_t1(
 }
 
 /// The options of a window search's probes: `design`'s, with the margin solves of LMI (41)
-/// ending at their first verified iterate
-/// ([`FeasibilityOptions::stop_when_verified`](sporadic_sdp::lmi::FeasibilityOptions)): a
-/// probe needs a certificate, not the largest margin.
+/// ending at their first iterate that is a certificate
+/// ([`FeasibilityOptions::stop_when_verified`](sporadic_sdp::lmi::FeasibilityOptions); with the
+/// residue box the design's own test of (41) at the vertices, see [`crate::design()`]): a probe
+/// needs a certificate, not the largest margin.
 pub(crate) fn probe_options(design: &DesignOptions) -> DesignOptions {
     let mut options = design.clone();
     options.lmi.stop_when_verified = true;

@@ -308,3 +308,52 @@ fn an_unstable_double_pole_is_certified_by_a_refined_embedding() {
     let scaled = design(&plant(a * faer::Scale(10.0), c), t1 / 10.0, t2 / 10.0);
     assert_eq!(scaled.status, Status::Certified, "{:?}", scaled.reason);
 }
+
+/// The design keeps the last interior-point iterate that certifies when the optimal point of the
+/// margin problem does not, so that it certifies every window its window search certifies.
+/// `eight-state-modal` (corpus, order 8) on `[0.01, 0.54564]` (1024 vertices): the optimal
+/// margin of the vertex LMIs is `~1e-8`, too little to absorb the residue box's remainder, and
+/// the robust form is infeasible, while an earlier iterate holds (41) at every vertex by more
+/// than rounding and the remainder (the design's own test). Before the iterates were tested,
+/// `design` and the search's probe both refused this window (the search stopped at 0.5439).
+/// The returned `(P, L)` is checked here against (12) with the matrix exponential on 201
+/// points.
+#[test]
+fn a_design_keeps_an_iterate_that_certifies_when_its_optimal_point_does_not() {
+    let mut a = Mat::<f64>::zeros(8, 8);
+    for (k, (w2, damping)) in [(1.0, 0.02), (4.0, 0.04), (9.0, 0.06), (25.0, 0.1)]
+        .into_iter()
+        .enumerate()
+    {
+        a[(2 * k, 2 * k + 1)] = 1.0;
+        a[(2 * k + 1, 2 * k)] = -w2;
+        a[(2 * k + 1, 2 * k + 1)] = -damping;
+    }
+    for (i, j) in [(1, 2), (3, 0), (3, 4), (5, 2), (5, 6), (7, 4)] {
+        a[(i, j)] = 0.1;
+    }
+    let mut c = Mat::<f64>::zeros(2, 8);
+    c[(0, 0)] = 1.0;
+    c[(1, 6)] = 1.0;
+    let (t1, t2) = (0.01, 0.54564);
+    let r = design(&plant(a.clone(), c.clone()), t1, t2);
+    assert_eq!(r.status, Status::Certified, "{:?}", r.reason);
+    let margin = r.margin.as_ref().expect("a margin");
+    assert!(
+        margin.definition.contains("already a certificate"),
+        "{}",
+        margin.definition
+    );
+    let rows = |r: &[Vec<f64>]| Mat::from_fn(r.len(), r[0].len(), |i, j| r[i][j]);
+    let l = rows(&r.gains[0].rows);
+    let p = rows(&r.certificate.iter().find(|m| m.name == "P").unwrap().rows);
+    let jump = Mat::<f64>::identity(8, 8) - &l * &c;
+    for i in 0..=200 {
+        let v = t1 + (t2 - t1) * f64::from(i) / 200.0;
+        let e = sporadic_linalg::expm((&a * faer::Scale(v)).as_ref()).unwrap();
+        let m = &e * &jump;
+        let lhs = m.transpose() * &p * &m - &p;
+        let worst = sporadic_linalg::max_eigenvalue(lhs.as_ref()).unwrap();
+        assert!(worst < 0.0, "(12) fails at v = {v}: {worst:e}");
+    }
+}

@@ -21,7 +21,7 @@ use super::eliminate::Elimination;
 use super::error::{ModelError, Shape};
 use super::expr::{Expr, Param, Var, VarKind};
 use super::model::{ConstraintData, ConstraintId, ConstraintKind, Model, Sense, check_finite};
-use super::solution::{self, LmiSolution};
+use super::solution::{self, Iterate, LmiSolution};
 use crate::problem::{Block, BlockData, BlockKind, Problem, SparseSym};
 use crate::{Settings, Solver, Status};
 
@@ -768,7 +768,7 @@ impl Compiled {
             self.strict_margins.iter_mut().for_each(|e| *e = default);
             self.problem = None;
         }
-        let mut sol = self.solve_once()?;
+        let mut sol = self.solve_once(None)?;
         if !matches!(self.mode, Mode::Optimize { .. }) {
             return Ok(sol);
         }
@@ -785,12 +785,38 @@ impl Compiled {
                 break;
             }
             self.problem = None;
-            sol = self.solve_once()?;
+            sol = self.solve_once(None)?;
         }
         Ok(sol)
     }
 
-    fn solve_once(&mut self) -> Result<LmiSolution, ModelError> {
+    /// Like [`Compiled::solve`] for a margin problem ([`Model::compile_feasibility`]), but the
+    /// solve ends at the first interior-point iterate with a positive margin `t` that `accept`
+    /// accepts (the status is then [`Status::Accepted`]). This is for a caller with a
+    /// certificate test of its own, sharper than the [`super::Verification`] rule on its problem
+    /// (e.g. one that knows the structure and the rounding of its data); the test replaces the
+    /// stop of [`FeasibilityOptions::stop_when_verified`], which is not made. The
+    /// [`LmiSolution`] still reports the verification of the returned point, and what an accepted
+    /// point certifies is the caller's to decide. The continuation that refines a positive
+    /// optimal margin ([`FeasibilityOptions::margin_accuracy`]) consults `accept` too; a test
+    /// that accepts nothing gives the result of [`Compiled::solve`] without
+    /// `stop_when_verified`. In objective mode this is [`ModelError::InvalidArgument`].
+    pub fn solve_accepting(
+        &mut self,
+        accept: &mut (dyn FnMut(&Iterate<'_>) -> bool + Send),
+    ) -> Result<LmiSolution, ModelError> {
+        if !matches!(self.mode, Mode::Margin { .. }) {
+            return Err(ModelError::InvalidArgument(
+                "solve_accepting needs a margin problem (Model::compile_feasibility)".into(),
+            ));
+        }
+        self.solve_once(Some(accept))
+    }
+
+    fn solve_once<'f>(
+        &mut self,
+        mut accept: Option<&mut (dyn FnMut(&Iterate<'_>) -> bool + Send + 'f)>,
+    ) -> Result<LmiSolution, ModelError> {
         self.refresh()?;
         let problem = self.problem.as_ref().expect("assembled");
         let reuse =
@@ -800,42 +826,62 @@ impl Compiled {
             self.stats.analyses += 1;
             self.solver = Some((solver, problem.clone()));
         }
-        let mut sdp = match (&self.mode, self.t_col) {
-            (
+        let verified = accept.is_none()
+            && matches!(
+                self.mode,
                 Mode::Margin {
                     stop_when_verified: true,
                     ..
-                },
-                Some(t_col),
-            ) => {
-                let (mut solver, analysed) = self.solver.take().expect("created above");
-                let this = &*self;
-                let sdp = solver.solve_until(problem, None, &mut |y, _| {
-                    solution::verified_iterate(this, y, t_col)
-                });
-                self.solver = Some((solver, analysed));
-                sdp?
-            }
-            _ => {
-                let (solver, _) = self.solver.as_mut().expect("created above");
-                solver.solve(problem)?
-            }
-        };
+                }
+            );
+        let mut sdp = self.run_solver(None, verified, accept.as_deref_mut())?;
         self.stats.solves += 1;
         if let Some(tight) = self.margin_refinement(&sdp) {
             let (solver, _) = self.solver.as_mut().expect("created above");
             solver.set_settings(tight)?;
-            let refined = solver.solve_from(problem, &sdp.point());
+            // The continuation consults the caller's test only (a margin that did not verify in
+            // the first run is refined to its accuracy).
+            let refined = self.run_solver(Some(&sdp.point()), false, accept);
+            let (solver, _) = self.solver.as_mut().expect("created above");
             solver.set_settings(self.options.settings.clone())?;
             let refined = refined?;
             self.stats.refinements += 1;
-            if refined.status == Status::Optimal {
+            if matches!(refined.status, Status::Optimal | Status::Accepted) {
                 let first = sdp.iterations;
                 sdp = refined;
                 sdp.iterations += first;
             }
         }
         solution::finish(self, sdp)
+    }
+
+    /// One run of the analysed solver on the assembled problem (from `start` when given),
+    /// ending at the first iterate that verifies (`verified`) or that `accept` accepts, when
+    /// either is asked for in a margin problem.
+    fn run_solver<'f>(
+        &mut self,
+        start: Option<&crate::Point>,
+        verified: bool,
+        accept: Option<&mut (dyn FnMut(&Iterate<'_>) -> bool + Send + 'f)>,
+    ) -> Result<crate::Solution, ModelError> {
+        let (mut solver, analysed) = self.solver.take().expect("created above");
+        let problem = self.problem.as_ref().expect("assembled");
+        let sdp = match (self.t_col, verified || accept.is_some()) {
+            (Some(t_col), true) => {
+                let this = &*self;
+                let mut never = |_: &Iterate<'_>| false;
+                let accept = accept.unwrap_or(&mut never);
+                solver.solve_until(problem, start, &mut |y, _| {
+                    solution::accepted_iterate(this, y, t_col, verified, accept)
+                })
+            }
+            _ => match start {
+                Some(p) => solver.solve_from(problem, p),
+                None => solver.solve(problem),
+            },
+        };
+        self.solver = Some((solver, analysed));
+        Ok(sdp?)
     }
 
     /// Tightened settings that bring a positive optimal margin to the relative accuracy

@@ -112,4 +112,4 @@ pub use compile::{
 pub use error::{ModelError, Shape};
 pub use expr::{Expr, Param, Var, VarKind, he};
 pub use model::{Constraint, ConstraintId, ConstraintKind, Model, SYMMETRY_TOL, Sense};
-pub use solution::{ConstraintReport, LmiSolution, Outcome, Verification};
+pub use solution::{ConstraintReport, Iterate, LmiSolution, Outcome, Verification};

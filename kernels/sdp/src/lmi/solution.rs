@@ -132,28 +132,7 @@ impl LmiSolution {
 
     /// Value of a variable at the returned point.
     pub fn value(&self, v: &Var) -> Result<Mat<f64>, ModelError> {
-        if v.model != self.model {
-            return Err(ModelError::ForeignModel {
-                what: format!("variable `{}`", v.name),
-            });
-        }
-        let n = v.num_scalars();
-        if v.offset + n > self.y.len() {
-            return Err(ModelError::UnknownVariable {
-                what: format!("variable `{}`", v.name),
-            });
-        }
-        let (r, c) = (v.shape.rows, v.shape.cols);
-        let mut m = Mat::<f64>::zeros(r, c);
-        for k in 0..n {
-            let (i, j) = v.kind.position(r, k);
-            let val = self.y[v.offset + k];
-            m[(i, j)] = val;
-            if v.kind == VarKind::Symmetric {
-                m[(j, i)] = val;
-            }
-        }
-        Ok(m)
+        var_value(self.model, &self.y, v)
     }
 
     /// Value of a scalar (or any 1×1) variable; [`ModelError::NotScalar`] for a larger one.
@@ -274,6 +253,77 @@ pub(crate) fn verified_iterate(c: &Compiled, cols: &[f64], t_col: usize) -> bool
     }
     let y = scalars(c, cols);
     verify_point(c, &y).is_ok_and(|v| v.passed())
+}
+
+/// An interior-point iterate of a margin solve, as shown to the caller's acceptance test of
+/// [`Compiled::solve_accepting`]: the margin `t` and the decision variables there.
+#[derive(Debug)]
+pub struct Iterate<'a> {
+    model: u64,
+    margin: f64,
+    y: &'a [f64],
+}
+
+impl Iterate<'_> {
+    /// The margin `t` of the iterate (positive whenever the test is consulted).
+    pub fn margin(&self) -> f64 {
+        self.margin
+    }
+
+    /// Value of a variable at the iterate (as [`LmiSolution::value`]).
+    pub fn value(&self, v: &Var) -> Result<Mat<f64>, ModelError> {
+        var_value(self.model, self.y, v)
+    }
+}
+
+/// The acceptance test of a margin solve at the iterate whose solver vector is `cols`:
+/// [`verified_iterate`] when `verified`, and the caller's `accept`
+/// ([`Compiled::solve_accepting`]), at an iterate with a positive margin only.
+pub(crate) fn accepted_iterate(
+    c: &Compiled,
+    cols: &[f64],
+    t_col: usize,
+    verified: bool,
+    accept: &mut (dyn FnMut(&Iterate<'_>) -> bool + Send + '_),
+) -> bool {
+    if !(cols[t_col] > 0.0) {
+        return false;
+    }
+    if verified && verified_iterate(c, cols, t_col) {
+        return true;
+    }
+    let y = scalars(c, cols);
+    accept(&Iterate {
+        model: c.model.id,
+        margin: cols[t_col],
+        y: &y,
+    })
+}
+
+/// The value of variable `v` of model `model` in the decision scalars `y`.
+fn var_value(model: u64, y: &[f64], v: &Var) -> Result<Mat<f64>, ModelError> {
+    if v.model != model {
+        return Err(ModelError::ForeignModel {
+            what: format!("variable `{}`", v.name),
+        });
+    }
+    let n = v.num_scalars();
+    if v.offset + n > y.len() {
+        return Err(ModelError::UnknownVariable {
+            what: format!("variable `{}`", v.name),
+        });
+    }
+    let (r, c) = (v.shape.rows, v.shape.cols);
+    let mut m = Mat::<f64>::zeros(r, c);
+    for k in 0..n {
+        let (i, j) = v.kind.position(r, k);
+        let val = y[v.offset + k];
+        m[(i, j)] = val;
+        if v.kind == VarKind::Symmetric {
+            m[(j, i)] = val;
+        }
+    }
+    Ok(m)
 }
 
 /// The decision scalars of the solver vector `cols` (eliminated scalars recovered).
