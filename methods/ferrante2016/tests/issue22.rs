@@ -47,6 +47,24 @@ fn largest(p: &ModelPlant, t1: f64, limit: f64) -> f64 {
     t2
 }
 
+/// Asserts (12), `(I − LC)' e^{A'v} P e^{Av} (I − LC) − P ≺ 0`, at `points + 1` equally spaced
+/// `v` of `[t1, t2]`, with `e^{Av}` given by `exp` (exact or the library's `expm`).
+fn assert_condition12(
+    exp: impl Fn(f64) -> Mat<f64>,
+    (l, c, p): (&Mat<f64>, &Mat<f64>, &Mat<f64>),
+    (t1, t2): (f64, f64),
+    points: u32,
+) {
+    let jump = Mat::<f64>::identity(l.nrows(), l.nrows()) - l * c;
+    for i in 0..=points {
+        let v = t1 + (t2 - t1) * f64::from(i) / f64::from(points);
+        let m = exp(v) * &jump;
+        let lhs = m.transpose() * p * &m - p;
+        let worst = sporadic_linalg::max_eigenvalue(lhs.as_ref()).unwrap();
+        assert!(worst < 0.0, "(12) fails at v = {v}: {worst:e}");
+    }
+}
+
 fn cart_pole() -> ModelPlant {
     plant(
         mat![
@@ -273,19 +291,12 @@ fn an_unstable_double_pole_is_certified_by_a_refined_embedding() {
     let l = rows(&r.gains[0].rows);
     let p = rows(&r.certificate.iter().find(|m| m.name == "P").unwrap().rows);
     // (I − LC)' e^{A'v} P e^{Av} (I − LC) − P ≺ 0 on a fine grid of the window, exactly.
-    let jump = Mat::<f64>::identity(2, 2) - &l * &c;
-    for i in 0..=400 {
-        let v = t1 + (t2 - t1) * f64::from(i) / 400.0;
-        let e = mat![[1.0, v], [0.0, 1.0]] * faer::Scale((0.5 * v).exp());
-        let m = &e * &jump;
-        let lhs = m.transpose() * &p * &m - &p;
-        let worst = lhs
-            .self_adjoint_eigenvalues(faer::Side::Lower)
-            .unwrap()
-            .into_iter()
-            .fold(f64::NEG_INFINITY, f64::max);
-        assert!(worst < 0.0, "(12) fails at v = {v}: {worst:e}");
-    }
+    assert_condition12(
+        |v| mat![[1.0, v], [0.0, 1.0]] * faer::Scale((0.5 * v).exp()),
+        (&l, &c, &p),
+        (t1, t2),
+        400,
+    );
     // The method's check of the gain alone (no certificate given) refines as its design does.
     let check = |method: Ferrante2016| {
         method
@@ -347,13 +358,10 @@ fn a_design_keeps_an_iterate_that_certifies_when_its_optimal_point_does_not() {
     let rows = |r: &[Vec<f64>]| Mat::from_fn(r.len(), r[0].len(), |i, j| r[i][j]);
     let l = rows(&r.gains[0].rows);
     let p = rows(&r.certificate.iter().find(|m| m.name == "P").unwrap().rows);
-    let jump = Mat::<f64>::identity(8, 8) - &l * &c;
-    for i in 0..=200 {
-        let v = t1 + (t2 - t1) * f64::from(i) / 200.0;
-        let e = sporadic_linalg::expm((&a * faer::Scale(v)).as_ref()).unwrap();
-        let m = &e * &jump;
-        let lhs = m.transpose() * &p * &m - &p;
-        let worst = sporadic_linalg::max_eigenvalue(lhs.as_ref()).unwrap();
-        assert!(worst < 0.0, "(12) fails at v = {v}: {worst:e}");
-    }
+    assert_condition12(
+        |v| sporadic_linalg::expm((&a * faer::Scale(v)).as_ref()).unwrap(),
+        (&l, &c, &p),
+        (t1, t2),
+        200,
+    );
 }
