@@ -236,7 +236,7 @@ fn solve_on(
     (options, form): (&DesignOptions, LmiForm),
     cache: &mut LmiCache,
     certifies: Option<&Embedding>,
-) -> Result<LmiResult, Error> {
+) -> Result<(LmiResult, bool), Error> {
     let lmis = &mut cache.lmis;
     let reusable = lmis
         .iter()
@@ -262,7 +262,7 @@ fn solve_on(
     lmis.push(lmi);
     let lmi = lmis.last_mut().expect("pushed above");
     let Some(embedding) = certifies else {
-        return lmi.solve();
+        return Ok((lmi.solve()?, false));
     };
     // Every iterate with a positive margin is tested for (41) holding by more than rounding and
     // the embedding's error (`strictly_negative`), a sound certificate that the LMI layer's
@@ -294,12 +294,16 @@ fn solve_on(
             && strictly_negative(plant, embedding, r.p.as_ref(), r.f.as_ref(), r.j.as_ref())
     };
     Ok(match last {
-        Some(point) if !certified(&r) => point.into_result(
-            r,
-            "the last interior-point iterate at which (41) holds at every vertex by more than \
-             rounding and the embedding's error (the optimal point does not)",
+        _ if certified(&r) => (r, true),
+        Some(point) => (
+            point.into_result(
+                r,
+                "the last interior-point iterate at which (41) holds at every vertex by more \
+                 than rounding and the embedding's error (the optimal point does not)",
+            ),
+            true,
         ),
-        _ => r,
+        None => (r, false),
     })
 }
 
@@ -669,7 +673,9 @@ fn attempt(
     let exact = if absorb { 0.0 } else { delta };
     let residue = matches!(embedding.method(), sporadic_embed::Method::Residue { .. });
     let certifies = residue.then_some(&embedding);
-    let mut r = solve_on(
+    // `negative`: the returned point passes `strictly_negative` (tested by `solve_on` for a
+    // residue box, which has a positive margin then; never for a Taylor polytope).
+    let (mut r, negative) = solve_on(
         &np,
         (vertices, exact),
         GainTerm::Free,
@@ -679,10 +685,9 @@ fn attempt(
     )?;
     let margin = r.margin.is_some_and(|t| t > 0.0);
     if absorb {
-        r.feasible =
-            margin && strictly_negative(&np, &embedding, r.p.as_ref(), r.f.as_ref(), r.j.as_ref());
+        r.feasible = negative;
         if margin && !r.feasible {
-            r = solve_on(
+            (r, _) = solve_on(
                 &np,
                 (vertices, delta),
                 GainTerm::Free,
@@ -691,10 +696,7 @@ fn attempt(
                 certifies,
             )?;
         }
-    } else if !r.feasible
-        && margin
-        && strictly_negative(&np, &embedding, r.p.as_ref(), r.f.as_ref(), r.j.as_ref())
-    {
+    } else if !r.feasible && negative {
         r.feasible = true;
     }
     if !r.feasible {
@@ -846,7 +848,7 @@ pub fn analyse(
         options.pieces,
         &options.embedding,
     )?;
-    let r = solve_on(
+    let (r, _) = solve_on(
         plant,
         (embedding.vertices(), embedding.remainder_bound()),
         GainTerm::Fixed(l.to_owned()),
