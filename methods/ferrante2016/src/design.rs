@@ -687,7 +687,8 @@ fn attempt(
     if absorb {
         r.feasible = negative;
         if margin && !r.feasible {
-            (r, _) = solve_on(
+            let negative;
+            (r, negative) = solve_on(
                 &np,
                 (vertices, delta),
                 GainTerm::Free,
@@ -695,6 +696,7 @@ fn attempt(
                 cache,
                 certifies,
             )?;
+            r.feasible |= negative;
         }
     } else if !r.feasible && negative {
         r.feasible = true;
