@@ -53,8 +53,10 @@ impl std::fmt::Display for Status {
 #[non_exhaustive]
 pub enum Reason {
     // ---- not certified ----
-    /// The design LMIs/BMIs have no (strictly) feasible point: a solver infeasibility
-    /// certificate, or a maximal margin at or below the verification threshold.
+    /// The design LMIs/BMIs have no (strictly) feasible point that can be verified: a solver
+    /// infeasibility certificate, or a maximal margin at or below the verification threshold
+    /// (then no point satisfies them by more than the threshold; a strictly feasible point with
+    /// a smaller margin is not excluded, and the message says which of the two it is).
     InfeasibleLmi {
         /// The method's explanation (which constraint, which certificate).
         message: String,

@@ -472,6 +472,34 @@ fn a_margin_solve_can_stop_at_a_point_its_caller_accepts() {
     ));
 }
 
+/// A maximal margin at or below the verification threshold `τ` is infeasibility at the
+/// resolution of `τ`, and the reason says so without claiming more: the model here is strictly
+/// feasible (`p = 1` gives `diag(1, 1e-12) ≻ 0`), with a maximal margin of `1e-12` under
+/// `|p| ≤ 1`, far below `τ`.
+#[test]
+fn a_margin_below_the_threshold_is_not_called_strict_infeasibility() {
+    let mut m = Model::new();
+    let p = m.symmetric("p", 1);
+    m.constrain(
+        (mat![[1.0, 0.0], [0.0, 1e-12]] * &p)
+            .gt(0.0)
+            .named("diag(1, 1e-12)·p > 0"),
+    )
+    .unwrap();
+    let sol = m.feasibility(&FeasibilityOptions::default()).unwrap();
+    let (t, tau) = (sol.margin.unwrap(), sol.margin_threshold.unwrap());
+    assert!(t.abs() < 1e-9 && tau > 1e-9, "t* = {t:e}, τ = {tau:e}");
+    assert_eq!(sol.outcome, Outcome::Infeasible, "{}", sol.reason);
+    for claim in ["no verifiable margin", "smaller margin is not excluded"] {
+        assert!(sol.reason.contains(claim), "{}", sol.reason);
+    }
+    assert!(
+        !sol.reason.contains("not strictly feasible"),
+        "{}",
+        sol.reason
+    );
+}
+
 /// An infeasible non-strict LMI is reported from the solver's certificate.
 #[test]
 fn infeasible_lmi_is_certified() {

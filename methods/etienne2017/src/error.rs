@@ -27,10 +27,14 @@ pub enum Error {
         /// Upper bound given.
         upper: f64,
     },
-    /// The LMIs (20) are not strictly feasible: the optimal common margin `t*` of the margin
-    /// problem ([`crate::lmi`]) is not above the threshold, or the solver certified infeasibility. Theorem 3
-    /// and Corollary 2 are only sufficient, so this does not prove that no observer exists.
-    #[error("LMIs (20) not strictly feasible for {condition}: margin {margin:?}; {reason}")]
+    /// The LMIs (20) have no verifiable strictly feasible point: the optimal common margin `t*`
+    /// of the margin problem ([`crate::lmi`]) is not above the threshold, or the solver certified
+    /// infeasibility. Theorem 3 and Corollary 2 are only sufficient, so this does not prove that
+    /// no observer exists.
+    #[error(
+        "LMIs (20) have no verifiable strictly feasible point for {condition}: {}; {reason}",
+        margin.map_or_else(|| "no margin computed".to_string(), |m| format!("margin {m:.3e}"))
+    )]
     Infeasible {
         /// Which condition was solved.
         condition: &'static str,

@@ -51,11 +51,14 @@ pub enum Error {
         /// Its value.
         value: f64,
     },
-    /// LMI (41) (or (36) with `L` fixed) is not strictly feasible on the vertex set: the optimal
-    /// margin is not positive (or the solver certified infeasibility). Corollary 1 is only
-    /// sufficient, so this does not prove that no gain exists (try interval splitting).
+    /// LMI (41) (or (36) with `L` fixed) has no verifiable strictly feasible point on the vertex
+    /// set: the optimal margin is at or below the verification threshold (then a strictly
+    /// feasible point with a smaller margin is not excluded: a weakly detectable sampled pair,
+    /// e.g. a window short against the plant's time constants, can have one whose margin is far
+    /// below rounding), or the solver certified infeasibility; `reason` says which. Corollary 1
+    /// is only sufficient, so this does not prove that no gain exists (try interval splitting).
     #[error(
-        "LMI (41) is not strictly feasible: {}; {reason}",
+        "LMI (41) has no verifiable strictly feasible point: {}; {reason}",
         margin.map_or_else(|| "no margin computed".to_string(), |m| format!("margin {m:.3e}"))
     )]
     Infeasible {

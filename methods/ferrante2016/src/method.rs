@@ -593,9 +593,9 @@ impl ObserverMethod for Ferrante2016 {
                         None => {
                             let reason = Reason::InfeasibleLmi {
                                 message: format!(
-                                    "LMI (41) with the given L fixed (J = FL) has no strictly \
-                                     feasible P on the {} vertices of the embedding (margin \
-                                     {}); Corollary 1 is only sufficient",
+                                    "LMI (41) with the given L fixed (J = FL) has no P with a \
+                                     verifiable margin on the {} vertices of the embedding \
+                                     (maximal margin {}); Corollary 1 is only sufficient",
                                     an.embedding.vertex_count(),
                                     an.margin
                                         .map_or_else(|| "none".into(), sporadic_model::significant)

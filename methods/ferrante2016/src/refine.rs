@@ -89,6 +89,10 @@ pub(crate) fn refined(
         Err(e @ Error::Infeasible { .. }) => e,
         done => return done,
     };
+    if window.t1() == window.t2() {
+        // One interval: there is nothing to split.
+        return Err(first);
+    }
     let Some((pieces, vertices)) = finest(plant, window, options, refinement) else {
         return Err(first);
     };

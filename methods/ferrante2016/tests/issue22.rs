@@ -365,3 +365,67 @@ fn a_design_keeps_an_iterate_that_certifies_when_its_optimal_point_does_not() {
         200,
     );
 }
+
+/// A plant written for a fuzzing run (order 6, one output, badly scaled coordinates), sampled
+/// with the single interval `T = 0.00135142`, three to four orders of magnitude shorter than its
+/// time constants. The sampled pair `(e^{AT}, C)` is detectable (relative PBH margin `2.8e-8`,
+/// the smallest singular value of the block-normalised PBH matrix, seven orders of magnitude
+/// above rounding; checked here independently of the design), so LMI (41) at the one vertex
+/// `e^{AT}` is strictly feasible; but its optimal margin under `‖P‖, ‖F‖, ‖J‖ ≤ 1` is far below
+/// rounding, and the solver returns `t* ≈ −3e-10` against a verification threshold of `4e-7`.
+/// The design used to report this as "LMI (41) is not strictly feasible", a false statement; it
+/// must say what was established: no point with a margin above the threshold, a smaller one not
+/// excluded (the verdict keeps the kind `infeasible_lmi`, defined to cover this).
+#[test]
+fn a_margin_below_resolution_is_not_reported_as_infeasibility() {
+    use sporadic_ferrante2016::{DesignOptions, Error, Plant, design as design_lmi};
+    use sporadic_linalg::{PbhOptions, expm, pbh_detectability};
+    let a = mat![
+        [14.0711, 0.0930736, -4.06111, -66.1938, 44.2213, -0.249606],
+        [-7318.82, -50.2873, 2121.49, 34638.1, -23316.1, 129.062],
+        [159.743, 1.09813, -46.2616, -762.898, 508.561, -2.8235],
+        [11.0582, 0.092792, -3.08306, -51.4381, 36.6228, -0.177057],
+        [-3.22573, -0.0115965, 1.01594, 15.2131, -8.87814, 0.068197],
+        [-8612.67, -63.6527, 2467.66, 40676.5, -27736.4, 147.389]
+    ];
+    let c = mat![[
+        1.24915, 1.44171, -0.0658049, -0.273916, -0.159867, -0.975152
+    ]];
+    let t = 0.00135142;
+    let phi = expm((&a * t).as_ref()).unwrap();
+    let pbh = pbh_detectability(
+        phi.as_ref(),
+        c.as_ref(),
+        &phi.eigenvalues().unwrap(),
+        &PbhOptions::default(),
+    )
+    .unwrap();
+    let margin = pbh.worst.unwrap().margin;
+    assert!(pbh.detectable && margin > 1e-8, "PBH margin {margin:e}");
+
+    let lti = Plant::new(a.as_ref(), c.as_ref()).unwrap();
+    let window = SamplingWindow::new(t, t).unwrap();
+    match design_lmi(&lti, &window, &DesignOptions::default()) {
+        Err(e @ Error::Infeasible { margin, .. }) => {
+            assert!(margin.is_some_and(|t| t.abs() < 1e-7), "{e}");
+            let text = e.to_string();
+            for claim in ["no verifiable", "smaller margin is not excluded"] {
+                assert!(text.contains(claim), "{text}");
+            }
+            assert!(!text.contains("not strictly feasible"), "{text}");
+        }
+        other => panic!("expected no verifiable margin, got {other:?}"),
+    }
+    // The method's report says the same.
+    let r = design(&plant(a, c), t, t);
+    assert_eq!(r.status, Status::NotCertified);
+    match r.reason {
+        Some(Reason::InfeasibleLmi { message }) => {
+            assert!(
+                message.contains("smaller margin is not excluded"),
+                "{message}"
+            );
+        }
+        other => panic!("{other:?}"),
+    }
+}

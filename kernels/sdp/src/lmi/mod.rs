@@ -87,8 +87,10 @@
 //! returned point ([`Verification`]); [`Outcome::Feasible`] requires every constraint to pass
 //! with the safety factor, and infeasibility is only reported on a solver certificate or, in
 //! feasibility mode, a maximal margin at or below the verification threshold under a
-//! normalisation that loses no generality. Everything else is [`Outcome::Inconclusive`], with
-//! the reason spelled out in [`LmiSolution::reason`].
+//! normalisation that loses no generality (infeasibility at the resolution of the threshold: a
+//! strictly feasible point with a smaller margin is not excluded, and the reason says so).
+//! Everything else is [`Outcome::Inconclusive`], with the reason spelled out in
+//! [`LmiSolution::reason`].
 //!
 //! # Re-solving
 //!

@@ -23,7 +23,12 @@ pub enum Outcome {
     Feasible,
     /// The constraints have no (strictly, for strict constraints) feasible point: a solver
     /// infeasibility certificate, or in feasibility mode a maximal margin at or below the
-    /// verification threshold under a normalisation that loses no generality.
+    /// verification threshold under a normalisation that loses no generality. The latter is
+    /// infeasibility at the resolution of that threshold: no point satisfies the strict
+    /// constraints by more than it, while a strictly feasible point with a smaller margin is not
+    /// excluded (a homogeneous model always has `t* ≥ 0`, and a weakly detectable sampled pair
+    /// can have a strictly feasible observer LMI whose margin is far below rounding); the reason
+    /// says which of the two it is.
     Infeasible,
     /// The objective is unbounded (solver certificate).
     Unbounded,
@@ -523,8 +528,10 @@ pub(crate) fn finish(c: &Compiled, sdp: Solution) -> Result<LmiSolution, ModelEr
                         (
                             Outcome::Infeasible,
                             format!(
-                                "not strictly feasible: the maximal common margin t* = {t:.3e} is at or below \
-                                 the verification threshold {thr:.3e}"
+                                "no verifiable margin: the maximal common margin t* = {t:.3e} is \
+                                 at or below the verification threshold {thr:.3e}, so no point \
+                                 satisfies the strict constraints by more than the threshold (a \
+                                 strictly feasible point with a smaller margin is not excluded)"
                             ),
                         )
                     } else {
