@@ -378,7 +378,8 @@ pub struct MaxIntervalReport {
     pub limit: Option<f64>,
     /// Largest certified `T2` (`None`: not even `[T1, T1]`).
     pub largest_certified_t2: Option<f64>,
-    /// The first failing `T2` above it (`None` when `limit` itself is certified).
+    /// The first failing `T2` above it (`None` when `limit` itself is certified, or when the
+    /// budget ran out before a failure above it was found).
     pub first_failing_t2: Option<f64>,
     /// How the search ended (`None` when the method does not apply).
     pub search_end: Option<SearchEnd>,

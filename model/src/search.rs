@@ -7,10 +7,13 @@
 //! window), so the certified `T2` form an interval `[T1, T2*]`. Numerical verdicts near the
 //! boundary, and embeddings that are re-split when the window grows, need not be monotone: the
 //! search therefore reports whether the verdicts of *all* its probes are consistent with
-//! monotone feasibility ([`WindowSearch::monotone`]) and answers with the bracket of the first
-//! certified → failed transition it found. A scan stops at its first failure; its points
-//! beyond are probed after the bisection, with what is left of the probe and wall-time budgets
-//! ([`sporadic_sdp::budget`]), only to check monotonicity.
+//! monotone feasibility ([`WindowSearch::monotone`]). A scan stops at its first failure and
+//! bisects the certified → failed transition; its points beyond are probed after the
+//! bisection, with what is left of the probe and wall-time budgets ([`sporadic_sdp::budget`]).
+//! A certified one among them is the better answer (its design is verified on a window that
+//! contains the failed ones, whose verdicts were numerical): the answer moves there, and the
+//! transition above it is bisected in turn. The answer is thus always the largest certified
+//! value probed (the smallest, for a lower-end search).
 //!
 //! Every search ends: after at most [`WindowSearchOptions::max_probes`] probes it stops with
 //! [`SearchEnd::BudgetExhausted`] and the bracket found so far.
@@ -148,7 +151,8 @@ pub struct WindowSearch {
     pub fixed: f64,
     /// The best certified value of the searched end (`None`: none certified).
     pub best: Option<f64>,
-    /// The first failing value beyond `best` (`None` when the limit is certified).
+    /// The first failing value beyond `best` (`None` when the limit is certified, or when the
+    /// budgets ran out above a certified value before a failure beyond it was found).
     pub first_failure: Option<f64>,
     /// How the search ended.
     pub end: SearchEnd,
@@ -350,41 +354,71 @@ fn run<E: std::error::Error + 'static>(
             out.first_failure = Some(bad);
         }
     }
-    // Bisection inside [good, bad].
+    // Bisection inside [good, bad]; then the scan points beyond the first failure, while the
+    // probe budget and the wall-time budget last (a probe the time budget cuts short is no
+    // verdict, and the search has its answer already). A certified one makes the verdicts
+    // non-monotone and moves the answer there: its design is verified on the larger window,
+    // which contains the failed ones; the next failing scan point above it is bisected in turn.
     let (mut good, mut bad) = (good, bad);
     let done = |g: f64, b: f64| match options.tolerance {
         Tolerance::Relative(t) => (g / b).max(b / g) - 1.0 <= t,
         Tolerance::Absolute(t) => (b - g).abs() <= t,
     };
-    while !done(good, bad) {
-        let mid = match options.tolerance {
-            Tolerance::Relative(_) => (good * bad).sqrt(),
-            Tolerance::Absolute(_) => 0.5 * (good + bad),
-        };
-        if !(beyond(mid, good) && beyond(bad, mid)) {
-            break; // the bracket cannot be split further in floating point
+    let mut unchecked = unchecked.into_iter();
+    loop {
+        while !done(good, bad) {
+            let mid = match options.tolerance {
+                Tolerance::Relative(_) => (good * bad).sqrt(),
+                Tolerance::Absolute(_) => 0.5 * (good + bad),
+            };
+            if !(beyond(mid, good) && beyond(bad, mid)) {
+                break; // the bracket cannot be split further in floating point
+            }
+            out.first_failure = Some(bad);
+            if probe!(mid) {
+                good = mid;
+                out.best = Some(good);
+            } else {
+                bad = mid;
+            }
         }
         out.first_failure = Some(bad);
-        if probe!(mid) {
-            good = mid;
-            out.best = Some(good);
-        } else {
-            bad = mid;
+        let mut certified_beyond = None;
+        let mut bracket = None;
+        for s in unchecked.by_ref() {
+            if p.probes.len() >= p.budget || budget::exhausted() {
+                break;
+            }
+            match p.at(s) {
+                Ok(Some(true)) => {
+                    out.monotone = false;
+                    out.best = Some(s);
+                    certified_beyond = Some(s);
+                }
+                Ok(Some(false)) => {
+                    if let Some(c) = certified_beyond {
+                        bracket = Some((c, s));
+                        break;
+                    }
+                }
+                Ok(None) => break,
+                Err(_) if budget::exhausted() => break,
+                Err(e) => return Err(SearchError::Probe(e)),
+            }
         }
-    }
-    out.first_failure = Some(bad);
-    // Monotonicity check: the scan points beyond the first failure, while the probe budget
-    // and the wall-time budget last (a probe the time budget cuts short is no verdict, and
-    // the search has its answer already). A certified one makes the verdicts non-monotone.
-    for s in unchecked {
-        if p.probes.len() >= p.budget || budget::exhausted() {
-            break;
-        }
-        match p.at(s) {
-            Ok(Some(ok)) => out.monotone &= !ok,
-            Ok(None) => break,
-            Err(_) if budget::exhausted() => break,
-            Err(e) => return Err(SearchError::Probe(e)),
+        match (bracket, certified_beyond) {
+            (Some((g, b)), _) => (good, bad) = (g, b),
+            (None, Some(c)) if c == limit => {
+                out.first_failure = None;
+                return Ok(finish(out, p, SearchEnd::ReachedLimit));
+            }
+            (None, Some(_)) => {
+                // The budgets ran out above a certified scan point: no failure is known
+                // beyond it.
+                out.first_failure = None;
+                return Ok(finish(out, p, SearchEnd::BudgetExhausted));
+            }
+            (None, None) => break,
         }
     }
     let end = if out.best.is_none() {
@@ -440,11 +474,13 @@ mod tests {
     #[test]
     fn scan_points_beyond_the_first_failure_are_probed_last() {
         // Scan 0.1·100^(i/6): 0.215, 0.464, 1, 2.15 (fails), then bisection in [1, 2.15],
-        // then 4.64 (fails) and 10 (certified: not monotone).
+        // then 4.64 (fails) and 10 (certified: not monotone). The certified limit is the
+        // answer.
         let r = search_upper(0.1, 10.0, &WindowSearchOptions::default(), two_intervals).unwrap();
-        let (b, f) = (r.best.unwrap(), r.first_failure.unwrap());
-        assert!(b <= 1.0 && 1.0 < f && f / b - 1.0 <= 4e-3, "{b} {f}");
-        assert_eq!(r.end, SearchEnd::Converged);
+        assert_eq!(
+            (r.best, r.first_failure, r.end),
+            (Some(10.0), None, SearchEnd::ReachedLimit)
+        );
         assert!(!r.monotone);
         let t2: Vec<f64> = r.probes.iter().map(|p| p.t2).collect();
         let n = t2.len();
@@ -454,6 +490,41 @@ mod tests {
             t2[5..n - 2].iter().all(|&s| (1.0..2.16).contains(&s)),
             "{t2:?}"
         );
+    }
+
+    /// Certified up to 1, failing in (1, 3), certified in [3, 6], failing above.
+    fn gap_then_threshold(s: f64) -> Result<Verdict, Never> {
+        Ok(if s <= 1.0 || (3.0..=6.0).contains(&s) {
+            Verdict::certified(None)
+        } else {
+            Verdict::failed(Reason::InfeasibleLmi {
+                message: "gap".into(),
+            })
+        })
+    }
+
+    #[test]
+    fn a_certified_scan_point_beyond_a_failure_moves_the_answer_and_is_bisected_above() {
+        // Scan 0.1·100^(i/6): …, 1, 2.15 (fails), bisection in [1, 2.15]; then 4.64
+        // (certified) and 10 (fails): the answer moves to 4.64 and [4.64, 10] is bisected.
+        let r = search_upper(
+            0.1,
+            10.0,
+            &WindowSearchOptions::default(),
+            gap_then_threshold,
+        )
+        .unwrap();
+        let (b, f) = (r.best.unwrap(), r.first_failure.unwrap());
+        assert!(b <= 6.0 && 6.0 < f && f / b - 1.0 <= 1e-2, "{b} {f}");
+        assert_eq!(r.end, SearchEnd::Converged);
+        assert!(!r.monotone);
+        let best_probed = r
+            .probes
+            .iter()
+            .filter(|p| p.certified)
+            .map(|p| p.t2)
+            .fold(0.0, f64::max);
+        assert_eq!(best_probed, b);
     }
 
     #[test]
