@@ -414,7 +414,8 @@ pub(crate) fn design_cached(
     options.validate()?;
     let forms = normalise::scalings(plant, window);
     let detectability = detectability_in(forms.first(), plant, window, &options.detectability)?;
-    // The problem as given (the paper's construction), then the normal forms of
+    // The problem as given (the paper's construction, outputs in units of their largest
+    // coefficient: `normalise::Scaling::given`), then the normal forms of
     // `crate::normalise`: the Gramian form is the same for every change of units or coordinates
     // of the user's data, the diagonal form for every change of units. The verdict (certified
     // when any of them is) does not depend on the order, only which certificate is returned.
@@ -434,7 +435,7 @@ pub(crate) fn design_cached(
     {
         return Ok(d);
     }
-    let given = normalise::Scaling::identity(plant.n(), plant.q());
+    let given = normalise::Scaling::given(plant);
     let mut result = attempt(plant, window, options, cache, &given, context);
     for (k, scaling) in forms.iter().enumerate() {
         if preferred == Some((k, false)) {

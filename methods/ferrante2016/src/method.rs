@@ -147,7 +147,16 @@ impl Ferrante2016 {
             );
         }
         match d.scaling.coordinates {
-            Coordinates::Given => {}
+            Coordinates::Given => {
+                if d.scaling.output.iter().any(|s| *s != 1.0) {
+                    r.notes.push(format!(
+                        "LMI (41) solved with each output in units of its largest coefficient \
+                         in C (y' = Sy, S = diag{}), so that the verdict does not depend on the \
+                         output units; L and J mapped back (L = L'S, J = J'S)",
+                        power_words(&d.scaling.output),
+                    ));
+                }
+            }
             Coordinates::Gramian => r.notes.push(format!(
                 "LMI (41) solved on the normalised problem: time unit k = {} s (T2, or T1 plus \
                  the decay horizon 72/|α| of A when the window is longer), state coordinates \

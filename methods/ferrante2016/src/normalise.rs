@@ -41,10 +41,11 @@
 //!   the same share `tr(s_k²W_k W⁻¹) = n/q` of the Gramian `W = Σ s_k²W_k` (a fixed point reached
 //!   by a multiplicative iteration with a budget; the shares are similarity-invariant, and the
 //!   fixed point does not depend on the output units);
-//! * [`Coordinates::Diagonal`]: exact power-of-two state and output scalings from the
-//!   observability matrix `[C; CA₁; …; CA₁^{n−1}]` (unit columns after `x' = Dx`, then each row
-//!   of `SCD⁻¹` with its largest entry about one). This form is only invariant under diagonal
-//!   changes of coordinates; it is tried second ([`scalings`]).
+//! * [`Coordinates::Diagonal`]: exact power-of-two state scalings from the observability
+//!   matrix `[C; CA₁; …; CA₁^{n−1}]` (unit columns after `x' = Dx`), then output scalings giving
+//!   each row of `SCD⁻¹` the largest entry one (exactly, so that the form does not depend on the
+//!   output units). This form is only invariant under diagonal changes of coordinates; it is
+//!   tried second ([`scalings`]).
 //!
 //! The Gramian form is a canonical form, not an optimally conditioned one: for some plants (an
 //! integrator chain, some random plants) LMI (41) written in it certifies a shorter window than
@@ -96,7 +97,8 @@ pub enum Coordinates {
     /// Time unit [`time_unit`], state coordinates in which the observability Gramian on one
     /// time unit is the identity, outputs with equal shares of it.
     Gramian,
-    /// Time unit [`time_unit`], power-of-two diagonal state and output scalings.
+    /// Time unit [`time_unit`], power-of-two diagonal state scalings, output scalings that give
+    /// every row of `C` the largest entry one.
     Diagonal,
 }
 
@@ -124,6 +126,30 @@ impl Scaling {
             state: Mat::identity(n, n),
             state_inverse: Mat::identity(n, n),
             output: vec![1.0; q],
+        }
+    }
+
+    /// The problem as given, each output divided by the largest modulus of its row of `C`
+    /// (`y'_k = y_k / max_j |c_kj|`; a zero row is kept). LMI (41) is invariant under output
+    /// units in exact arithmetic but its normalisation `‖J‖₂ ≤ 1` (`J = FL`) is not, so the
+    /// same plant with its outputs in other units could certify a different window; with this
+    /// scaling every choice of output units gives the same problem up to rounding. A row whose
+    /// largest entry is `±1` (the papers' examples) is left exactly as it is.
+    pub fn given(plant: &Plant) -> Self {
+        let c = plant.c();
+        let output = (0..c.nrows())
+            .map(|k| {
+                let big = (0..c.ncols()).fold(0.0f64, |m, j| m.max(c[(k, j)].abs()));
+                if big > 0.0 && big.is_finite() {
+                    1.0 / big
+                } else {
+                    1.0
+                }
+            })
+            .collect();
+        Self {
+            output,
+            ..Self::identity(plant.n(), plant.q())
         }
     }
 
@@ -170,15 +196,6 @@ impl Scaling {
     pub fn multiplier_gain_back(&self, j: MatRef<'_, f64>) -> Mat<f64> {
         let j = self.state.transpose() * j;
         Mat::from_fn(j.nrows(), j.ncols(), |r, c| j[(r, c)] * self.output[c])
-    }
-}
-
-/// `2^round(log₂ x)` for a positive finite `x` (1 otherwise).
-fn power_of_two(x: f64) -> f64 {
-    if x.is_finite() && x > 0.0 {
-        2f64.powi(x.log2().round().clamp(-MAX_EXPONENT, MAX_EXPONENT) as i32)
-    } else {
-        1.0
     }
 }
 
@@ -357,12 +374,15 @@ fn diagonal(plant: &Plant, window: &SamplingWindow) -> Scaling {
     if col.iter().any(|v| !v.is_finite()) {
         return identity;
     }
-    // An unobservable coordinate (zero column) keeps its unit.
+    // An unobservable coordinate (zero column) keeps its unit. The exponents are taken
+    // relative to the largest column, so that `C → cC`, which scales every column by `c`,
+    // leaves them as they are (the output scaling below takes `c`).
+    let top = col.iter().copied().fold(0.0f64, f64::max);
     let e: Vec<f64> = col
         .iter()
         .map(|v| {
             if *v > 0.0 {
-                v.log2().round().clamp(-MAX_EXPONENT, MAX_EXPONENT)
+                (v / top).log2().round().clamp(-MAX_EXPONENT, MAX_EXPONENT)
             } else {
                 0.0
             }
@@ -375,14 +395,15 @@ fn diagonal(plant: &Plant, window: &SamplingWindow) -> Scaling {
     } else {
         e.iter().map(|x| 2f64.powi(*x as i32)).collect()
     };
-    // Each output row of S C D⁻¹ with its largest entry about one.
+    // Each output row of S C D⁻¹ with its largest entry one: exactly, not to a power of two,
+    // so that the form does not depend on the output units.
     let output = (0..q)
         .map(|k| {
             let m = (0..n)
                 .map(|j| (c[(k, j)] / state[j]).abs())
                 .fold(0.0, f64::max);
             if m > 0.0 && m.is_finite() {
-                1.0 / power_of_two(m)
+                1.0 / m
             } else {
                 1.0
             }

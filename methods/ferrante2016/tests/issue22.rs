@@ -429,3 +429,40 @@ fn a_margin_below_resolution_is_not_reported_as_infeasibility() {
         other => panic!("{other:?}"),
     }
 }
+
+/// A plant written for a fuzzing run (order 6, three outputs, unstable), on `[T1, 0.0525]`:
+/// with `C` as given the window was not certified, with `C/100` (other output units) it was,
+/// margin `2.3e-5`: the problem as given and the diagonal normal form depended on the output
+/// units (the normalisation `‖J‖₂ ≤ 1`, and power-of-two output scalings rounded column by
+/// column). Both now scale the outputs exactly, and every choice of units gets the verdict.
+#[test]
+fn the_verdict_does_not_depend_on_the_output_units() {
+    let a = mat![
+        [0.905919, 0.0184904, 2.52356, -0.362649, 0.0233546, 1.68326],
+        [-168.773, -1.11909, -113.017, -13.6115, -5.26195, -143.208],
+        [-4.48058, -0.0372711, 1.32555, -3.04055, 0.430752, -1.1995],
+        [9.38281, 0.0783996, 6.40804, 2.96692, 0.146997, 7.87317],
+        [-33.4892, -0.431611, -54.1038, -7.14866, -0.268522, -44.0877],
+        [
+            -2.7336,
+            -0.0166264,
+            -1.29712,
+            -1.31725,
+            -0.00728285,
+            -1.63467
+        ]
+    ];
+    let c = mat![
+        [0.22018, 1.15925, -0.479336, 0.938149, -0.601504, -0.157427],
+        [2.48635, 0.767149, -0.50117, -0.084819, 0.326223, 1.21046],
+        [-0.489133, -1.74132, -0.279642, 0.0153855, 0.109538, 1.31669]
+    ];
+    let verdicts: Vec<Status> = [1.0, 0.01, 1000.0]
+        .iter()
+        .map(|&k| {
+            let ck = Mat::from_fn(3, 6, |i, j| k * c[(i, j)]);
+            design(&plant(a.clone(), ck), 0.000318318, 0.0525).status
+        })
+        .collect();
+    assert!(verdicts.iter().all(|v| *v == verdicts[0]), "{verdicts:?}");
+}
