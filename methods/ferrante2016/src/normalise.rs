@@ -136,19 +136,8 @@ impl Scaling {
     /// scaling every choice of output units gives the same problem up to rounding. A row whose
     /// largest entry is `±1` (the papers' examples) is left exactly as it is.
     pub fn given(plant: &Plant) -> Self {
-        let c = plant.c();
-        let output = (0..c.nrows())
-            .map(|k| {
-                let big = (0..c.ncols()).fold(0.0f64, |m, j| m.max(c[(k, j)].abs()));
-                if big > 0.0 && big.is_finite() {
-                    1.0 / big
-                } else {
-                    1.0
-                }
-            })
-            .collect();
         Self {
-            output,
+            output: unit_rows(plant.c(), &vec![1.0; plant.n()]),
             ..Self::identity(plant.n(), plant.q())
         }
     }
@@ -340,6 +329,23 @@ fn gramian(plant: &Plant, window: &SamplingWindow) -> Option<Scaling> {
     Some(scaling)
 }
 
+/// The output scaling `S` that gives every row of `S C D⁻¹` (`D = diag(state)`) the largest
+/// modulus one, exactly; a zero (or non-finite) row keeps its unit.
+fn unit_rows(c: MatRef<'_, f64>, state: &[f64]) -> Vec<f64> {
+    (0..c.nrows())
+        .map(|k| {
+            let m = (0..c.ncols())
+                .map(|j| (c[(k, j)] / state[j]).abs())
+                .fold(0.0, f64::max);
+            if m > 0.0 && m.is_finite() {
+                1.0 / m
+            } else {
+                1.0
+            }
+        })
+        .collect()
+}
+
 /// The diagonal (power-of-two) normal form (see the module docs).
 fn diagonal(plant: &Plant, window: &SamplingWindow) -> Scaling {
     let (n, q) = (plant.n(), plant.q());
@@ -397,18 +403,7 @@ fn diagonal(plant: &Plant, window: &SamplingWindow) -> Scaling {
     };
     // Each output row of S C D⁻¹ with its largest entry one: exactly, not to a power of two,
     // so that the form does not depend on the output units.
-    let output = (0..q)
-        .map(|k| {
-            let m = (0..n)
-                .map(|j| (c[(k, j)] / state[j]).abs())
-                .fold(0.0, f64::max);
-            if m > 0.0 && m.is_finite() {
-                1.0 / m
-            } else {
-                1.0
-            }
-        })
-        .collect();
+    let output = unit_rows(c, &state);
     Scaling {
         state: Mat::from_fn(n, n, |i, j| if i == j { state[i] } else { 0.0 }),
         state_inverse: Mat::from_fn(n, n, |i, j| if i == j { 1.0 / state[i] } else { 0.0 }),
