@@ -460,15 +460,20 @@ mod tests {
         assert_eq!(r.probes[0].t2, 0.1);
     }
 
-    /// Certified up to 1 and again from 5 on: not monotone.
-    fn two_intervals(s: f64) -> Result<Verdict, Never> {
-        Ok(if s <= 1.0 || s >= 5.0 {
+    /// Certified exactly on the closed intervals `on`: not monotone when there are several.
+    fn certified_on(on: &[(f64, f64)], s: f64) -> Result<Verdict, Never> {
+        Ok(if on.iter().any(|&(lo, hi)| (lo..=hi).contains(&s)) {
             Verdict::certified(None)
         } else {
             Verdict::failed(Reason::InfeasibleLmi {
                 message: "gap".into(),
             })
         })
+    }
+
+    /// Certified up to 1 and again from 5 on.
+    fn two_intervals(s: f64) -> Result<Verdict, Never> {
+        certified_on(&[(0.0, 1.0), (5.0, f64::INFINITY)], s)
     }
 
     #[test]
@@ -494,13 +499,7 @@ mod tests {
 
     /// Certified up to 1, failing in (1, 3), certified in [3, 6], failing above.
     fn gap_then_threshold(s: f64) -> Result<Verdict, Never> {
-        Ok(if s <= 1.0 || (3.0..=6.0).contains(&s) {
-            Verdict::certified(None)
-        } else {
-            Verdict::failed(Reason::InfeasibleLmi {
-                message: "gap".into(),
-            })
-        })
+        certified_on(&[(0.0, 1.0), (3.0, 6.0)], s)
     }
 
     #[test]

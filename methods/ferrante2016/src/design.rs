@@ -699,8 +699,8 @@ fn attempt(
             )?;
             r.feasible |= negative;
         }
-    } else if !r.feasible && negative {
-        r.feasible = true;
+    } else {
+        r.feasible |= negative;
     }
     if !r.feasible {
         return Err(match r.stats.outcome {

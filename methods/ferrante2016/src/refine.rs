@@ -89,10 +89,6 @@ pub(crate) fn refined(
         Err(e @ Error::Infeasible { .. }) => e,
         done => return done,
     };
-    if window.t1() == window.t2() {
-        // One interval: there is nothing to split.
-        return Err(first);
-    }
     let Some((pieces, vertices)) = finest(plant, window, options, refinement) else {
         return Err(first);
     };
@@ -144,13 +140,17 @@ pub(crate) fn refined_analysis(
 
 /// The finest split of `window` within `refinement` (pieces a power-of-two multiple of the
 /// design's own, above it; vertices and work counted on the plant as given), with its vertex
-/// count; `None` when no split above the design's own fits.
+/// count; `None` when no split above the design's own fits, or when the window is one interval
+/// (`T1 = T2`: there is nothing to split).
 fn finest(
     plant: &Plant,
     window: &SamplingWindow,
     options: &DesignOptions,
     refinement: &Refinement,
 ) -> Option<(usize, usize)> {
+    if window.t1() == window.t2() {
+        return None;
+    }
     let mut candidates = Vec::new();
     let mut pieces = options.pieces.saturating_mul(2);
     while pieces <= refinement.max_pieces {
