@@ -6,8 +6,27 @@ use std::process::ExitCode;
 
 fn main() -> ExitCode {
     return_freed_buffers_to_the_system();
+    end_quietly_on_a_closed_pipe();
     cli::run()
 }
+
+/// Restores the default action of `SIGPIPE` (end the process) that the Rust runtime replaces
+/// with "ignore": otherwise the program panics with "failed printing to stdout: Broken pipe"
+/// when its reader goes away, as in `sporadic sdp solve FILE | head`, where every Unix tool
+/// ends quietly.
+#[cfg(unix)]
+#[allow(unsafe_code)]
+fn end_quietly_on_a_closed_pipe() {
+    // SAFETY: `signal` sets the disposition of one signal to its default and touches no memory
+    // of ours; it is called before the program starts any thread.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
+/// Other platforms have no `SIGPIPE`.
+#[cfg(not(unix))]
+fn end_quietly_on_a_closed_pipe() {}
 
 /// Smallest allocation (256 KiB: a dense block of order ≥ 182) that glibc maps from the kernel
 /// and unmaps when it is freed.

@@ -1346,3 +1346,29 @@ fn sdp_bench_writes_its_table_and_skips_large_problems() {
     let o = sporadic(&["sdp", "bench", &empty.display().to_string()]);
     assert_eq!(o.status.code(), Some(2));
 }
+
+/// A reader that goes away (`sporadic … | head`) ends the program quietly, as it ends every
+/// Unix tool, not with a panic about a broken pipe.
+#[cfg(unix)]
+#[test]
+fn a_closed_output_pipe_ends_the_program_quietly() {
+    use std::os::unix::process::ExitStatusExt;
+    use std::process::Stdio;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_sporadic"))
+        .args(["init", "--kind", "round-robin"])
+        .env_remove("RUST_BACKTRACE")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run the sporadic binary");
+    // The read end closes before the program writes its template.
+    drop(child.stdout.take());
+    let o = child.wait_with_output().expect("wait for the binary");
+    let err = stderr(&o);
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(
+        o.status.success() || o.status.signal() == Some(libc::SIGPIPE),
+        "{:?}: {err}",
+        o.status
+    );
+}
