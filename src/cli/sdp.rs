@@ -267,6 +267,7 @@ fn solve(
                 "dual_objective_sdpa": sdpa_dual,
                 "iterations": solution.iterations,
                 "facial": solution.facial.to_string(),
+                "restarted": solution.restarted,
                 "rel_gap": m.rel_gap,
                 "primal_infeasibility": m.primal_infeas,
                 "dual_infeasibility": m.dual_infeas,
@@ -295,6 +296,12 @@ fn solve(
         println!("iterations  {}", solution.iterations);
         if solution.facial != sporadic_sdp::FacialPath::NotReduced {
             println!("facial      {}", solution.facial);
+        }
+        if solution.restarted {
+            println!(
+                "restarted   the first run from the default point ended in numerical trouble; \
+                 the iterations count both runs"
+            );
         }
         println!(
             "rel. gap    {:.2e}   rel. primal infeas. {:.2e}   rel. dual infeas. {:.2e}",

@@ -512,3 +512,30 @@ fn a_design_is_verified_whatever_the_scale_of_its_certificate() {
     let v = m.verify(&plant, &sampling, &d.gains, &flipped, &o).unwrap();
     assert_eq!(v.status, Status::NotCertified);
 }
+
+/// A fuzzed marginal plant of order 5 with two outputs (`benches/scripts/fuzz.sh`): `[T1, 0.0109]`
+/// certified, while its sub-windows `[T1, 0.0045]` and `[T1, 0.006]` ended in "SDP solver
+/// stopped with status numerical_trouble" in 0.04 s. The synthesis SDP (47) needs `p* ≈ 10⁶`
+/// there (the relative margin of (44) is about `10⁻⁸`), far beyond the scale of the solver's
+/// default starting point, and the iterates stalled; the solver now restarts from a point further
+/// inside the cone (`sporadic_sdp::Solver::solve`). Window inclusion: every sub-window of a
+/// certified window is certified.
+#[test]
+fn sub_windows_of_a_certified_window_are_certified_when_the_certificate_is_large() {
+    let a = mat![
+        [0.909255, 0.235827, 4.24002, -4.11667, 2.32281],
+        [-0.84037, 0.031252, -3.62489, 3.3867, -2.42594],
+        [0.533156, 1.16969, 3.7026, -4.14421, 0.206899],
+        [3.97409, -0.231638, 17.0431, -15.875, 11.5661],
+        [4.50328, 1.41118, 21.2864, -20.7967, 11.2319]
+    ];
+    let c = mat![
+        [-0.968866, 0.664313, 0.789867, 0.736564, -0.0708653],
+        [0.455121, 0.653021, -0.0778713, 1.0273, -2.2595]
+    ];
+    let t1 = 0.00425701;
+    for t2 in [0.0109, 0.006, 0.0045] {
+        let (r, _) = run(a.clone(), c.clone(), win(t1, t2));
+        assert_eq!(r.status, Status::Certified, "[{t1}, {t2}]: {:?}", r.reason);
+    }
+}

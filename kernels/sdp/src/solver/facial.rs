@@ -1230,6 +1230,7 @@ impl Reduction {
             } else {
                 FacialPath::Lifted
             },
+            restarted: sol.restarted,
         })
     }
 }
@@ -1391,6 +1392,7 @@ mod tests {
             certificate: None,
             solve_time: std::time::Duration::ZERO,
             facial: FacialPath::NotReduced,
+            restarted: false,
         }
     }
 

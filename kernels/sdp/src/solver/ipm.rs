@@ -310,15 +310,23 @@ fn backtrack(
     None
 }
 
-/// Runs the interior-point method on validated, analysed data, from `start` (validated against
-/// the analysis) or from the default starting point.
+/// Where the interior-point method starts.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Start<'a> {
+    /// SDPT3's default point ([`initial_point`]), its levels `ξ`, `η` multiplied by this factor.
+    Default(f64),
+    /// A given point (validated against the analysis), made interior ([`interior_start`]).
+    From(&'a Point),
+}
+
+/// Runs the interior-point method on validated, analysed data from `start`.
 pub(crate) fn run(
     an: &Analysis,
     vals: &Values,
     problem: &Problem,
     settings: &Settings,
     ws: &mut Workspace,
-    start: Option<&Point>,
+    start: Start<'_>,
     mut accept: Option<&mut Accept<'_>>,
 ) -> Solution {
     let started = Instant::now();
@@ -326,8 +334,8 @@ pub(crate) fn run(
     let norms = DataNorms::new(&vals.b, &cd);
     let nu = an.nu as f64;
     let (mut x, mut y, mut s) = match start {
-        Some(p) => interior_start(an, vals, p),
-        None => initial_point(an, vals),
+        Start::From(p) => interior_start(an, vals, p),
+        Start::Default(level) => initial_point(an, vals, level),
     };
     let mut fx = factor_all(an, &x);
     let mut fs = factor_all(an, &s);
@@ -636,5 +644,6 @@ pub(crate) fn run(
         certificate,
         solve_time: started.elapsed(),
         facial: FacialPath::NotReduced,
+        restarted: false,
     }
 }

@@ -243,6 +243,11 @@ pub struct Solution {
     pub solve_time: Duration,
     /// Whether the point comes from a solve on a face of the cone ([`FacialPath`]).
     pub facial: FacialPath,
+    /// Whether the interior-point method was run a second time, from a starting point further
+    /// inside the cone, after the first run from the default point ended in
+    /// [`Status::NumericalTrouble`] (see [`crate::Solver::solve`]); [`Solution::iterations`]
+    /// and [`Solution::solve_time`] then count both runs.
+    pub restarted: bool,
 }
 
 #[cfg(test)]

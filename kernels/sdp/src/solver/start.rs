@@ -59,11 +59,17 @@ pub(crate) fn levels(an: &Analysis, vals: &Values) -> Vec<(f64, f64)> {
         .collect()
 }
 
-/// `(X⁰, y⁰, S⁰)`.
-pub(crate) fn initial_point(an: &Analysis, vals: &Values) -> (BlockMats, Vec<f64>, BlockMats) {
+/// `(X⁰, y⁰, S⁰)`, with the levels `ξ`, `η` multiplied by `factor` (`1` for SDPT3's point; a
+/// restart after a stall starts further inside the cone, see [`super::Solver::solve`]).
+pub(crate) fn initial_point(
+    an: &Analysis,
+    vals: &Values,
+    factor: f64,
+) -> (BlockMats, Vec<f64>, BlockMats) {
     let mut x = Vec::with_capacity(an.blocks.len());
     let mut s = Vec::with_capacity(an.blocks.len());
     for (b, (xi, eta)) in an.blocks.iter().zip(levels(an, vals)) {
+        let (xi, eta) = (factor * xi, factor * eta);
         match b.kind {
             BlockKind::Psd => {
                 x.push(Mat::from_fn(b.n, b.n, |i, j| if i == j { xi } else { 0.0 }));
