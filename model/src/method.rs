@@ -524,8 +524,11 @@ pub fn largest_window_with<M: ObserverMethod + ?Sized>(
         }
         Ok(v)
     };
-    let searched = budget::within(Budget::for_duration(options.time_limit), || {
-        search_upper(t1, limit, search, &mut run)
+    // Whether the wall-time budget was spent when the search ended (the other budget is its
+    // number of probes), for the reason a search cut short gives.
+    let (searched, timed_out) = budget::within(Budget::for_duration(options.time_limit), || {
+        let s = search_upper(t1, limit, search, &mut run);
+        (s, budget::exhausted())
     });
     let search = match searched {
         Ok(s) => s,
@@ -572,8 +575,16 @@ pub fn largest_window_with<M: ObserverMethod + ?Sized>(
     if search.best.is_none() {
         report.reason = search.probes.iter().rev().find_map(|p| p.reason.clone());
     } else if search.end == crate::report::SearchEnd::BudgetExhausted {
+        let probes = search.probes.len();
         report.reason = Some(Reason::BudgetExhausted {
-            message: format!("window search stopped after {} probes", search.probes.len()),
+            message: if timed_out {
+                format!(
+                    "window search stopped after {probes} probes: {}",
+                    TimeLimit(options.time_limit)
+                )
+            } else {
+                format!("window search stopped after {probes} probes, its probe budget")
+            },
         });
     }
     report.probes = search.probes;

@@ -340,7 +340,8 @@ pub enum SearchEnd {
     ReachedLimit,
     /// Not even the shortest window (periodic sampling at the fixed end) is certified.
     NothingCertified,
-    /// The probe budget ran out before the bracket was resolved.
+    /// The probe budget or the wall-time budget ran out before the bracket was resolved (the
+    /// reason says which).
     BudgetExhausted,
 }
 

@@ -466,3 +466,23 @@ fn the_verdict_does_not_depend_on_the_output_units() {
         .collect();
     assert!(verdicts.iter().all(|v| *v == verdicts[0]), "{verdicts:?}");
 }
+
+/// A window search cut short says which budget ran out: here the probe budget (three probes),
+/// not the wall time (before, every such reason read "stopped after N probes", also when it was
+/// the time limit).
+#[test]
+fn a_search_stopped_by_its_probe_budget_says_so() {
+    let p = plant(mat![[0.0, 1.0], [0.0, 0.0]], mat![[1.0, 0.0]]);
+    let mut options = MethodOptions::default();
+    options.search.max_probes = 3;
+    let r = Ferrante2016::default()
+        .largest_window(&p, &sync(0.1, 0.1), 10.0, &options, &mut |_| {})
+        .unwrap();
+    assert_eq!(r.probes.len(), 3, "{:?}", r.probes);
+    match &r.reason {
+        Some(Reason::BudgetExhausted { message }) => {
+            assert!(message.contains("3 probes, its probe budget"), "{message}")
+        }
+        other => panic!("expected a probe budget reason, got {other:?}"),
+    }
+}
