@@ -286,6 +286,7 @@ pub fn require_detectable(
         eig_im: w.eigenvalue.im,
         modulus: w.eigenvalue.norm(),
         sigma_min: w.margin,
+        rank_tol: settings.pbh.rank_tol,
     })
 }
 

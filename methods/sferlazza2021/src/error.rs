@@ -70,7 +70,8 @@ pub enum Error {
     /// The necessary condition of Proposition 1 fails: `(C, e^{AT})` is not detectable.
     #[error(
         "not detectable (Prop. 1): at intervals T = {} the eigenvalue {} of e^(AT) (modulus \
-         {}) has PBH margin {sigma_min:.3e} (σ_min of the block-normalised [λI − e^(AT); C])",
+         {}) has PBH margin {sigma_min:.3e} (σ_min of the block-normalised [λI − e^(AT); C]), \
+         at or below the rank tolerance {rank_tol:e}",
         sig4_list(intervals),
         sig4_complex(*eig_re, *eig_im),
         sig4(*modulus)
@@ -87,6 +88,9 @@ pub enum Error {
         /// PBH margin: smallest singular value of `[(λI − e^{AT})/‖e^{AT}‖_F; C/‖C‖_F]`
         /// ([`sporadic_linalg::pbh_detectability`]).
         sigma_min: f64,
+        /// The rank tolerance the margin was decided with
+        /// ([`sporadic_linalg::PbhOptions::rank_tol`]).
+        rank_tol: f64,
     },
     /// An LMI problem has no (strictly) feasible point.
     #[error("LMI infeasible: {what}")]
@@ -235,12 +239,13 @@ mod tests {
             eig_im: 1.0 / 3.0e-3,
             modulus: 1.000_000_1,
             sigma_min: 1.234_567e-12,
+            rank_tol: 1e-8,
         };
         assert_eq!(
             e.to_string(),
             "not detectable (Prop. 1): at intervals T = [1.047, 0.3] the eigenvalue -1+333.3i of \
              e^(AT) (modulus 1) has PBH margin 1.235e-12 (σ_min of the block-normalised \
-             [λI − e^(AT); C])"
+             [λI − e^(AT); C]), at or below the rank tolerance 1e-8"
         );
         let e = Error::Stalled {
             sigma: 2,
