@@ -52,8 +52,9 @@
 //! [`SHORT_WINDOW_EXTRA_TERMS`] more box coordinates than the clusters: its box is the tighter
 //! one there (see [`ResidueExpansion::truncate`]; [`ResidueOptions::short_window_series`] turns
 //! this off). Such a window is then halved while the halves together have no more box
-//! corners, and a longer window is cut into short pieces when that costs at most the same factor
-//! in corners ([`ResidueExpansion::embed`]). The window condition depends on the eigenvalues and
+//! corners, and a longer window — or a short one whose own series keeps too many terms — is cut
+//! into short pieces when that costs at most the same factor in corners
+//! ([`ResidueExpansion::embed`]). The window condition depends on the eigenvalues and
 //! the window alone; it holds for a window of sampling jitter around any nominal period, not
 //! only near `v = 0`.
 //!
@@ -1095,7 +1096,8 @@ impl ResidueExpansion {
     /// boxes together have no more corners than its own (not in the paper): on a half,
     /// `|v − c|` is halved, so the series needs fewer terms and every coefficient's range
     /// shrinks; the union of the halves' vertices still contains the curve (as for
-    /// [`crate::embed_split`]). A window that is not short is cut into the fewest `2^d` short
+    /// [`crate::embed_split`]). A window that is not short, or a short one whose own series was
+    /// not chosen, is cut into the fewest `2^d` short
     /// pieces (`d ≤` [`SERIES_SPLIT_DEPTH`]) when their boxes have at most
     /// `2^`[`SHORT_WINDOW_EXTRA_TERMS`] times the corners of the clusters' box, the budget of
     /// the choice on a short window. Corners are counted as `2^free`, `free` the terms whose
@@ -1119,34 +1121,47 @@ impl ResidueExpansion {
         })
     }
 
-    /// A window that is not short, cut into the fewest `2^d ≤ 2^SERIES_SPLIT_DEPTH` equal
-    /// pieces that are, each embedded as [`ResidueExpansion::embed`] embeds a short window, when
-    /// their boxes have at most `2^SHORT_WINDOW_EXTRA_TERMS` times the corners of `whole` (the
-    /// clusters' box of the window) and no weaker containment; `None` otherwise.
+    /// A window embedded by the clusters' box `whole` (not short, or short with its own series
+    /// not chosen), cut into the fewest `2^d ≤ 2^SERIES_SPLIT_DEPTH` equal pieces that are short
+    /// and, each embedded as [`ResidueExpansion::embed`] embeds a short window, have boxes with
+    /// at most `2^SHORT_WINDOW_EXTRA_TERMS` times the corners of `whole` and no weaker
+    /// containment; `None` when no `d` does.
+    ///
+    /// Both the short window whose own series misses the budget and every `d` beyond the
+    /// fewest short pieces are tried because a piece's series has fewer free terms the shorter
+    /// the piece: on a fuzzed plant of order 6 (diagonal normal form), the series of
+    /// `[T1, 0.048]` had 8 free terms, within the budget, and was halved into 8 pieces of 5 (256
+    /// vertices), certified by LMI (41); that of `[T1, 0.0486]` had one more, so the window kept
+    /// the clusters' box (64 vertices) and was not certified, although its halves were within
+    /// the budget — a certified window with sub-windows that were not.
     fn short_pieces(&self, iv: Interval, whole: &Piece) -> Result<Option<Vec<Piece>>, EmbedError> {
         let ratio = self.spread * 0.5 * iv.length();
-        if self.whole.is_none() || !self.options.short_window_series || !(ratio > 1.0) {
+        // A short window whose own series was chosen is halved by `split_series` instead.
+        if self.whole.is_none() || !self.options.short_window_series || whole.centred {
             return Ok(None);
         }
-        let Some(depth) = (1..=SERIES_SPLIT_DEPTH).find(|&d| ratio <= (1u32 << d) as f64) else {
+        let Some(fewest) = (1..=SERIES_SPLIT_DEPTH).find(|&d| ratio <= (1u32 << d) as f64) else {
             return Ok(None);
         };
         let budget = corners(whole.free.saturating_add(SHORT_WINDOW_EXTRA_TERMS));
-        let mut parts = Vec::new();
-        for piece in iv.split(1 << depth)? {
-            let p = self.embed_piece(piece)?;
-            if !p.centred {
-                return Ok(None);
+        'depth: for depth in fewest..=SERIES_SPLIT_DEPTH {
+            let mut parts = Vec::new();
+            for piece in iv.split(1 << depth)? {
+                let p = self.embed_piece(piece)?;
+                if !p.centred {
+                    continue 'depth;
+                }
+                self.split_series(piece, p, SERIES_SPLIT_DEPTH - depth, &mut parts)?;
+                let total = parts
+                    .iter()
+                    .fold(0usize, |t, p| t.saturating_add(corners(p.free)));
+                if total > budget || (whole.guaranteed() && !parts.iter().all(Piece::guaranteed)) {
+                    continue 'depth;
+                }
             }
-            self.split_series(piece, p, SERIES_SPLIT_DEPTH - depth, &mut parts)?;
-            let total = parts
-                .iter()
-                .fold(0usize, |t, p| t.saturating_add(corners(p.free)));
-            if total > budget || (whole.guaranteed() && !parts.iter().all(Piece::guaranteed)) {
-                return Ok(None);
-            }
+            return Ok(Some(parts));
         }
-        Ok(Some(parts))
+        Ok(None)
     }
 
     /// Pushes the embedding `p` of `iv`, or, when it is the centred series of a short window

@@ -486,3 +486,40 @@ fn a_search_stopped_by_its_probe_budget_says_so() {
         other => panic!("expected a probe budget reason, got {other:?}"),
     }
 }
+
+/// A fuzzed unstable plant of order 6 with three outputs (`benches/scripts/fuzz.sh`, seed 7):
+/// `[T1, 0.048]` and `[T1, 0.05]` were certified, `[T1, 0.0486]` to `[T1, 0.0495]` were not
+/// (margins −4e-9 to −7e-9): the residue embedding cut the first two into 8 short pieces (256
+/// vertices) but kept the clusters' box (64 vertices) for the others, whose own power series
+/// needed one term too many while its halves did not. Window inclusion: the sub-windows of a
+/// certified window are certified.
+#[test]
+fn sub_windows_of_a_certified_window_are_certified_across_the_embeddings_cuts() {
+    let p = plant(
+        mat![
+            [0.905919, 0.0184904, 2.52356, -0.362649, 0.0233546, 1.68326],
+            [-168.773, -1.11909, -113.017, -13.6115, -5.26195, -143.208],
+            [-4.48058, -0.0372711, 1.32555, -3.04055, 0.430752, -1.1995],
+            [9.38281, 0.0783996, 6.40804, 2.96692, 0.146997, 7.87317],
+            [-33.4892, -0.431611, -54.1038, -7.14866, -0.268522, -44.0877],
+            [
+                -2.7336,
+                -0.0166264,
+                -1.29712,
+                -1.31725,
+                -0.00728285,
+                -1.63467
+            ]
+        ],
+        mat![
+            [0.22018, 1.15925, -0.479336, 0.938149, -0.601504, -0.157427],
+            [2.48635, 0.767149, -0.50117, -0.084819, 0.326223, 1.21046],
+            [-0.489133, -1.74132, -0.279642, 0.0153855, 0.109538, 1.31669]
+        ],
+    );
+    let t1 = 0.000318318;
+    for t2 in [0.05, 0.049, 0.0486] {
+        let r = design(&p, t1, t2);
+        assert_eq!(r.status, Status::Certified, "[{t1}, {t2}]: {:?}", r.reason);
+    }
+}
