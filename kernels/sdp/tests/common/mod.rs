@@ -7,7 +7,7 @@
 #![allow(dead_code)]
 
 use faer::{Mat, Side};
-use sporadic_sdp::{BlockKind, Problem, Solution};
+use sporadic_sdp::{BlockKind, Problem, Settings, Solution, Status, read_sdpa_file, solve};
 
 /// Dense `Σ_i w_i A_i^k + c·C^k` of block `k` (PSD: symmetric `n×n`; LP: `n×1` diagonal).
 pub fn dense_combination(problem: &Problem, k: usize, w: &[f64], c: f64) -> Mat<f64> {
@@ -242,4 +242,22 @@ pub fn dimacs(problem: &Problem, y: &[f64], x: &[Mat<f64>], s: &[Mat<f64>]) -> [
 /// Largest absolute value of six DIMACS errors.
 pub fn dimacs_max(e: &[f64; 6]) -> f64 {
     e.iter().fold(0.0f64, |m, v| m.max(v.abs()))
+}
+
+/// Solves `tests/data/{name}` with the default settings and asserts an optimal point that the
+/// independent [`kkt`] check confirms: relative infeasibilities, gap and complementarity at most
+/// `2e-8`, `X` and `S` positive semidefinite to `1e-12` relative.
+pub fn solve_data_file_to_optimality(name: &str) -> (Problem, Solution) {
+    let path = format!("{}/tests/data/{name}", env!("CARGO_MANIFEST_DIR"));
+    let problem = read_sdpa_file(&path).expect("readable test data");
+    let sol = solve(&problem, &Settings::default()).expect("solve");
+    assert_eq!(sol.status, Status::Optimal, "{name}: {:?}", sol.measures);
+    let k = kkt(&problem, &sol);
+    assert!(k.pinf <= 2e-8 && k.dinf <= 2e-8, "{name}: {k:?}");
+    assert!(k.gap <= 2e-8 && k.compl <= 2e-8, "{name}: {k:?}");
+    assert!(
+        k.min_eig_x >= -1e-12 && k.min_eig_s >= -1e-12,
+        "{name}: {k:?}"
+    );
+    (problem, sol)
 }
