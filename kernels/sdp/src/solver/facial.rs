@@ -93,7 +93,7 @@
 //!    computed).
 //! 2. Otherwise, when the complementarity system fits [`CORRECTION_ENTRIES`], the point lifted
 //!    with the corrected `y` ([`super::FacialPath::Corrected`]) if it is better by the rule of
-//!    [`better`]: the status class first (optimal, almost optimal,
+//!    [`super::solution::better`]: the status class first (optimal, almost optimal,
 //!    verified infeasibility, anything else), then the smaller largest DIMACS error; the
 //!    plain lift on a tie.
 //! 3. If the better of the two is not optimal — or the reduced solve ended infeasible — the
@@ -125,7 +125,7 @@ use super::blockops::{
 };
 use super::point::point_measures;
 use super::settings::Settings;
-use super::solution::{FacialPath, Solution, Status};
+use super::solution::{FacialPath, Solution, Status, better};
 use crate::error::SdpError;
 use crate::problem::{Block, BlockData, BlockKind, Problem, ProblemBuilder, SparseSym};
 
@@ -1156,8 +1156,8 @@ impl Reduction {
 
     /// The solution of the original `problem` from `sol`, the solution of
     /// [`Reduction::problem`] (module documentation, "Which point is returned"): the lifted
-    /// point if it is [`Status::Optimal`], otherwise the better ([`better`]) of it and the point
-    /// lifted with the corrected dual.
+    /// point if it is [`Status::Optimal`], otherwise the better ([`super::solution::better`])
+    /// of it and the point lifted with the corrected dual.
     pub(crate) fn solution(
         &self,
         problem: &Problem,
@@ -1232,41 +1232,6 @@ impl Reduction {
             },
             restarted: sol.restarted,
         })
-    }
-}
-
-/// Rank of a status in [`better`]: optimal, almost optimal, a verified infeasibility
-/// certificate, anything else.
-fn status_class(status: Status) -> u8 {
-    if status.is_optimal() {
-        0
-    } else if status.is_almost_optimal() {
-        1
-    } else if status.is_infeasible() {
-        2
-    } else {
-        3
-    }
-}
-
-/// The better of two solutions of the same problem (module documentation): the better status
-/// class ([`status_class`]), then the smaller largest DIMACS error ([`Measures::dimacs_max`],
-/// `NaN` worst); `first` on a tie.
-///
-/// [`Measures::dimacs_max`]: super::Measures::dimacs_max
-pub(crate) fn better(first: Solution, second: Solution) -> Solution {
-    let key = |s: &Solution| {
-        let e = s.measures.dimacs_max();
-        (
-            status_class(s.status),
-            if e.is_nan() { f64::INFINITY } else { e },
-        )
-    };
-    let (a, b) = (key(&first), key(&second));
-    if b.0 < a.0 || (b.0 == a.0 && b.1 < a.1) {
-        second
-    } else {
-        first
     }
 }
 
@@ -1374,52 +1339,6 @@ mod tests {
                 }
             )]
         );
-    }
-
-    fn solution_with(status: Status, dimacs_max: f64) -> Solution {
-        Solution {
-            status,
-            x: Vec::new(),
-            y: Vec::new(),
-            s: Vec::new(),
-            primal_objective: 0.0,
-            dual_objective: 0.0,
-            iterations: 0,
-            measures: crate::Measures {
-                dimacs: [dimacs_max, 0.0, 0.0, 0.0, 0.0, 0.0],
-                ..Default::default()
-            },
-            certificate: None,
-            solve_time: std::time::Duration::ZERO,
-            facial: FacialPath::NotReduced,
-            restarted: false,
-        }
-    }
-
-    /// The rule of `better`: status class first, then the largest DIMACS error (`NaN` worst),
-    /// the first on a tie.
-    #[test]
-    fn better_ranks_status_then_dimacs() {
-        let pick = |a: (Status, f64), b: (Status, f64)| {
-            let s = better(solution_with(a.0, a.1), solution_with(b.0, b.1));
-            (s.status, s.measures.dimacs[0])
-        };
-        let (opt, almost, trouble) = (
-            Status::Optimal,
-            Status::AlmostOptimal,
-            Status::NumericalTrouble,
-        );
-        assert_eq!(pick((almost, 1e-9), (opt, 1e-8)), (opt, 1e-8));
-        assert_eq!(pick((trouble, 1e-7), (almost, 1e-6)), (almost, 1e-6));
-        assert_eq!(
-            pick((trouble, 1e-7), (Status::PrimalInfeasible, 1.0)),
-            (Status::PrimalInfeasible, 1.0)
-        );
-        assert_eq!(pick((almost, 1e-7), (almost, 1e-8)), (almost, 1e-8));
-        assert_eq!(pick((almost, 1e-8), (almost, 1e-7)), (almost, 1e-8));
-        assert_eq!(pick((trouble, 2e-3), (trouble, 2e-3)).1, 2e-3);
-        let nan = pick((trouble, f64::NAN), (trouble, 1.0));
-        assert_eq!(nan, (trouble, 1.0));
     }
 
     /// The range of `X` is decided against `S`: `X = diag(1, 1e-9, 0.5)` with

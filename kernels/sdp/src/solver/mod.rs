@@ -116,9 +116,9 @@ use structure::Analysis;
 /// is solved on the face of the cone they expose and the solution mapped back, its measures
 /// taken against `problem`. If the lifted point is not [`Status::Optimal`], or the reduced
 /// problem ends infeasible, `problem` itself is solved as well (its infeasibility certificates
-/// are verified on its own data) and the better of the two by the documented rule of module
-/// `facial` (status class, then largest DIMACS error) is returned; [`Solution::facial`] tells
-/// which point it is.
+/// are verified on its own data) and the better of the two (status class, then largest DIMACS
+/// error, as for a restart: [`Solver::solve`]) is returned; [`Solution::facial`] tells which
+/// point it is.
 pub fn solve(problem: &Problem, settings: &Settings) -> Result<Solution, SdpError> {
     if settings.facial_reduction {
         let started = Instant::now();
@@ -147,7 +147,7 @@ pub fn solve(problem: &Problem, settings: &Settings) -> Result<Solution, SdpErro
                 ..plain
             };
             let best = match face {
-                Some(lifted) => facial::better(lifted, plain),
+                Some(lifted) => solution::better(lifted, plain),
                 None => plain,
             };
             return Ok(Solution {
@@ -390,7 +390,7 @@ impl Solver {
                         iterations,
                         solve_time,
                         restarted: true,
-                        ..facial::better(second, first)
+                        ..solution::better(second, first)
                     };
                 };
                 once(Start::From(p))

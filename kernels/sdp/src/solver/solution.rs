@@ -250,6 +250,41 @@ pub struct Solution {
     pub restarted: bool,
 }
 
+/// Rank of a status in [`better`]: optimal, almost optimal, a verified infeasibility
+/// certificate, anything else.
+fn status_class(status: Status) -> u8 {
+    if status.is_optimal() {
+        0
+    } else if status.is_almost_optimal() {
+        1
+    } else if status.is_infeasible() {
+        2
+    } else {
+        3
+    }
+}
+
+/// The better of two solutions of the same problem — the two points of a facial reduction
+/// (module `facial`), or the two runs of a restart ([`crate::Solver::solve`]): the better status
+/// class ([`status_class`]), then the smaller largest DIMACS error ([`Measures::dimacs_max`],
+/// `NaN` worst); `first` on a tie.
+///
+pub(crate) fn better(first: Solution, second: Solution) -> Solution {
+    let key = |s: &Solution| {
+        let e = s.measures.dimacs_max();
+        (
+            status_class(s.status),
+            if e.is_nan() { f64::INFINITY } else { e },
+        )
+    };
+    let (a, b) = (key(&first), key(&second));
+    if b.0 < a.0 || (b.0 == a.0 && b.1 < a.1) {
+        second
+    } else {
+        first
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -291,5 +326,51 @@ mod tests {
         assert_eq!(m.dimacs_max(), 3e-7);
         m.dimacs[3] = f64::NAN;
         assert!(m.dimacs_max().is_nan());
+    }
+
+    fn solution_with(status: Status, dimacs_max: f64) -> Solution {
+        Solution {
+            status,
+            x: Vec::new(),
+            y: Vec::new(),
+            s: Vec::new(),
+            primal_objective: 0.0,
+            dual_objective: 0.0,
+            iterations: 0,
+            measures: Measures {
+                dimacs: [dimacs_max, 0.0, 0.0, 0.0, 0.0, 0.0],
+                ..Default::default()
+            },
+            certificate: None,
+            solve_time: std::time::Duration::ZERO,
+            facial: FacialPath::NotReduced,
+            restarted: false,
+        }
+    }
+
+    /// The rule of `better`: status class first, then the largest DIMACS error (`NaN` worst),
+    /// the first on a tie.
+    #[test]
+    fn better_ranks_status_then_dimacs() {
+        let pick = |a: (Status, f64), b: (Status, f64)| {
+            let s = better(solution_with(a.0, a.1), solution_with(b.0, b.1));
+            (s.status, s.measures.dimacs[0])
+        };
+        let (opt, almost, trouble) = (
+            Status::Optimal,
+            Status::AlmostOptimal,
+            Status::NumericalTrouble,
+        );
+        assert_eq!(pick((almost, 1e-9), (opt, 1e-8)), (opt, 1e-8));
+        assert_eq!(pick((trouble, 1e-7), (almost, 1e-6)), (almost, 1e-6));
+        assert_eq!(
+            pick((trouble, 1e-7), (Status::PrimalInfeasible, 1.0)),
+            (Status::PrimalInfeasible, 1.0)
+        );
+        assert_eq!(pick((almost, 1e-7), (almost, 1e-8)), (almost, 1e-8));
+        assert_eq!(pick((almost, 1e-8), (almost, 1e-7)), (almost, 1e-8));
+        assert_eq!(pick((trouble, 2e-3), (trouble, 2e-3)).1, 2e-3);
+        let nan = pick((trouble, f64::NAN), (trouble, 1.0));
+        assert_eq!(nan, (trouble, 1.0));
     }
 }
