@@ -199,10 +199,46 @@ pub fn time_unit(plant: &Plant, window: &SamplingWindow) -> f64 {
 /// The normal forms of `plant` on `window` to try, in this order: the Gramian form (when it is
 /// usable), the diagonal form (when it changes anything; see the module docs).
 pub fn scalings(plant: &Plant, window: &SamplingWindow) -> Vec<Scaling> {
-    let mut out: Vec<Scaling> = gramian(plant, window).into_iter().collect();
+    let mut out: Vec<Scaling> = gramian_on(plant, time_unit(plant, window))
+        .into_iter()
+        .collect();
     let d = diagonal(plant, window);
     if !d.is_identity() {
         out.push(d);
+    }
+    out
+}
+
+/// Largest number of doublings of the time unit in [`detectability_forms`].
+pub const DETECTABILITY_UNIT_DOUBLINGS: i32 = 16;
+
+/// The forms in which the Remark 3 precheck is tried, in this order: those of [`scalings`],
+/// and, when they hold no Gramian form, the Gramian form on the first of the time units
+/// `2k, 4k, …, 2^16 k` (`k` = [`time_unit`]) at which it is usable.
+///
+/// Detectability of `(e^{Av}, C)` does not depend on the coordinates, but its numerical test
+/// does (the relative PBH margin), so a canonical form keeps the decision the same for every
+/// equivalent problem. On a short window (in a window search, `[T1, T1]`) the Gramian on one
+/// time unit sees too little of the dynamics to be usable (condition above
+/// [`MAX_GRAMIAN_CONDITION`]); on a longer unit it is, and the unit still scales with the
+/// problem (`k` is similarity-invariant and scales as `1/c` under
+/// `(A, window) → (cA, window/c)`), so the form is still canonical. A marginal order-5 plant
+/// with a near-triple eigenvalue at zero (one output, `T1 = 0.0117584`) has relative PBH
+/// margin `6.4e-9 < 1e-8` in the diagonal form and in its own coordinates on `[T1, T1]`, and
+/// `5.1e-5` in the Gramian form on `4T1`; its window `[T1, 0.312131]` is certified.
+///
+/// LMI (41) is not solved in these longer-unit forms: on that plant they certified no window
+/// the other forms did not, at up to 15 times the cost of a failing design.
+pub fn detectability_forms(plant: &Plant, window: &SamplingWindow) -> Vec<Scaling> {
+    let mut out = scalings(plant, window);
+    if out.iter().all(|s| s.coordinates != Coordinates::Gramian) {
+        let unit = time_unit(plant, window);
+        out.extend(
+            (1..=DETECTABILITY_UNIT_DOUBLINGS)
+                .map(|j| unit * 2f64.powi(j))
+                .take_while(|u| u.is_finite())
+                .find_map(|u| gramian_on(plant, u)),
+        );
     }
     out
 }
@@ -268,18 +304,18 @@ fn balance_outputs(parts: &[Mat<f64>], s: &mut [f64]) -> Option<(Vec<f64>, Mat<f
     Some((lambda, v))
 }
 
-/// The Gramian normal form (`None` when the Gramian is not usable).
+/// The Gramian normal form with time unit `unit` (`None` when the Gramian is not usable).
 ///
 /// The Gramian computed in badly scaled coordinates has rounding errors relative to its largest
 /// eigenvalue, so it is computed again in the coordinates it gives (its small eigenvalues
 /// floored at `λmax/MAX_GRAMIAN_CONDITION`) until it is the identity to within
 /// [`GRAMIAN_PASS_TOLERANCE`], at most [`GRAMIAN_PASSES`] times: the result is the same up to an
 /// orthogonal matrix whatever coordinates the user's data is in.
-fn gramian(plant: &Plant, window: &SamplingWindow) -> Option<Scaling> {
+fn gramian_on(plant: &Plant, unit: f64) -> Option<Scaling> {
     let (n, q) = (plant.n(), plant.q());
     let mut scaling = Scaling {
         coordinates: Coordinates::Gramian,
-        time: time_unit(plant, window),
+        time: unit,
         ..Scaling::identity(n, q)
     };
     for pass in 0..GRAMIAN_PASSES {

@@ -510,3 +510,35 @@ fn sub_windows_of_a_certified_window_are_certified_across_the_embeddings_cuts() 
         assert_eq!(r.status, Status::Certified, "[{t1}, {t2}]: {:?}", r.reason);
     }
 }
+
+/// A plant written for a fuzzing run (`benches/scripts/fuzz.sh 16 13`, plant 15): marginal,
+/// order 5, one output, a near-triple eigenvalue at zero. `design` certified its window
+/// `[0.0117584, 0.312131]` while `max-interval` called the pair not detectable at `T1`: the
+/// Remark 3 precheck of `[T1, T1]` ran in the diagonal form only (relative PBH margin
+/// `6.4e-9 < 1e-8`; the Gramian form, margin `5.9e-4` on the whole window, is unavailable on
+/// one time unit of `T1`). Time scaling (×1000) must give the same verdicts.
+#[test]
+fn a_window_search_does_not_call_a_certified_plant_undetectable_at_t1() {
+    let a = mat![
+        [-1.27437, 1.26398, -2.19801, 1.55657, 1.19815],
+        [1.30558, -0.449728, 2.54878, -1.86503, -1.0983],
+        [1.02938, -1.42295, 1.63426, -1.12877, -1.02926],
+        [-0.0564154, 0.0416835, -0.102319, 0.0734731, 0.0508597],
+        [-0.071381, -0.261213, -0.239755, 0.193378, 0.0163613],
+    ];
+    let c = mat![[-1.4853, 1.3591, 0.829484, 0.913298, 1.43988]];
+    let (t1, t2) = (0.0117584, 0.312131);
+    for k in [1.0, 1000.0] {
+        let p = plant(&a * faer::Scale(k), c.clone());
+        for (lo, hi) in [(t1, t2), (t1, t1)] {
+            let r = design(&p, lo / k, hi / k);
+            assert_eq!(
+                r.status,
+                Status::Certified,
+                "[{lo}, {hi}]/{k}: {:?}",
+                r.reason
+            );
+        }
+        assert_eq!(largest(&p, t1 / k, 0.02 / k), 0.02 / k);
+    }
+}
