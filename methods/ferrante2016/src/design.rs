@@ -413,8 +413,13 @@ pub(crate) fn design_cached(
     let start = Instant::now();
     options.validate()?;
     let forms = normalise::scalings(plant, window);
+    let longer = forms
+        .iter()
+        .all(|s| s.coordinates != normalise::Coordinates::Gramian)
+        .then(|| normalise::longer_unit_gramian(plant, window))
+        .flatten();
     let detectability = detectability_any(
-        &normalise::detectability_forms(plant, window),
+        forms.iter().chain(&longer),
         plant,
         window,
         &options.detectability,
@@ -582,21 +587,21 @@ fn strictly_negative(
     })
 }
 
-/// The Remark 3 precheck in the first of the forms `forms`
-/// ([`normalise::detectability_forms`]), then the next, then the data as given, until one
-/// passes; when none does, the error of the form with the largest PBH margin. A pass in any
+/// The Remark 3 precheck in the first of the forms `forms` (the normal forms, and
+/// [`normalise::longer_unit_gramian`] when they hold no Gramian form), then the next, then the
+/// data as given, until one passes; when none does, the error of the form with the largest PBH margin. A pass in any
 /// coordinates is evidence enough: the rank test is a numerical decision on a quantity (the
 /// relative PBH margin) that changes with the coordinates, while detectability itself does
-/// not (see [`normalise::detectability_forms`] for a plant whose diagonal form alone called
+/// not (see [`normalise::longer_unit_gramian`] for a plant whose diagonal form alone called
 /// the pair not detectable).
-fn detectability_any(
-    forms: &[normalise::Scaling],
+fn detectability_any<'a>(
+    forms: impl Iterator<Item = &'a normalise::Scaling>,
     plant: &Plant,
     window: &SamplingWindow,
     options: &DetectabilityOptions,
 ) -> Result<DetectabilityReport, Error> {
     let mut refusal: Option<Error> = None;
-    for form in forms.iter().map(Some).chain([None]) {
+    for form in forms.map(Some).chain([None]) {
         match detectability_in(form, plant, window, options) {
             Ok(report) => return Ok(report),
             Err(e @ Error::NotDetectable { .. }) => {

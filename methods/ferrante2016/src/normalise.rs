@@ -209,12 +209,12 @@ pub fn scalings(plant: &Plant, window: &SamplingWindow) -> Vec<Scaling> {
     out
 }
 
-/// Largest number of doublings of the time unit in [`detectability_forms`].
+/// Largest number of doublings of the time unit in [`longer_unit_gramian`].
 pub const DETECTABILITY_UNIT_DOUBLINGS: i32 = 16;
 
-/// The forms in which the Remark 3 precheck is tried, in this order: those of [`scalings`],
-/// and, when they hold no Gramian form, the Gramian form on the first of the time units
-/// `2k, 4k, …, 2^16 k` (`k` = [`time_unit`]) at which it is usable.
+/// The Gramian form on the first of the time units `2k, 4k, …, 2^16 k` (`k` = [`time_unit`])
+/// at which it is usable: where [`scalings`] holds no Gramian form, the Remark 3 precheck is
+/// also tried in this one.
 ///
 /// Detectability of `(e^{Av}, C)` does not depend on the coordinates, but its numerical test
 /// does (the relative PBH margin), so a canonical form keeps the decision the same for every
@@ -229,18 +229,12 @@ pub const DETECTABILITY_UNIT_DOUBLINGS: i32 = 16;
 ///
 /// LMI (41) is not solved in these longer-unit forms: on that plant they certified no window
 /// the other forms did not, at up to 15 times the cost of a failing design.
-pub fn detectability_forms(plant: &Plant, window: &SamplingWindow) -> Vec<Scaling> {
-    let mut out = scalings(plant, window);
-    if out.iter().all(|s| s.coordinates != Coordinates::Gramian) {
-        let unit = time_unit(plant, window);
-        out.extend(
-            (1..=DETECTABILITY_UNIT_DOUBLINGS)
-                .map(|j| unit * 2f64.powi(j))
-                .take_while(|u| u.is_finite())
-                .find_map(|u| gramian_on(plant, u)),
-        );
-    }
-    out
+pub fn longer_unit_gramian(plant: &Plant, window: &SamplingWindow) -> Option<Scaling> {
+    let unit = time_unit(plant, window);
+    (1..=DETECTABILITY_UNIT_DOUBLINGS)
+        .map(|j| unit * 2f64.powi(j))
+        .take_while(|u| u.is_finite())
+        .find_map(|u| gramian_on(plant, u))
 }
 
 /// Eigenvalues (ascending) and eigenvectors of a symmetric matrix.
