@@ -111,6 +111,45 @@ fn max_interval_prints_plain_progress_lines_off_a_terminal() {
     assert!(r.design.unwrap().margin.unwrap().value > 0.0);
 }
 
+/// The human summary of a search names why its first failing `T2` was refused, and the
+/// progress lines the kind of each refusal: below the aliasing interval `π/ω` an undamped
+/// oscillator's windows are certified, and the first failure above it is the sampled pair's
+/// loss of detectability at `v = π`, not an LMI.
+#[test]
+fn max_interval_names_the_reason_of_its_first_failure() {
+    let plant = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/corpus/oscillator-w1-below-aliasing.toml"
+    );
+    let o = sporadic(&["max-interval", plant, "--method", "ferrante2016"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let out = stdout(&o);
+    let line = out
+        .lines()
+        .find(|l| l.starts_with("failure  T2 = "))
+        .unwrap_or_else(|| panic!("no failure line in {out}"));
+    assert!(
+        line.contains("not certified (undetectable)") && line.contains("v = 3.14159"),
+        "{line}"
+    );
+    let failing: f64 = line["failure  T2 = ".len()..]
+        .split_whitespace()
+        .next()
+        .and_then(|t| t.parse().ok())
+        .unwrap_or_else(|| panic!("{line}"));
+    assert!(
+        (std::f64::consts::PI..=std::f64::consts::PI * 1.005).contains(&failing),
+        "{line}"
+    );
+    assert!(
+        stderr(&o)
+            .lines()
+            .any(|l| l.ends_with(": not certified (undetectable)")),
+        "{}",
+        stderr(&o)
+    );
+}
+
 #[test]
 fn compare_writes_the_windows_figure() {
     let out = scratch("compare");

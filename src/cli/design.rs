@@ -6,8 +6,8 @@ use sporadic::methods;
 use sporadic::plant_file::PlantFile;
 use sporadic_model::{
     CompareReport, DesignReport, Gain, MaxIntervalReport, MethodError, MethodOptions, NamedMatrix,
-    ObserverMethod, Probe, Proof, ProofOptions, ProofStatus, SamplingScenario, SamplingWindow,
-    Scenario, SearchEnd, Status, Trajectory, significant,
+    ObserverMethod, Probe, Proof, ProofOptions, ProofStatus, Reason, SamplingScenario,
+    SamplingWindow, Scenario, SearchEnd, Status, Trajectory, significant,
 };
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
@@ -565,15 +565,17 @@ fn draw_trajectory(
 fn progress_printer() -> impl FnMut(&str, &Probe) {
     let tty = std::io::stderr().is_terminal();
     move |prefix: &str, p: &Probe| {
-        let line = format!(
-            "{prefix}T2 = {:.6}: {}",
-            p.t2,
-            if p.certified {
-                "certified"
-            } else {
-                "not certified"
+        let line = match (&p.reason, p.certified) {
+            (_, true) => format!("{prefix}T2 = {:.6}: certified", p.t2),
+            (Some(reason), false) => {
+                format!(
+                    "{prefix}T2 = {:.6}: not certified ({})",
+                    p.t2,
+                    reason.kind()
+                )
             }
-        );
+            (None, false) => format!("{prefix}T2 = {:.6}: not certified", p.t2),
+        };
         let mut err = std::io::stderr();
         if tty {
             let _ = write!(err, "\r\x1b[2K{line}");
@@ -582,6 +584,19 @@ fn progress_printer() -> impl FnMut(&str, &Probe) {
         }
         let _ = err.flush();
     }
+}
+
+/// Why the first failing `T2` of a search above its largest certified one was refused: the
+/// reason of the probe at that `T2` (the boundary a user reads is either the method's, e.g. an
+/// infeasible LMI or an aliasing interval, or the verification's, e.g. a margin that double
+/// precision cannot verify, and the two call for different actions).
+fn first_failure_reason(r: &MaxIntervalReport) -> Option<&Reason> {
+    let f = r.first_failing_t2?;
+    r.probes
+        .iter()
+        .rev()
+        .find(|p| !p.certified && p.t2 == f)
+        .and_then(|p| p.reason.as_ref())
 }
 
 fn print_max_interval(r: &MaxIntervalReport) {
@@ -614,6 +629,14 @@ fn print_max_interval(r: &MaxIntervalReport) {
         println!(
             "status   {} ({}): {}",
             r.status,
+            reason.kind(),
+            reason.message()
+        );
+    }
+    if let Some(reason) = first_failure_reason(r) {
+        println!(
+            "failure  T2 = {:.6} not certified ({}): {}",
+            r.first_failing_t2.unwrap_or(f64::NAN),
             reason.kind(),
             reason.message()
         );
