@@ -182,6 +182,20 @@ class MaxIntervalReport(_Report):
         return self._d["probes"]
 
     @property
+    def first_failure_reason(self) -> Optional[Dict[str, Any]]:
+        """Why the first failing ``T2`` was refused: the ``reason`` (``kind``, ``message``) of the
+        probe at :attr:`first_failing_t2`, or None when there is none. A method's boundary (e.g.
+        ``undetectable`` at an aliasing interval) and a margin that double precision cannot verify
+        call for different actions; the CLI prints it as its ``failure`` line."""
+        f = self.first_failing_t2
+        if f is None:
+            return None
+        for p in reversed(self.probes):
+            if not p["certified"] and p["t2"] == f:
+                return p.get("reason")
+        return None
+
+    @property
     def design(self) -> Optional[DesignReport]:
         """The design at the largest certified window."""
         d = self._d.get("design")

@@ -1,6 +1,7 @@
 """design / max_interval / compare / simulate against the CLI on the example plants."""
 
 import json
+import math
 import os
 
 import numpy as np
@@ -94,6 +95,17 @@ def test_max_interval_with_a_limit_equals_cli_json(cli):
     r = sporadic.max_interval(path, method="sferlazza2021", limit=1.0)
     expected = cli("max-interval", path, "--method", "sferlazza2021", "--limit", "1.0", "--json")
     assert without_timing(r.to_dict()) == without_timing(expected)
+
+
+def test_max_interval_names_the_reason_of_its_first_failure():
+    # An undamped oscillator (omega = 1): every window below the aliasing interval pi is
+    # certified, and the first failure above it is the loss of detectability at v = pi.
+    path = ROOT / "tests" / "corpus" / "oscillator-w1-below-aliasing.toml"
+    r = sporadic.max_interval(path, method="ferrante2016")
+    assert math.pi <= r.first_failing_t2 <= math.pi * 1.005
+    reason = r.first_failure_reason
+    assert reason is not None and reason["kind"] == "undetectable", reason
+    assert abs(reason["tau"] - math.pi) <= 1e-9 * math.pi, reason
 
 
 def test_compare_without_search_equals_cli_json(cli, tmp_path):
