@@ -421,6 +421,20 @@ impl MaxIntervalReport {
             seconds: 0.0,
         }
     }
+
+    /// Why [`MaxIntervalReport::first_failing_t2`] was refused: the reason of the probe at that
+    /// `T2` (`None` without a failing `T2`). The boundary a user reads is either the method's
+    /// (an infeasible LMI, a loss of detectability at an aliasing interval) or the
+    /// verification's (a margin that double precision cannot verify, a budget), and the two
+    /// call for different actions.
+    pub fn first_failure_reason(&self) -> Option<&Reason> {
+        let f = self.first_failing_t2?;
+        self.probes
+            .iter()
+            .rev()
+            .find(|p| !p.certified && p.t2 == f)
+            .and_then(|p| p.reason.as_ref())
+    }
 }
 
 /// One method in a [`CompareReport`].
@@ -489,5 +503,42 @@ impl CompareReport {
     /// The entry of `method`.
     pub fn entry(&self, method: &str) -> Option<&CompareEntry> {
         self.results.iter().find(|e| e.method == method)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn probe(t2: f64, reason: Option<Reason>) -> Probe {
+        Probe {
+            t1: 0.1,
+            t2,
+            certified: reason.is_none(),
+            margin: None,
+            reason,
+        }
+    }
+
+    /// The reason reported is the one of the probe at the first failing `T2`, not of a later
+    /// probe beyond it (a search probes its scan points above the first failure after the
+    /// bisection), and there is none without a failing `T2`.
+    #[test]
+    fn the_first_failure_reason_is_that_of_the_probe_at_the_first_failing_t2() {
+        let lmi = |m: &str| Reason::InfeasibleLmi { message: m.into() };
+        let mut r = MaxIntervalReport::without_search("m", "p", None, Some(8.0), lmi("unused"));
+        r.probes = vec![
+            probe(1.0, None),
+            probe(4.0, Some(lmi("at 4"))),
+            probe(2.0, None),
+            probe(3.0, Some(lmi("at 3"))),
+            probe(8.0, Some(lmi("at 8"))),
+        ];
+        r.largest_certified_t2 = Some(2.0);
+        assert!(r.first_failure_reason().is_none());
+        r.first_failing_t2 = Some(3.0);
+        assert_eq!(r.first_failure_reason().map(Reason::message), Some("at 3"));
+        r.first_failing_t2 = Some(4.0);
+        assert_eq!(r.first_failure_reason().map(Reason::message), Some("at 4"));
     }
 }

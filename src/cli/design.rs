@@ -6,8 +6,8 @@ use sporadic::methods;
 use sporadic::plant_file::PlantFile;
 use sporadic_model::{
     CompareReport, DesignReport, Gain, MaxIntervalReport, MethodError, MethodOptions, NamedMatrix,
-    ObserverMethod, Probe, Proof, ProofOptions, ProofStatus, Reason, SamplingScenario,
-    SamplingWindow, Scenario, SearchEnd, Status, Trajectory, significant,
+    ObserverMethod, Probe, Proof, ProofOptions, ProofStatus, SamplingScenario, SamplingWindow,
+    Scenario, SearchEnd, Status, Trajectory, significant,
 };
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
@@ -586,19 +586,6 @@ fn progress_printer() -> impl FnMut(&str, &Probe) {
     }
 }
 
-/// Why the first failing `T2` of a search above its largest certified one was refused: the
-/// reason of the probe at that `T2` (the boundary a user reads is either the method's, e.g. an
-/// infeasible LMI or an aliasing interval, or the verification's, e.g. a margin that double
-/// precision cannot verify, and the two call for different actions).
-fn first_failure_reason(r: &MaxIntervalReport) -> Option<&Reason> {
-    let f = r.first_failing_t2?;
-    r.probes
-        .iter()
-        .rev()
-        .find(|p| !p.certified && p.t2 == f)
-        .and_then(|p| p.reason.as_ref())
-}
-
 fn print_max_interval(r: &MaxIntervalReport) {
     println!("plant    {}", r.plant);
     println!("method   {}", r.method);
@@ -633,7 +620,7 @@ fn print_max_interval(r: &MaxIntervalReport) {
             reason.message()
         );
     }
-    if let Some(reason) = first_failure_reason(r) {
+    if let Some(reason) = r.first_failure_reason() {
         println!(
             "failure  T2 = {:.6} not certified ({}): {}",
             r.first_failing_t2.unwrap_or(f64::NAN),
