@@ -726,10 +726,13 @@ fn compare_lists_the_interval_observer() {
     // answer by a failing T2 above it.
     let t2: f64 = cells[3].parse().unwrap_or_else(|_| panic!("{row}"));
     let fails: f64 = cells[5]
-        .trim_end_matches(')')
+        .trim_end_matches(':')
         .parse()
         .unwrap_or_else(|_| panic!("{row}"));
     assert!(t2 >= 0.3 && fails > t2 && fails <= 1.005 * t2, "{row}");
+    // … and names why that T2 was refused: the necessary condition of (19) (no gain contracts
+    // the width of the unmeasured state over an interval that long), reported as undetectable.
+    assert_eq!(cells[6], "undetectable)", "{row}");
 }
 
 #[test]

@@ -717,7 +717,7 @@ fn print_compare(file: &PlantFile, report: &CompareReport) {
         );
     }
     println!(
-        "{:<14} {:<15} {:>10} {:<26} {:>9}  note",
+        "{:<14} {:<15} {:>10} {:<38} {:>9}  note",
         "method", "file's window", "margin", "largest certified T2", "time [s]"
     );
     for e in &report.results {
@@ -744,7 +744,15 @@ fn print_compare(file: &PlantFile, report: &CompareReport) {
                 (Some(b), _) if r.search_end == Some(SearchEnd::BudgetExhausted) => {
                     format!("{} (out of time)", significant(b))
                 }
-                (Some(b), Some(f)) => format!("{} (fails {})", significant(b), significant(f)),
+                (Some(b), Some(f)) => match r.first_failure_reason() {
+                    Some(why) => format!(
+                        "{} (fails {}: {})",
+                        significant(b),
+                        significant(f),
+                        why.kind()
+                    ),
+                    None => format!("{} (fails {})", significant(b), significant(f)),
+                },
                 (Some(b), None) => format!("{} (= limit)", significant(b)),
                 (None, _) => "none".to_string(),
             },
@@ -762,7 +770,7 @@ fn print_compare(file: &PlantFile, report: &CompareReport) {
             (None, None) => String::new(),
         };
         println!(
-            "{:<14} {:<15} {:>10} {:<26} {:>9.2}  {}",
+            "{:<14} {:<15} {:>10} {:<38} {:>9.2}  {}",
             e.method, at_file, margin, largest, seconds, note
         );
     }
