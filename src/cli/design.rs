@@ -565,17 +565,12 @@ fn draw_trajectory(
 fn progress_printer() -> impl FnMut(&str, &Probe) {
     let tty = std::io::stderr().is_terminal();
     move |prefix: &str, p: &Probe| {
-        let line = match (&p.reason, p.certified) {
-            (_, true) => format!("{prefix}T2 = {:.6}: certified", p.t2),
-            (Some(reason), false) => {
-                format!(
-                    "{prefix}T2 = {:.6}: not certified ({})",
-                    p.t2,
-                    reason.kind()
-                )
-            }
-            (None, false) => format!("{prefix}T2 = {:.6}: not certified", p.t2),
+        let verdict = match (p.certified, &p.reason) {
+            (true, _) => "certified".to_string(),
+            (false, Some(reason)) => format!("not certified ({})", reason.kind()),
+            (false, None) => "not certified".to_string(),
         };
+        let line = format!("{prefix}T2 = {:.6}: {verdict}", p.t2);
         let mut err = std::io::stderr();
         if tty {
             let _ = write!(err, "\r\x1b[2K{line}");
@@ -744,15 +739,12 @@ fn print_compare(file: &PlantFile, report: &CompareReport) {
                 (Some(b), _) if r.search_end == Some(SearchEnd::BudgetExhausted) => {
                     format!("{} (out of time)", significant(b))
                 }
-                (Some(b), Some(f)) => match r.first_failure_reason() {
-                    Some(why) => format!(
-                        "{} (fails {}: {})",
-                        significant(b),
-                        significant(f),
-                        why.kind()
-                    ),
-                    None => format!("{} (fails {})", significant(b), significant(f)),
-                },
+                (Some(b), Some(f)) => {
+                    let why = r
+                        .first_failure_reason()
+                        .map_or(String::new(), |why| format!(": {}", why.kind()));
+                    format!("{} (fails {}{why})", significant(b), significant(f))
+                }
                 (Some(b), None) => format!("{} (= limit)", significant(b)),
                 (None, _) => "none".to_string(),
             },

@@ -589,8 +589,8 @@ fn strictly_negative(
 
 /// The Remark 3 precheck in the first of the forms `forms` (the normal forms, and
 /// [`normalise::longer_unit_gramian`] when they hold no Gramian form), then the next, then the
-/// data as given, until one passes; when none does, the error of the form with the largest PBH margin. A pass in any
-/// coordinates is evidence enough: the rank test is a numerical decision on a quantity (the
+/// data as given, until one passes; when none does, the error of the form with the largest PBH
+/// margin. A pass in any coordinates is evidence enough: the rank test is a numerical decision on a quantity (the
 /// relative PBH margin) that changes with the coordinates, while detectability itself does
 /// not (see [`normalise::longer_unit_gramian`] for a plant whose diagonal form alone called
 /// the pair not detectable).
