@@ -52,7 +52,8 @@
 use std::collections::HashMap;
 use std::time::Instant;
 
-use faer::Mat;
+use faer::linalg::triangular_solve::solve_upper_triangular_in_place;
+use faer::{Mat, Par};
 use sporadic_interval::{
     EnclosureOptions, Interval, IntervalError, IntervalMatrix, Verdict, expm_enclosure,
     is_verified_positive_definite, lambda_max_enclosure,
@@ -76,7 +77,6 @@ pub(crate) const GAIN_TOLERANCE: f64 = 1e-6;
 /// The interval data of (44), or of the validation (48), for one sensor.
 struct SensorCondition {
     neg_a: Mat<f64>,
-    a: IntervalMatrix,
     /// Encloses a basis of `ker C_σ` (`n × r`).
     q: IntervalMatrix,
     p: IntervalMatrix,
@@ -89,6 +89,8 @@ struct SensorCondition {
     /// `QᵀP_Γ(P_Γ − μI)⁻¹P_ΓQ`, so that `Ξ_σ(τ) − μI ≻ 0` is also tested on its Schur complement
     /// `QᵀΦ_σ(τ)Q − R_μ`, `R_μ = μI + QᵀP_Γ(P_Γ − μI)⁻¹P_ΓQ`. `None` for (44).
     coupling: Option<IntervalMatrix>,
+    /// `A²ᵀP_σ + 2AᵀP_σA + P_σA²`: `Φ_σ'' = e^{−Aᵀτ}(·)e^{−Aτ}` (`e^{−Aτ}` commutes with `A`).
+    curvature: IntervalMatrix,
     /// Rigorous lower bounds `ℓ(τ)` of `λ_min(Ξ_σ(τ) − μI)` and of `λ_min` of its Schur
     /// complement already computed (`None`: not proven positive, or no Schur complement), by
     /// the bits of τ.
@@ -132,6 +134,12 @@ impl SensorCondition {
             )?
         };
         let p_next = point(&p[plant.next(sigma)])?;
+        let (a, ps) = (point(&plant.a().to_owned())?, point(&p[sigma])?);
+        let (at, pa) = (a.transpose(), ps.checked_mul(&a)?);
+        let curvature = at
+            .checked_mul(&at.checked_mul(&ps)?)?
+            .checked_add(&at.checked_mul(&pa)?.scale(Interval::point(2.0)?))?
+            .checked_add(&pa.checked_mul(&a)?)?;
         let off = if q.ncols() == 0 {
             q.clone()
         } else {
@@ -139,13 +147,13 @@ impl SensorCondition {
         };
         Ok(Self {
             neg_a: Mat::from_fn(plant.n(), plant.n(), |i, j| -plant.a()[(i, j)]),
-            a: point(&plant.a().to_owned())?,
             q,
-            p: point(&p[sigma])?,
+            p: ps,
             p_next,
             off,
             mu: 0.0,
             coupling: None,
+            curvature,
             ends: HashMap::new(),
         })
     }
@@ -246,21 +254,94 @@ impl SensorCondition {
             return Ok((0.0, 0.0));
         }
         let e = expm_enclosure(self.neg_a.as_ref(), a, b, &one_piece())?.enclosure;
-        let phi = e.transpose().checked_mul(&self.p.checked_mul(&e)?)?;
-        let at = self.a.transpose();
-        let at_phi = at.checked_mul(&phi)?;
-        let phi_a = phi.checked_mul(&self.a)?;
-        let second = at
-            .checked_mul(&at_phi)?
-            .checked_add(&at_phi.checked_mul(&self.a)?.scale(Interval::point(2.0)?))?
-            .checked_add(&phi_a.checked_mul(&self.a)?)?;
-        let d2 = self
-            .q
+        let eq = e.checked_mul(&self.q)?;
+        let d2 = eq
             .transpose()
-            .checked_mul(&second.checked_mul(&self.q)?)?;
+            .checked_mul(&self.curvature.checked_mul(&eq)?)?;
         let h = Interval::point(b)? - Interval::point(a)?;
         let rho = (h.sqr() * Interval::point(d2.norm_2_up())? / Interval::point(8.0)?).hi();
         Ok((rho, e.rel_width()))
+    }
+
+    /// The chord test of the validation's Schur complement `Y(τ) = QᵀΦ_σ(τ)Q − R_μ` after a
+    /// congruence by a constant `F`: on long windows `QᵀΦ_σQ` grows like `‖e^{−Aτ}‖²`, so the
+    /// remainder `ρ` of [`Self::remainder`] (absolute, `∝ ‖Φ_σ''‖`) exceeds `λ_min(Y)` unless the
+    /// pieces are tiny, although `Y` varies little *relative to itself* over a piece. With
+    /// `F ≈ Y(m)^{−1/2}` from the piece's midpoint `m` in floating point (any `F` is sound: the
+    /// proof below needs no property of it),
+    /// `FᵀY(τ)F = G(τ)ᵀP_σG(τ) − FᵀR_μF` with `G(τ) = e^{−A(τ−a)}·e^{−Aa}QF` is near `I` on the
+    /// piece, its second derivative is `G(τ)ᵀ(A²ᵀP_σ + 2AᵀP_σA + P_σA²)G(τ)`, of the size of
+    /// `‖A‖²` (not of `‖Φ_σ''‖`), and the chord bound `ℓ_F = min(λ_min(FᵀY(a)F),
+    /// λ_min(FᵀY(b)F)) − (b − a)²/8 · sup‖(FᵀYF)''‖₂` is relative. `ℓ_F > 0` proves `Y(τ) ≻ 0` on
+    /// the piece (`F` is then nonsingular, or `FᵀYF` could not be definite), and
+    /// `λ_min(Y) ≥ ℓ_F/‖F‖₂²` is returned with the relative width of the hull of `e^{−As}`,
+    /// `s ∈ [0, b − a]`. `None` for (44) (no Schur complement), or when the test does not hold.
+    fn scaled_chord(&self, a: f64, b: f64) -> Result<Option<(f64, f64)>, Error> {
+        let Some(coupling) = &self.coupling else {
+            return Ok(None);
+        };
+        let r = self.r();
+        let r_mu = coupling
+            .checked_add(&IntervalMatrix::identity(r).scale(Interval::point(self.mu)?))?;
+        let eq_at = |t: f64| -> Result<IntervalMatrix, Error> {
+            let e = expm_enclosure(self.neg_a.as_ref(), t, t, &one_piece())?.enclosure;
+            Ok(e.checked_mul(&self.q)?)
+        };
+        // F from the midpoint in floating point, graded: with e^{−Am}Q = UT (QR), Y(m) =
+        // Tᵀ(UᵀP_σU − T⁻ᵀR_μT⁻¹)T, whose middle factor is of the size of P_σ however far the
+        // columns of e^{−Am}Q have grown apart (forming Y(m) itself would round its small
+        // eigenvalues away); F = T⁻¹VΛ^{−1/2} with VΛVᵀ that middle factor.
+        let eq = eq_at(a + 0.5 * (b - a))?.mid().to_owned();
+        let mut t_inv = Mat::<f64>::identity(r, r);
+        {
+            let qr = eq.qr();
+            let t = qr.R();
+            solve_upper_triangular_in_place(t.get(..r, ..r), t_inv.as_mut(), Par::Seq);
+        }
+        let u = &eq * &t_inv;
+        let (p, r_mu_mid) = (self.p.mid(), r_mu.mid());
+        let y = u.transpose() * p * &u - t_inv.transpose() * r_mu_mid * &t_inv;
+        let y = Mat::from_fn(r, r, |i, j| 0.5 * (y[(i, j)] + y[(j, i)]));
+        if !y.norm_max().is_finite() {
+            return Ok(None);
+        }
+        let Ok(eig) = y.self_adjoint_eigen(faer::Side::Lower) else {
+            return Ok(None);
+        };
+        let (v, lambda) = (eig.U(), eig.S().column_vector());
+        if !(0..r).all(|i| lambda[i] > 0.0 && lambda[i].is_finite()) {
+            return Ok(None);
+        }
+        let f = &t_inv * Mat::from_fn(r, r, |i, j| v[(i, j)] / lambda[j].sqrt());
+        let fi = point(&f)?;
+        let frf = fi.transpose().checked_mul(&r_mu.checked_mul(&fi)?)?;
+        let scaled_end = |g: &IntervalMatrix| -> Result<Option<f64>, Error> {
+            let x = g
+                .transpose()
+                .checked_mul(&self.p.checked_mul(g)?)?
+                .checked_sub(&frf)?
+                .symmetrized()?;
+            proven_lower(&x)
+        };
+        let ga = eq_at(a)?.checked_mul(&fi)?;
+        let gb = eq_at(b)?.checked_mul(&fi)?;
+        let (Some(la), Some(lb)) = (scaled_end(&ga)?, scaled_end(&gb)?) else {
+            return Ok(None);
+        };
+        let h = Interval::point(b)? - Interval::point(a)?;
+        let hull = expm_enclosure(self.neg_a.as_ref(), 0.0, h.hi(), &one_piece())?.enclosure;
+        let g = hull.checked_mul(&ga)?;
+        let d2 = g.transpose().checked_mul(&self.curvature.checked_mul(&g)?)?;
+        let rho = h.sqr() * Interval::point(d2.norm_2_up())? / Interval::point(8.0)?;
+        let lower = Interval::point(la.min(lb))? - rho;
+        if !(lower.lo() > 0.0) {
+            return Ok(None);
+        }
+        let f_norm = Interval::point(fi.norm_2_up())?;
+        Ok(Some((
+            (Interval::point(lower.lo())? / f_norm.sqr()).lo(),
+            hull.rel_width(),
+        )))
     }
 
     /// Enclosure of `λ_max(−(Ξ_σ(τ) − μI))` (the decisive quantity: the condition needs it
@@ -299,6 +380,12 @@ impl SensorCondition {
                 });
             }
             upper = -lower;
+        }
+        if let Some((lower, width)) = self.scaled_chord(a, b)? {
+            return Ok(PieceCheck::Holds {
+                margin_lower_bound: norm(lower)?.lo(),
+                enclosure_width: width,
+            });
         }
         for (t, l) in [(a, la), (b, lb)] {
             if l.iter().all(Option::is_none) {
@@ -625,5 +712,42 @@ mod tests {
             }
         }
         assert!(proved >= 1);
+    }
+
+    /// On long windows the entries of `QᵀΦ_σ(τ)Q` grow like `‖e^{−Aτ}‖²` while the Schur
+    /// complement's smallest eigenvalue stays of the order of `P`: a ship-heading plant
+    /// (integrator, yaw and sway modes at −0.19 and −0.71, a rudder actuator at −2.5) with
+    /// `P = I`, whose `λ_min(Ξ(τ))` (0.065 at `τ = T_m`, a float grid of spacing 10⁻³) is
+    /// smallest at the short end. The absolute chord remainder needed more than 16384 pieces
+    /// on `[0.5, 5.848]` (the window search then ran the 1.7·10⁹-point grid (49) for minutes);
+    /// the congruence-scaled chord test proves `[0.5, 6]` and `[0.5, 12]` (`‖e^{−12A}‖ ≈ 10¹³`)
+    /// in a few hundred pieces, and still refuses a level μ above the grid minimum.
+    #[test]
+    fn long_windows_are_proved_by_the_scaled_chord_test() {
+        let a = mat![
+            [0.0, 1.0, 0.0, 0.0],
+            [0.0, -0.3, 0.05, 0.2],
+            [0.0, 0.8, -0.6, 0.4],
+            [0.0, 0.0, 0.0, -2.5]
+        ];
+        let c = mat![[1.0, 0.0, 0.0, 0.0]];
+        let p = vec![Mat::identity(4, 4)];
+        let short = rr(a.clone(), vec![(c.clone(), win(0.5, 6.0))]).unwrap();
+        let fam = XiFamily::new(&short, &p, 0).unwrap();
+        let grid = UniformGrid::covering(win(0.5, 6.0), 1e-3, 1e9).unwrap();
+        let (_, lmin, _) = validate_naive(&fam, grid, 0.0).unwrap();
+        assert!((lmin - 0.065).abs() < 1e-3, "{lmin}");
+        for t2 in [6.0, 12.0] {
+            let plant = rr(a.clone(), vec![(c.clone(), win(0.5, t2))]).unwrap();
+            let w = prove_validation(&plant, &p, 0, 0.5 * lmin, 16384).unwrap();
+            assert_eq!(w.status, ProofStatus::Proved, "T_M = {t2}: {}", w.message);
+            assert!(w.pieces < 1000, "T_M = {t2}: {} pieces", w.pieces);
+        }
+        // At μ = 1, P − μI is singular: the proof cannot be set up (an error, not a proof).
+        for mu in [lmin + 1e-3, 0.5, 1.0] {
+            if let Ok(w) = prove_validation(&short, &p, 0, mu, 4096) {
+                assert_ne!(w.status, ProofStatus::Proved, "μ = {mu}");
+            }
+        }
     }
 }
