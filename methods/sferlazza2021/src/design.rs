@@ -66,8 +66,8 @@ pub struct DesignOptions {
     /// [`ValidationOptions::max_points`] is decided by the proof alone, after a floating-point
     /// screen of the window that can only refute (48)
     /// ([`crate::validation::WindowGrid::OverCap`]). `None`: the grid only, and a grid above the
-    /// cap ends the step with [`Error::GridTooLarge`]. Default `None` (the window search of
-    /// [`crate::Sferlazza2021`] sets it).
+    /// cap ends the step with [`Error::GridTooLarge`]. Default `None`, the paper's loop
+    /// ([`crate::Sferlazza2021`] sets it to [`crate::method::SEARCH_PROOF_PIECES`] unless given).
     pub proof_pieces: Option<usize>,
 }
 

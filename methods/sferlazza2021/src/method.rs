@@ -258,6 +258,11 @@ impl ObserverMethod for Sferlazza2021 {
         Ok(())
     }
 
+    /// The §5.3 loop ([`design_screened`] without the coarse screen) in balanced coordinates.
+    /// Its validation (48) first tries a proof for every `τ` of each window where the (49)
+    /// grid is large (at most [`SEARCH_PROOF_PIECES`] pieces unless
+    /// [`DesignOptions::proof_pieces`] says otherwise), which implies (48) on the grid; the
+    /// grid decides wherever the proof does not prove, so the loop's iterates are the paper's.
     fn design(
         &self,
         plant: &Plant,
@@ -431,8 +436,9 @@ fn design_data(
 /// ([`Sferlazza2021::largest_window`](ObserverMethod::largest_window)).
 pub const SEARCH_SCREEN_POINTS: usize = 2048;
 
-/// Largest number of pieces of the proof of (48) over a window that a probe of the window
-/// search tries before running the (49) grid ([`DesignOptions::proof_pieces`]).
+/// Largest number of pieces of the proof of (48) over a window that a design (and every probe
+/// of the window search) tries before running the (49) grid, unless
+/// [`DesignOptions::proof_pieces`] says otherwise.
 pub const SEARCH_PROOF_PIECES: usize = 16384;
 
 /// Multiple of `dim·ε·‖Ξ_σ(τ)‖_F` taken as the rounding level of `Ξ_σ(τ)` computed in double
@@ -525,12 +531,12 @@ impl Sferlazza2021 {
                 .floor() as usize;
             det.points_per_axis = det.points_per_axis.min(per_axis.max(2));
         }
-        // In the window search, (48) is first attempted by proof over each whole window: the
-        // (49) grid grows with p* near the largest window (10⁹ points), the proof adapts its
-        // pieces to where the margin is thin.
-        if screen.is_some() {
-            options.proof_pieces = Some(SEARCH_PROOF_PIECES);
-        }
+        // (48) is first attempted by proof over each whole window where the (49) grid is large
+        // (validate_window): the grid grows like e^(βT_M)·p* (1.7·10⁹ points on a ship-heading
+        // plant at T_M = 5.8, minutes), the proof adapts its pieces to where the margin is thin.
+        // A proof implies (48) on the grid, and a grid within its cap still decides whenever the
+        // proof does not prove, so the iterates are those of the paper's loop.
+        options.proof_pieces.get_or_insert(SEARCH_PROOF_PIECES);
         let d = match design_screened(&balanced, &options, screen) {
             Ok(d) => d,
             Err(e) => {
