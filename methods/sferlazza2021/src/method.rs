@@ -952,9 +952,13 @@ impl Sferlazza2021 {
             let fam = XiFamily::new(rr, &d.p, s)?;
             for &t in &taus {
                 let xi = fam.matrix(t)?;
-                let rounding =
-                    SPOT_ROUNDING * xi.nrows() as f64 * f64::EPSILON * xi.norm_l2();
-                spot.push((s, t, sporadic_linalg::min_eigenvalue(xi.as_ref())?, rounding));
+                let rounding = SPOT_ROUNDING * xi.nrows() as f64 * f64::EPSILON * xi.norm_l2();
+                spot.push((
+                    s,
+                    t,
+                    sporadic_linalg::min_eigenvalue(xi.as_ref())?,
+                    rounding,
+                ));
             }
             let mut ks = ks.into_iter();
             report.gains.push(Gain::scheduled(

@@ -43,6 +43,14 @@
 //! The proof runs on the plant as the user gave it (the report's gains and certificate are in
 //! the user's coordinates).
 //!
+//! * **Long windows.** `QᵀΦ_σ(τ)Q` grows like `‖e^{−Aτ}‖²` while `λ_min(Ξ_σ)` stays of the
+//!   order of `P_Γ`, so the absolute remainder `ρ` needs pieces shrinking like
+//!   `‖e^{−Aτ}‖⁻¹`. Where the chord bound fails, the piece is tested on the Schur complement
+//!   `QᵀΦ_σQ − QᵀP_ΓQ` (`P_Γ ≻ 0` proven) after a congruence by a constant `F` that makes it
+//!   near `I` at the piece's midpoint; its remainder is relative, of the order of
+//!   `‖A‖²(b − a)²`, and the bound is mapped back to `λ_min(Ξ_σ)` by the block LDLᵀ
+//!   factorisation (`SensorCondition::scaled_chord`).
+//!
 //! The same subdivision proves the validation (48) of the design loop, `Ξ_σ(τ) ≻ μI`, over a
 //! whole window in place of its grid (49) ([`crate::validation::validate_window`]): a piece
 //! holds by the chord bound on `Ξ_σ − μI` or on its Schur complement
@@ -91,6 +99,10 @@ struct SensorCondition {
     coupling: Option<IntervalMatrix>,
     /// `A²ᵀP_σ + 2AᵀP_σA + P_σA²`: `Φ_σ'' = e^{−Aᵀτ}(·)e^{−Aτ}` (`e^{−Aτ}` commutes with `A`).
     curvature: IntervalMatrix,
+    /// For (44) (`P_Γ ≻ 0` proven, with the rigorous lower bound `ℓ_Γ` of `λ_min(P_Γ)`): the
+    /// Schur complement constant `QᵀP_ΓQ` (`Ξ_σ ≻ 0 ⇔ QᵀΦ_σQ − QᵀP_ΓQ ≻ 0`), `ℓ_Γ` and an upper
+    /// bound of `‖Q‖₂`, for [`Self::scaled_chord`]. `None` for (48) (`coupling` serves).
+    plain_schur: Option<(IntervalMatrix, f64, f64)>,
     /// Rigorous lower bounds `ℓ(τ)` of `λ_min(Ξ_σ(τ) − μI)` and of `λ_min` of its Schur
     /// complement already computed (`None`: not proven positive, or no Schur complement), by
     /// the bits of τ.
@@ -145,6 +157,14 @@ impl SensorCondition {
         } else {
             p_next.checked_mul(&q)?
         };
+        let plain_schur = match proven_lower(&p_next)? {
+            Some(l) if q.ncols() > 0 => Some((
+                q.transpose().checked_mul(&off)?.symmetrized()?,
+                l,
+                q.norm_2_up(),
+            )),
+            _ => None,
+        };
         Ok(Self {
             neg_a: Mat::from_fn(plant.n(), plant.n(), |i, j| -plant.a()[(i, j)]),
             q,
@@ -154,6 +174,7 @@ impl SensorCondition {
             mu: 0.0,
             coupling: None,
             curvature,
+            plain_schur,
             ends: HashMap::new(),
         })
     }
@@ -186,6 +207,7 @@ impl SensorCondition {
         }
         let inv = shifted.verified_inverse()?.ok_or_else(not_definite)?;
         c.mu = mu;
+        c.plain_schur = None;
         if c.r() > 0 {
             c.coupling = Some(
                 c.off
@@ -275,14 +297,18 @@ impl SensorCondition {
     /// λ_min(FᵀY(b)F)) − (b − a)²/8 · sup‖(FᵀYF)''‖₂` is relative. `ℓ_F > 0` proves `Y(τ) ≻ 0` on
     /// the piece (`F` is then nonsingular, or `FᵀYF` could not be definite), and
     /// `λ_min(Y) ≥ ℓ_F/‖F‖₂²` is returned with the relative width of the hull of `e^{−As}`,
-    /// `s ∈ [0, b − a]`. `None` for (44) (no Schur complement), or when the test does not hold.
+    /// `s ∈ [0, b − a]`. For (44) (`R_0 = QᵀP_ΓQ`) the returned bound is one of `λ_min(Ξ_σ)`
+    /// itself: `Ξ_σ = Lᵀdiag(Y, P_Γ)L` with `L = [I 0; Q I]` (block LDLᵀ), so
+    /// `λ_min(Ξ_σ) ≥ min(λ_min(Y), λ_min(P_Γ))/‖L⁻¹‖₂²` and `‖L⁻¹‖₂ ≤ 1 + ‖Q‖₂`. `None` when
+    /// there is no Schur complement, or when the test does not hold.
     fn scaled_chord(&self, a: f64, b: f64) -> Result<Option<(f64, f64)>, Error> {
-        let Some(coupling) = &self.coupling else {
-            return Ok(None);
-        };
         let r = self.r();
-        let r_mu = coupling
-            .checked_add(&IntervalMatrix::identity(r).scale(Interval::point(self.mu)?))?;
+        let r_mu = match (&self.coupling, &self.plain_schur) {
+            (Some(coupling), _) => coupling
+                .checked_add(&IntervalMatrix::identity(r).scale(Interval::point(self.mu)?))?,
+            (None, Some((r0, ..))) => r0.clone(),
+            (None, None) => return Ok(None),
+        };
         let eq_at = |t: f64| -> Result<IntervalMatrix, Error> {
             let e = expm_enclosure(self.neg_a.as_ref(), t, t, &one_piece())?.enclosure;
             Ok(e.checked_mul(&self.q)?)
@@ -331,17 +357,21 @@ impl SensorCondition {
         let h = Interval::point(b)? - Interval::point(a)?;
         let hull = expm_enclosure(self.neg_a.as_ref(), 0.0, h.hi(), &one_piece())?.enclosure;
         let g = hull.checked_mul(&ga)?;
-        let d2 = g.transpose().checked_mul(&self.curvature.checked_mul(&g)?)?;
+        let d2 = g
+            .transpose()
+            .checked_mul(&self.curvature.checked_mul(&g)?)?;
         let rho = h.sqr() * Interval::point(d2.norm_2_up())? / Interval::point(8.0)?;
         let lower = Interval::point(la.min(lb))? - rho;
         if !(lower.lo() > 0.0) {
             return Ok(None);
         }
         let f_norm = Interval::point(fi.norm_2_up())?;
-        Ok(Some((
-            (Interval::point(lower.lo())? / f_norm.sqr()).lo(),
-            hull.rel_width(),
-        )))
+        let mut bound = Interval::point(lower.lo())? / f_norm.sqr();
+        if let Some((_, l_gamma, q_norm)) = self.plain_schur {
+            let l_inv = Interval::point(1.0)? + Interval::point(q_norm)?;
+            bound = Interval::point(bound.lo().min(l_gamma))? / l_inv.sqr();
+        }
+        Ok(Some((bound.lo(), hull.rel_width())))
     }
 
     /// Enclosure of `λ_max(−(Ξ_σ(τ) − μI))` (the decisive quantity: the condition needs it
@@ -532,7 +562,11 @@ pub fn prove_design(
                each τ-piece [a, b], Ξ_σ(τ) ⪰ chord − ρI with ρ = (b − a)²/8·sup‖QᵀΦ''Q‖₂ \
                (Φ'' enclosed with the hull of e^{−Aτ} over the piece, sporadic_interval::\
                expm_enclosure), λ_min concave, Rump's verified definiteness test at the piece \
-               ends; adaptive bisection; outward-rounded interval arithmetic";
+               ends; where that fails, the same chord test on the Schur complement \
+               QᵀΦQ − QᵀP_ΓQ after a congruence by F ≈ (·)^(−1/2) at the piece's midpoint \
+               (remainder relative to QᵀΦQ, which grows like ‖e^{−Aτ}‖² on long windows), mapped \
+               back to λ_min(Ξ_σ) by the block LDLᵀ bound; adaptive bisection; outward-rounded \
+               interval arithmetic";
     let definition = "rigorous lower bound of min_σ min_τ λ_min(Ξ_σ(τ)) over the whole windows, \
                       divided by a rigorous upper bound of max_σ λ_max(P_σ) (the design's margin \
                       over the continuum of τ)";
