@@ -47,16 +47,18 @@ pub fn default_solve_options() -> SolveOptions {
 /// # Errors
 /// A failing exponential or an index out of range.
 pub fn xi_expr(plant: &RoundRobinPlant, p: &[Var], sigma: usize, tau: f64) -> Result<Expr, Error> {
-    Ok(xi_with_scale(plant, p, sigma, tau)?.0)
+    let g = top_factor(plant, p, sigma, tau)?;
+    let cp = plant.sensor(sigma)?.c_perp().to_owned();
+    Ok(xi_blocks(plant, p, sigma, &g, &cp))
 }
 
-/// [`xi_expr`] and `‖E(τ)C_σ^⊥‖_F²`, the scale of its upper-left block `(E C^⊥)ᵀ P_σ (E C^⊥)`.
-fn xi_with_scale(
+/// `G = E(τ)C_σ^⊥`, the factor of the upper-left block `GᵀP_σG` of `Ξ_σ(τ)`.
+fn top_factor(
     plant: &RoundRobinPlant,
     p: &[Var],
     sigma: usize,
     tau: f64,
-) -> Result<(Expr, f64), Error> {
+) -> Result<Mat<f64>, Error> {
     let sensor = plant.sensor(sigma)?;
     if p.len() != plant.num_sensors() {
         return Err(InputError::mismatch("number of P_σ", plant.num_sensors(), p.len()).into());
@@ -64,14 +66,16 @@ fn xi_with_scale(
     if !tau.is_finite() {
         return Err(InputError::non_finite("τ").into());
     }
-    let cp = sensor.c_perp();
-    let g = expm_scaled(plant.a(), -tau)? * cp; // E(τ) C^⊥
-    let scale = g.norm_l2().powi(2);
+    Ok(expm_scaled(plant.a(), -tau)? * sensor.c_perp())
+}
+
+/// `[gᵀP_σg, ⋆; P_Γ c, P_Γ]`: `Ξ_σ(τ)` for `g = G`, `c = C_σ^⊥`, and its congruence
+/// `diag(F, I)ᵀΞ_σ(τ)diag(F, I)` for `g = GF`, `c = C_σ^⊥F`.
+fn xi_blocks(plant: &RoundRobinPlant, p: &[Var], sigma: usize, g: &Mat<f64>, c: &Mat<f64>) -> Expr {
     let nx = &p[plant.next(sigma)];
-    let top = g.transpose() * &p[sigma] * &g;
-    let off = nx * cp.to_owned();
-    let xi = Expr::sym_blocks(&[[Some(top), None], [Some(off), Some(nx.expr())]]);
-    Ok((xi, scale))
+    let top = g.transpose() * &p[sigma] * g;
+    let off = nx * c.clone();
+    Expr::sym_blocks(&[[Some(top), None], [Some(off), Some(nx.expr())]])
 }
 
 /// Scale `‖E(τ)C_σ^⊥‖_F²` above which [`xi_constraint`] scales a block (`2²⁰`).
@@ -87,18 +91,25 @@ fn xi_with_scale(
 /// at `μ = 0.1` after 1 iteration instead of 2 (an independent implementation needs 2).
 const SCALE_FROM: f64 = 1048576.0;
 
-/// The constraint `Ξ_σ(τ) ⪰ 2μI` of (47), multiplied by `2^{−k}` with `2^k` the power of two
-/// nearest to `‖E(τ)C_σ^⊥‖_F²` when that is above [`SCALE_FROM`] (the same constraint,
-/// exactly: a positive multiple of a semidefinite constraint has the same feasible set).
+/// The constraint `Ξ_σ(τ) ⪰ 2μI` of (47); when `‖G‖_F²` (`G = E(τ)C_σ^⊥`) is above
+/// [`SCALE_FROM`], in the congruent form `diag(F, I)ᵀ(Ξ_σ(τ) − 2μI)diag(F, I) ⪰ 0` with
+/// `F = V diag(min(1, 1/s_i))` from the SVD `G = WSVᵀ` (the same constraint, exactly: a
+/// congruence by a nonsingular matrix keeps the feasible set), i.e.
+/// `[(GF)ᵀP_σ(GF), ⋆; P_ΓC_σ^⊥F, P_Γ] ⪰ 2μ diag(FᵀF, I)`: every direction in which `G` has grown
+/// beyond one is brought back to one, the others are left alone.
 ///
 /// `‖E(τ)‖ = ‖e^{−Aτ}‖` grows like `e^{βτ}`, so on a long window the blocks at large τ carry
 /// data up to `10¹⁰` times that of the others, and the interior-point iterations from the
 /// solver's default point stalled at steps of `10⁻⁸`–`10⁻²` (a fuzzed stable plant of order 6,
 /// three outputs, `T2 ≥ 1.05`: `numerical_trouble` in 4–20 iterations; CSDP 6.2 needs 23–25
-/// and reaches only reduced accuracy on two of three). With every such block scaled to order one the same SDPs are
-/// optimal in 11 iterations, and `p*` is the same `1.4685792` for every `T2` in `[1.04, 1.22]`
-/// (so the window search, which had taken those solver failures for failing windows, found
-/// `[T1, 1.2177]` certified; its validation then needs more than the default time budget).
+/// and reaches only reduced accuracy on two of three). Multiplying such a block by `2^{−k}`
+/// (`2^k ≈ ‖G‖_F²`, an earlier form) made the same SDPs optimal in 11 iterations, but it
+/// scales `P_Γ` and the margin `2μ` down with the growing directions: the solver's relative
+/// accuracy then bounds the error of `λ_min(Ξ_σ(τ))` only by `10⁻⁸·‖G‖²`, and on a fuzzed
+/// plant of order 6 (fuzz seed 17, plant 7, `T_M = 3.2`, `‖G‖² ≈ 10⁷`) the optimiser of (47)
+/// missed `Ξ_σ(T_M) ⪰ 2μI` by `0.036`, which the proof of (48) then refuted, and the loop ran
+/// (49) grids of 3·10⁸ points. The congruence scales only the top-left block's directions, so
+/// the margin keeps its meaning relative to `P_Γ`.
 fn xi_constraint(
     plant: &RoundRobinPlant,
     p: &[Var],
@@ -106,14 +117,30 @@ fn xi_constraint(
     tau: f64,
     mu: f64,
 ) -> Result<Constraint, Error> {
-    let (xi, scale) = xi_with_scale(plant, p, sigma, tau)?;
-    let factor = if scale > SCALE_FROM && scale.is_finite() {
-        2f64.powi(-(scale.log2().round() as i32))
-    } else {
-        1.0
-    };
-    Ok((factor * xi)
-        .ge(2.0 * mu * factor)
+    let g = top_factor(plant, p, sigma, tau)?;
+    let cp = plant.sensor(sigma)?.c_perp().to_owned();
+    let scale = g.norm_l2().powi(2);
+    if !(scale > SCALE_FROM && scale.is_finite()) {
+        return Ok(xi_blocks(plant, p, sigma, &g, &cp)
+            .ge(2.0 * mu)
+            .named(constraint_name(sigma, tau)));
+    }
+    let svd = g
+        .thin_svd()
+        .map_err(|_| Error::numerical("the SVD of E(τ)C^⊥ did not converge"))?;
+    let (s, v) = (svd.S().column_vector(), svd.V());
+    let (r, n) = (g.ncols(), plant.n());
+    let f = Mat::from_fn(r, r, |i, j| v[(i, j)] * (1.0 / s[j]).min(1.0));
+    let ftf = f.transpose() * &f;
+    let rhs = Mat::from_fn(r + n, r + n, |i, j| {
+        2.0 * mu
+            * match (i < r, j < r) {
+                (true, true) => ftf[(i, j)],
+                _ => f64::from(u8::from(i == j)),
+            }
+    });
+    Ok(xi_blocks(plant, p, sigma, &(&g * &f), &(&cp * &f))
+        .ge(Expr::constant(rhs.as_ref()))
         .named(constraint_name(sigma, tau)))
 }
 

@@ -592,3 +592,110 @@ fn the_synthesis_sdp_of_a_long_window_is_solved_whatever_the_scale_of_its_blocks
         "{p_star:?}"
     );
 }
+
+/// A plant written for a fuzzing run (`benches/scripts/fuzz.sh 16 17`, plant 7: order 6, two
+/// outputs, an unstable mode, a fast stable one). On `[T1, 3.2037]` the blocks of the synthesis
+/// SDP (47) at large τ were scaled by a power of two as a whole, which scales `P_Γ` and the
+/// margin `2μ` down with them: the optimiser of (47) missed `Ξ(T_M) ⪰ 2μI` by 0.036, the
+/// proof of (48) refuted it, and each iteration of the loop then ran the (49) grid of 3·10⁸
+/// points (the design ran out of its 25 s budget; `max-interval` reached 3.16 in 25 s). With
+/// the congruence-scaled blocks the design is certified at once and the search certifies its
+/// limit.
+fn fuzz_17_7() -> (Mat<f64>, Mat<f64>, f64) {
+    let a = mat![
+        [
+            0.229132,
+            0.0182072,
+            -0.00315196,
+            -0.00662437,
+            -0.00228393,
+            -0.00110083
+        ],
+        [22.2808, -2.44831, 0.0303092, 0.391104, 0.099276, 0.095446],
+        [
+            4.35273, -0.136086, 0.0632255, 0.0644394, -0.062997, 0.0551366
+        ],
+        [
+            -5.86574, -0.0556803, 0.234875, 0.50213, 0.0979216, 0.0192105
+        ],
+        [
+            -2.61343,
+            -0.0483528,
+            -0.0181229,
+            -0.0471453,
+            0.322116,
+            0.000138616
+        ],
+        [
+            9.32385, 0.0738235, -0.30743, 0.156446, -0.0839662, 0.0247931
+        ]
+    ];
+    let c = mat![
+        [-0.0630745, 0.680173, -1.27764, -1.10632, -1.1068, 0.274909],
+        [1.26404, -1.85085, 0.907878, -0.459834, 1.16649, -1.05332]
+    ];
+    (a, c, 0.0358933)
+}
+
+#[test]
+fn a_long_window_of_a_fast_stable_mode_is_certified_at_once() {
+    let (a, c, t1) = fuzz_17_7();
+    let (r, secs) = run(a.clone(), c.clone(), win(t1, 3.2037));
+    assert_eq!(r.status, Status::Certified, "{:?}", r.reason);
+    assert!(secs < 10.0, "{secs} s");
+    let plant = Plant::linear(a.as_ref(), None, c.as_ref()).unwrap();
+    let s = Sferlazza2021::default()
+        .largest_window(
+            &plant,
+            &Sampling::Synchronous(win(t1, 0.488666)),
+            4.88666,
+            &MethodOptions::default(),
+            &mut |_| {},
+        )
+        .unwrap();
+    assert_eq!(s.largest_certified_t2, Some(4.88666), "{:?}", s.reason);
+}
+
+/// `benches/scripts/fuzz.sh 16 14`, plant 8 (the plant of
+/// `the_synthesis_sdp_of_a_long_window_is_solved_whatever_the_scale_of_its_blocks`): the window
+/// search ran out of its budget at `T2 = 1.094`; once windows up to 3.19 are certified, the
+/// report's gain schedule (45) at `τ ≈ 2.9` (`‖e^{−Aτ}‖ ≈ 10⁸`) failed to factorise
+/// `W_σ(τ) = C^⊥ᵀΦC^⊥` in double precision ("not positive definite", an error exit) until
+/// (45) was evaluated in graded form.
+#[test]
+fn the_window_search_of_a_fast_stable_plant_reaches_its_long_windows() {
+    let a = mat![
+        [-5.69141, -0.144438, 21.5221, 0.16382, 0.0239931, -0.0818407],
+        [21.1424, -0.116756, 108.059, 0.539656, -0.0409119, -0.532985],
+        [
+            1.19029,
+            0.0338282,
+            -3.6996,
+            -0.0258114,
+            -0.00505369,
+            0.000182439
+        ],
+        [10.9324, 0.286601, 73.7423, 0.055268, -0.0855536, -0.458056],
+        [-15.2956, -0.444298, 142.453, -0.344244, -0.119339, 2.9909],
+        [44.7153, 1.17497, 292.037, 1.80569, -0.123965, -4.39714]
+    ];
+    let c = mat![
+        [0.163668, -0.59805, -0.677662, -2.74517, -0.380329, 0.220142],
+        [0.183021, 0.548747, -0.578556, -0.566815, 1.7249, 0.373822],
+        [1.13835, -0.162521, -2.31585, -0.210939, 1.05881, -0.368964]
+    ];
+    let plant = Plant::linear(a.as_ref(), None, c.as_ref()).unwrap();
+    let t = Instant::now();
+    let s = Sferlazza2021::default()
+        .largest_window(
+            &plant,
+            &Sampling::Synchronous(win(0.0302715, 0.6578)),
+            6.578,
+            &MethodOptions::default(),
+            &mut |_| {},
+        )
+        .unwrap();
+    let t2 = s.largest_certified_t2.unwrap_or(0.0);
+    assert!(t2 > 3.0, "{t2}: {:?}", s.reason);
+    assert!(t.elapsed().as_secs_f64() < 20.0);
+}
