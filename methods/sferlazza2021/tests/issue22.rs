@@ -540,16 +540,8 @@ fn sub_windows_of_a_certified_window_are_certified_when_the_certificate_is_large
     }
 }
 
-/// A plant written for a fuzzing run (`benches/scripts/fuzz.sh 16 14`, plant 8: stable, order
-/// 6, three outputs). On a long window the blocks `Ξ_1(τ)` of the synthesis SDP (47) at large
-/// τ carry data `‖e^{−Aτ}‖² ~ 10⁸–10¹⁰` times that of the others; the solver stopped in
-/// numerical trouble, and the window search took those windows for failing ones (largest
-/// certified `T2 = 1.04496`, "fails at 1.04798"). With those blocks scaled to order one, (47)
-/// is solved to optimality, with the same `p*` on every window (the constraint at `T2` is
-/// inactive). The SDP alone is tested: the validation of such windows takes minutes.
-#[test]
-fn the_synthesis_sdp_of_a_long_window_is_solved_whatever_the_scale_of_its_blocks() {
-    use sporadic_sferlazza2021::synthesis::{Synthesis, default_solve_options};
+/// `benches/scripts/fuzz.sh 16 14`, plant 8: stable, order 6, three outputs (`T1 = 0.0302715`).
+fn fuzz_14_8() -> (Mat<f64>, Mat<f64>) {
     let a = mat![
         [-5.69141, -0.144438, 21.5221, 0.16382, 0.0239931, -0.0818407],
         [21.1424, -0.116756, 108.059, 0.539656, -0.0409119, -0.532985],
@@ -570,6 +562,20 @@ fn the_synthesis_sdp_of_a_long_window_is_solved_whatever_the_scale_of_its_blocks
         [0.183021, 0.548747, -0.578556, -0.566815, 1.7249, 0.373822],
         [1.13835, -0.162521, -2.31585, -0.210939, 1.05881, -0.368964]
     ];
+    (a, c)
+}
+
+/// A plant written for a fuzzing run (`benches/scripts/fuzz.sh 16 14`, plant 8: stable, order
+/// 6, three outputs). On a long window the blocks `Ξ_1(τ)` of the synthesis SDP (47) at large
+/// τ carry data `‖e^{−Aτ}‖² ~ 10⁸–10¹⁰` times that of the others; the solver stopped in
+/// numerical trouble, and the window search took those windows for failing ones (largest
+/// certified `T2 = 1.04496`, "fails at 1.04798"). With those blocks scaled to order one, (47)
+/// is solved to optimality, with the same `p*` on every window (the constraint at `T2` is
+/// inactive). The SDP alone is tested: the validation of such windows takes minutes.
+#[test]
+fn the_synthesis_sdp_of_a_long_window_is_solved_whatever_the_scale_of_its_blocks() {
+    use sporadic_sferlazza2021::synthesis::{Synthesis, default_solve_options};
+    let (a, c) = fuzz_14_8();
     let t1 = 0.0302715;
     let mut p_star = Vec::new();
     for t2 in [0.6578, 1.04798, 1.1275, 1.2177] {
@@ -664,26 +670,7 @@ fn a_long_window_of_a_fast_stable_mode_is_certified_at_once() {
 /// (45) was evaluated in graded form.
 #[test]
 fn the_window_search_of_a_fast_stable_plant_reaches_its_long_windows() {
-    let a = mat![
-        [-5.69141, -0.144438, 21.5221, 0.16382, 0.0239931, -0.0818407],
-        [21.1424, -0.116756, 108.059, 0.539656, -0.0409119, -0.532985],
-        [
-            1.19029,
-            0.0338282,
-            -3.6996,
-            -0.0258114,
-            -0.00505369,
-            0.000182439
-        ],
-        [10.9324, 0.286601, 73.7423, 0.055268, -0.0855536, -0.458056],
-        [-15.2956, -0.444298, 142.453, -0.344244, -0.119339, 2.9909],
-        [44.7153, 1.17497, 292.037, 1.80569, -0.123965, -4.39714]
-    ];
-    let c = mat![
-        [0.163668, -0.59805, -0.677662, -2.74517, -0.380329, 0.220142],
-        [0.183021, 0.548747, -0.578556, -0.566815, 1.7249, 0.373822],
-        [1.13835, -0.162521, -2.31585, -0.210939, 1.05881, -0.368964]
-    ];
+    let (a, c) = fuzz_14_8();
     let plant = Plant::linear(a.as_ref(), None, c.as_ref()).unwrap();
     let t = Instant::now();
     let s = Sferlazza2021::default()

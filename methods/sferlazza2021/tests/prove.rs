@@ -83,19 +83,25 @@ fn paper_example_design_is_proved() {
 #[test]
 fn oscillator_design_is_proved() {
     let (plant, sampling) = oscillator();
-    let r = designed(&plant, &sampling);
+    design_and_prove("oscillator", &plant, &sampling);
+}
+
+/// Designs, proves with the default options, prints the figures and asserts `proved`.
+fn design_and_prove(what: &str, plant: &Plant, sampling: &Sampling) -> sporadic_model::Proof {
+    let r = designed(plant, sampling);
     let p = prove_within(
         &Sferlazza2021::default(),
-        &plant,
+        plant,
         &r,
         &ProofOptions::default(),
     )
     .unwrap();
     println!(
-        "oscillator: {} on {} pieces, margin ≥ {:?}, width {:?}, {:.3} s (design {:.3} s)",
+        "{what}: {} on {} pieces, margin ≥ {:?}, width {:?}, {:.3} s (design {:.3} s)",
         p.status, p.subintervals, p.margin_lower_bound, p.enclosure_width, p.seconds, r.seconds
     );
     assert_eq!(p.status, ProofStatus::Proved, "{}", p.message);
+    p
 }
 
 /// A long window: a ship-heading plant (heading measured; yaw and sway modes at −0.19 and
@@ -115,19 +121,7 @@ fn long_window_design_is_proved() {
     let c = mat![[1.0, 0.0, 0.0, 0.0]];
     let plant = Plant::round_robin(a.as_ref(), None, &[c.as_ref()]).unwrap();
     let sampling = Sampling::RoundRobin(vec![win(0.5, 12.0)]);
-    let r = designed(&plant, &sampling);
-    let p = prove_within(
-        &Sferlazza2021::default(),
-        &plant,
-        &r,
-        &ProofOptions::default(),
-    )
-    .unwrap();
-    println!(
-        "ship heading: {} on {} pieces, margin ≥ {:?}, {:.3} s (design {:.3} s)",
-        p.status, p.subintervals, p.margin_lower_bound, p.seconds, r.seconds
-    );
-    assert_eq!(p.status, ProofStatus::Proved, "{}", p.message);
+    let p = design_and_prove("ship heading", &plant, &sampling);
     assert!(p.margin_lower_bound.is_some_and(|m| m > 0.0));
 }
 
