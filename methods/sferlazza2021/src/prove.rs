@@ -784,4 +784,39 @@ mod tests {
             }
         }
     }
+
+    /// A large grid on which the proof refutes (48) is not run: the validation fails at the
+    /// refuted point at once (`points` 0). Ship-heading plant with `P = I`, whose `λ_min(Ξ)` is
+    /// 0.065 at `τ = 0.5`, checked at μ = 0.5 on `[0.5, 12]` with a grid of 1.15·10⁸ points.
+    #[test]
+    fn a_refuted_large_grid_is_not_run() {
+        use crate::validation::{
+            REFUTED_POINT_FROM, ValidationOptions, WindowGrid, validate_window,
+        };
+        let a = mat![
+            [0.0, 1.0, 0.0, 0.0],
+            [0.0, -0.3, 0.05, 0.2],
+            [0.0, 0.8, -0.6, 0.4],
+            [0.0, 0.0, 0.0, -2.5]
+        ];
+        let plant = rr(a, vec![(mat![[1.0, 0.0, 0.0, 0.0]], win(0.5, 12.0))]).unwrap();
+        let p = vec![Mat::identity(4, 4)];
+        let fam = XiFamily::new(&plant, &p, 0).unwrap();
+        let grid = WindowGrid::covering(win(0.5, 12.0), 1e-7, 4e9).unwrap();
+        assert!(grid.points() > REFUTED_POINT_FROM as f64);
+        let v = validate_window(
+            &fam,
+            &plant,
+            &p,
+            grid,
+            0.5,
+            Some(16384),
+            &ValidationOptions::default(),
+        )
+        .unwrap();
+        assert!(!v.passed());
+        assert_eq!(v.points, 0, "the grid was run");
+        assert!(v.min_eigenvalue < 0.5, "{}", v.min_eigenvalue);
+        assert!(v.argmin_tau >= 0.5 && v.argmin_tau <= 12.0);
+    }
 }
