@@ -34,7 +34,7 @@ use crate::gain::GainSchedule;
 use crate::gain::check_sym;
 use crate::normalise::balanced_plant;
 use crate::plant::{RoundRobinPlant, window_grid};
-use crate::prove::{GAIN_TOLERANCE, gain_mismatch, prove_design};
+use crate::prove::{GAIN_TOLERANCE, gain_mismatch, prove_design, xi_decisive};
 use crate::simulation::{SimulationOptions, simulate_error};
 use crate::validation::{GridPolicy, XiFamily};
 use crate::validation::{WindowGrid, grid_spacing, validate_window};
@@ -261,8 +261,11 @@ impl ObserverMethod for Sferlazza2021 {
     /// The §5.3 loop ([`design_screened`] without the coarse screen) in balanced coordinates.
     /// Its validation (48) first tries a proof for every `τ` of each window where the (49)
     /// grid is large (at most [`SEARCH_PROOF_PIECES`] pieces unless
-    /// [`DesignOptions::proof_pieces`] says otherwise), which implies (48) on the grid; the
-    /// grid decides wherever the proof does not prove, so the loop's iterates are the paper's.
+    /// [`DesignOptions::proof_pieces`] says otherwise; `Some(0)` turns it off), which implies
+    /// (48) on the grid; the grid decides wherever the proof does not prove, so the loop's
+    /// iterates are the paper's, except on grids above the cap or above
+    /// [`crate::validation::REFUTED_POINT_FROM`] points after a refutation, where the refuted
+    /// point stands in for the worst grid point (50).
     fn design(
         &self,
         plant: &Plant,
@@ -441,14 +444,6 @@ pub const SEARCH_SCREEN_POINTS: usize = 2048;
 /// [`DesignOptions::proof_pieces`] says otherwise.
 pub const SEARCH_PROOF_PIECES: usize = 16384;
 
-/// Multiple of `dim·ε·‖Ξ_σ(τ)‖_F` taken as the rounding level of `Ξ_σ(τ)` computed in double
-/// precision in the spot check of (44) at the schedule points: on long windows the entries of
-/// `Ξ_σ(τ)` grow like `‖e^{−Aτ}‖²` (10¹⁹ on a ship-heading plant at τ = 8.9 with a rudder mode at
-/// −2.5) while its smallest eigenvalue stays of the order of `P_Γ`, so a computed `λ_min` of
-/// −32 there is rounding, not a refutation (the design's validation, a proof over the window in
-/// interval arithmetic, holds).
-const SPOT_ROUNDING: f64 = 16.0;
-
 /// Most times `verify` lowers μ for a given certificate (in its
 /// check of (48)): each round at least halves μ and doubles the grid.
 const VERIFY_MU_ROUNDS: usize = 8;
@@ -535,7 +530,9 @@ impl Sferlazza2021 {
         // (validate_window): the grid grows like e^(βT_M)·p* (1.7·10⁹ points on a ship-heading
         // plant at T_M = 5.8, minutes), the proof adapts its pieces to where the margin is thin.
         // A proof implies (48) on the grid, and a grid within its cap still decides whenever the
-        // proof does not prove, so the iterates are those of the paper's loop.
+        // proof does not prove, so the iterates are those of the paper's loop, except where a
+        // grid is above its cap or too large to run after a refutation (validate_window): the
+        // refuted point then stands in for the grid's worst point (50).
         options.proof_pieces.get_or_insert(SEARCH_PROOF_PIECES);
         let d = match design_screened(&balanced, &options, screen) {
             Ok(d) => d,
@@ -938,7 +935,7 @@ impl Sferlazza2021 {
         let mu = d.mu;
         let mut report = DesignReport::certified(self, plant.name(), sampling);
         // Gains: one schedule per sensor over its window.
-        let mut spot: Vec<(usize, f64, f64, f64)> = Vec::new();
+        let mut spot: Vec<(usize, f64, f64, bool)> = Vec::new();
         for (s, sensor) in rr.sensors().iter().enumerate() {
             let taus = window_grid(sensor.window(), self.schedule_points)?;
             let ks = taus
@@ -951,14 +948,13 @@ impl Sferlazza2021 {
                 .collect::<Result<Vec<_>, _>>()?;
             let fam = XiFamily::new(rr, &d.p, s)?;
             for &t in &taus {
-                let xi = fam.matrix(t)?;
-                let rounding = SPOT_ROUNDING * xi.nrows() as f64 * f64::EPSILON * xi.norm_l2();
-                spot.push((
-                    s,
-                    t,
-                    sporadic_linalg::min_eigenvalue(xi.as_ref())?,
-                    rounding,
-                ));
+                // A floating-point λ_min ≤ 0 refutes (44) only where interval arithmetic
+                // shows Ξ_σ(τ) not positive definite: on long windows its entries grow like
+                // ‖e^(−Aτ)‖² (10¹⁹ on a ship-heading plant at τ = 8.9) while λ_min stays of the
+                // order of P_Γ, and a computed λ_min of −32 there was rounding.
+                let lambda = fam.min_eigenvalue(t)?;
+                let refuted = lambda <= 0.0 && xi_decisive(rr, &d.p, s, t)?.lo() >= 0.0;
+                spot.push((s, t, lambda, refuted));
             }
             let mut ks = ks.into_iter();
             report.gains.push(Gain::scheduled(
@@ -1108,30 +1104,29 @@ impl Sferlazza2021 {
                 passed: g.min_eigenvalue > mu,
             });
         }
-        // The worst point relative to its rounding level.
         let worst = spot
             .iter()
             .copied()
-            .min_by(|a, b| (a.2 / a.3).total_cmp(&(b.2 / b.3)))
-            .unwrap_or((0, f64::NAN, f64::NAN, f64::NAN));
+            .min_by(|a, b| a.2.total_cmp(&b.2))
+            .unwrap_or((0, f64::NAN, f64::NAN, false));
         report.checks.push(Check {
-            what: "(44): Ξ_σ(τ) ≻ 0 with fresh exponentials at the τ of the reported gain \
-                   schedules, up to the rounding of Ξ_σ(τ) in double precision"
-                .into(),
+            what:
+                "(44): Ξ_σ(τ) ≻ 0 with fresh exponentials at the τ of the reported gain schedules"
+                    .into(),
             how: format!(
                 "{} points ({} per window), e^(−Aτ) by a fresh scaling-and-squaring, full \
-                 symmetric eigenvalue decomposition; a λ_min above −{SPOT_ROUNDING}·dim·ε·\
-                 ‖Ξ_σ(τ)‖_F (the rounding level of the computed matrix; {} at the worst point) \
-                 does not refute (44); value: λ_min at the point where it is smallest relative \
-                 to that level (sensor {}, τ = {})",
+                 symmetric eigenvalue decomposition; where that λ_min is ≤ 0, Ξ_σ(τ) is \
+                 enclosed in interval arithmetic and the check fails only if it is proven not \
+                 positive definite (on a long window Ξ_σ(τ) has entries far above its λ_min, \
+                 which rounding can then make negative); value: smallest λ_min (sensor {}, \
+                 τ = {})",
                 spot.len(),
                 self.schedule_points,
-                sig4(worst.3),
                 worst.0 + 1,
                 sig4(worst.1)
             ),
             value: Some(worst.2),
-            passed: worst.2 > -worst.3,
+            passed: !spot.iter().any(|p| p.3),
         });
         if let Some(c) = report.checks.iter().find(|c| !c.passed) {
             return Err(Error::VerificationFailed {

@@ -145,8 +145,13 @@ impl SensorCondition {
                     .checked_mul(&c.checked_mul(&c_perp)?)?,
             )?
         };
-        let p_next = point(&p[plant.next(sigma)])?;
-        let (a, ps) = (point(&plant.a().to_owned())?, point(&p[sigma])?);
+        // Symmetrised: a certificate may be symmetric only to rounding (`check_sym`), and the
+        // verified definiteness test and the block LDLᵀ bound need symmetric matrices.
+        let p_next = point(&p[plant.next(sigma)])?.symmetrized()?;
+        let (a, ps) = (
+            point(&plant.a().to_owned())?,
+            point(&p[sigma])?.symmetrized()?,
+        );
         let (at, pa) = (a.transpose(), ps.checked_mul(&a)?);
         let curvature = at
             .checked_mul(&at.checked_mul(&ps)?)?
@@ -339,6 +344,10 @@ impl SensorCondition {
             return Ok(None);
         }
         let f = &t_inv * Mat::from_fn(r, r, |i, j| v[(i, j)] / lambda[j].sqrt());
+        // Non-finite data (an overflowing F, an unbounded enclosure) decline the piece.
+        if !f.norm_max().is_finite() {
+            return Ok(None);
+        }
         let fi = point(&f)?;
         let frf = fi.transpose().checked_mul(&r_mu.checked_mul(&fi)?)?;
         let scaled_end = |g: &IntervalMatrix| -> Result<Option<f64>, Error> {
@@ -360,12 +369,16 @@ impl SensorCondition {
         let d2 = g
             .transpose()
             .checked_mul(&self.curvature.checked_mul(&g)?)?;
-        let rho = h.sqr() * Interval::point(d2.norm_2_up())? / Interval::point(8.0)?;
+        let (d2_norm, f_norm) = (d2.norm_2_up(), fi.norm_2_up());
+        if !(d2_norm.is_finite() && f_norm.is_finite()) {
+            return Ok(None);
+        }
+        let rho = h.sqr() * Interval::point(d2_norm)? / Interval::point(8.0)?;
         let lower = Interval::point(la.min(lb))? - rho;
         if !(lower.lo() > 0.0) {
             return Ok(None);
         }
-        let f_norm = Interval::point(fi.norm_2_up())?;
+        let f_norm = Interval::point(f_norm)?;
         let mut bound = Interval::point(lower.lo())? / f_norm.sqr();
         if let Some((_, l_gamma, q_norm)) = self.plain_schur {
             let l_inv = Interval::point(1.0)? + Interval::point(q_norm)?;
@@ -386,7 +399,8 @@ impl SensorCondition {
     ///
     /// Both matrices (`Ξ_σ − μI`, and for (48) its Schur complement) vary with τ only through
     /// `QᵀΦ_σQ`, so the chord bound `min(ℓ(a), ℓ(b)) − ρ` holds for either; the piece holds if
-    /// it is positive for one of them. An undecided piece reports an enclosure of the decisive
+    /// it is positive for one of them. Where neither holds, the congruence-scaled chord test of
+    /// the Schur complement ([`Self::scaled_chord`]) is tried. An undecided piece reports an enclosure of the decisive
     /// quantity's maximum over the piece: from its value at the midpoint up to the chord bound
     /// (negated) when an end pair is proven, else up to the enclosures at the ends. Its width
     /// shrinks with the piece while the variation over the piece decides, and stops shrinking

@@ -88,13 +88,16 @@ fn xi_blocks(plant: &RoundRobinPlant, p: &[Var], sigma: usize, g: &Mat<f64>, c: 
 /// validations of the §5.3 loop: scaling every block above `2¹⁰` made the proof of (48) on
 /// the cart-pole of the issue-22 tests (block scales up to `4.4·10³`) inconclusive, and
 /// scaling every block above one made the suspension example of §6 (up to `5.3·10³`) validate
-/// at `μ = 0.1` after 1 iteration instead of 2 (an independent implementation needs 2).
+/// at `μ = 0.1` after 1 iteration instead of 2 (an independent implementation needs 2). (These
+/// figures were measured with the earlier scalar scaling of a block; the congruence of
+/// [`xi_constraint`] keeps the same threshold, so the blocks below it are unchanged.)
 const SCALE_FROM: f64 = 1048576.0;
 
 /// The constraint `Ξ_σ(τ) ⪰ 2μI` of (47); when `‖G‖_F²` (`G = E(τ)C_σ^⊥`) is above
 /// [`SCALE_FROM`], in the congruent form `diag(F, I)ᵀ(Ξ_σ(τ) − 2μI)diag(F, I) ⪰ 0` with
-/// `F = V diag(min(1, 1/s_i))` from the SVD `G = WSVᵀ` (the same constraint, exactly: a
-/// congruence by a nonsingular matrix keeps the feasible set), i.e.
+/// `F = V diag(min(1, 1/s_i))` from the SVD `G = WSVᵀ` (the same constraint: a congruence by
+/// a nonsingular matrix keeps the feasible set; the products `GF` and `C_σ^⊥F` are rounded, an
+/// `ε`-level perturbation of the data that the validation (48) of the result covers), i.e.
 /// `[(GF)ᵀP_σ(GF), ⋆; P_ΓC_σ^⊥F, P_Γ] ⪰ 2μ diag(FᵀF, I)`: every direction in which `G` has grown
 /// beyond one is brought back to one, the others are left alone.
 ///

@@ -599,14 +599,7 @@ fn the_synthesis_sdp_of_a_long_window_is_solved_whatever_the_scale_of_its_blocks
     );
 }
 
-/// A plant written for a fuzzing run (`benches/scripts/fuzz.sh 16 17`, plant 7: order 6, two
-/// outputs, an unstable mode, a fast stable one). On `[T1, 3.2037]` the blocks of the synthesis
-/// SDP (47) at large τ were scaled by a power of two as a whole, which scales `P_Γ` and the
-/// margin `2μ` down with them: the optimiser of (47) missed `Ξ(T_M) ⪰ 2μI` by 0.036, the
-/// proof of (48) refuted it, and each iteration of the loop then ran the (49) grid of 3·10⁸
-/// points (the design ran out of its 25 s budget; `max-interval` reached 3.16 in 25 s). With
-/// the congruence-scaled blocks the design is certified at once and the search certifies its
-/// limit.
+/// `benches/scripts/fuzz.sh 16 17`, plant 7: order 6, two outputs, `T1 = 0.0358933`.
 fn fuzz_17_7() -> (Mat<f64>, Mat<f64>, f64) {
     let a = mat![
         [
@@ -643,6 +636,14 @@ fn fuzz_17_7() -> (Mat<f64>, Mat<f64>, f64) {
     (a, c, 0.0358933)
 }
 
+/// A plant written for a fuzzing run (`benches/scripts/fuzz.sh 16 17`, plant 7: order 6, two
+/// outputs, an unstable mode, a fast stable one). On `[T1, 3.2037]` the blocks of the synthesis
+/// SDP (47) at large τ were scaled by a power of two as a whole, which scales `P_Γ` and the
+/// margin `2μ` down with them: the optimiser of (47) missed `Ξ(T_M) ⪰ 2μI` by 0.036, the
+/// proof of (48) refuted it, and each iteration of the loop then ran the (49) grid of 3·10⁸
+/// points (the design ran out of its 25 s budget; `max-interval` reached 3.16 in 25 s). With
+/// the congruence-scaled blocks the design is certified at once and the search certifies its
+/// limit.
 #[test]
 fn a_long_window_of_a_fast_stable_mode_is_certified_at_once() {
     let (a, c, t1) = fuzz_17_7();

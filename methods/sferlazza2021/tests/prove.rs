@@ -6,8 +6,8 @@ use std::time::Instant;
 use faer::mat;
 use sporadic_model::{ProofOptions, ProofStatus, prove_within};
 use sporadic_sferlazza2021::{
-    DesignReport, MethodError, MethodOptions, ObserverMethod, Plant, Sampling, SamplingWindow,
-    Sferlazza2021, Status,
+    DesignReport, MethodError, MethodOptions, ObserverMethod, Plant, RoundRobinPlant, Sampling,
+    SamplingWindow, Sferlazza2021, Status, XiFamily,
 };
 
 fn win(t1: f64, t2: f64) -> SamplingWindow {
@@ -87,7 +87,11 @@ fn oscillator_design_is_proved() {
 }
 
 /// Designs, proves with the default options, prints the figures and asserts `proved`.
-fn design_and_prove(what: &str, plant: &Plant, sampling: &Sampling) -> sporadic_model::Proof {
+fn design_and_prove(
+    what: &str,
+    plant: &Plant,
+    sampling: &Sampling,
+) -> (DesignReport, sporadic_model::Proof) {
     let r = designed(plant, sampling);
     let p = prove_within(
         &Sferlazza2021::default(),
@@ -101,7 +105,7 @@ fn design_and_prove(what: &str, plant: &Plant, sampling: &Sampling) -> sporadic_
         p.status, p.subintervals, p.margin_lower_bound, p.enclosure_width, p.seconds, r.seconds
     );
     assert_eq!(p.status, ProofStatus::Proved, "{}", p.message);
-    p
+    (r, p)
 }
 
 /// A long window: a ship-heading plant (heading measured; yaw and sway modes at −0.19 and
@@ -121,8 +125,23 @@ fn long_window_design_is_proved() {
     let c = mat![[1.0, 0.0, 0.0, 0.0]];
     let plant = Plant::round_robin(a.as_ref(), None, &[c.as_ref()]).unwrap();
     let sampling = Sampling::RoundRobin(vec![win(0.5, 12.0)]);
-    let p = design_and_prove("ship heading", &plant, &sampling);
-    assert!(p.margin_lower_bound.is_some_and(|m| m > 0.0));
+    let (r, p) = design_and_prove("ship heading", &plant, &sampling);
+    let margin = p.margin_lower_bound.unwrap();
+    assert!(margin > 0.0);
+    // The proven margin bounds min_τ λ_min(Ξ(τ))/λ_max(P) from below: compare with floating
+    // point on the short end of the window, where λ_min is smallest and Ξ is well scaled.
+    let p1 = r.certificate[0].to_mat();
+    let rr = RoundRobinPlant::new(a.as_ref(), &[(c.as_ref(), win(0.5, 12.0))]).unwrap();
+    let fam = XiFamily::new(&rr, std::slice::from_ref(&p1), 0).unwrap();
+    let p_max = sporadic_linalg::max_eigenvalue(p1.as_ref()).unwrap();
+    let grid_min = (0..=50)
+        .map(|k| fam.min_eigenvalue(0.5 + 0.03 * k as f64).unwrap())
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        margin <= grid_min / p_max,
+        "{margin} > {}",
+        grid_min / p_max
+    );
 }
 
 /// Spoiled gains (the jump map of sensor 1 scaled by 3, unstable) and a spoiled certificate
