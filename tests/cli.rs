@@ -1162,9 +1162,10 @@ fn init_writes_templates_that_the_commands_accept() {
 
 /// `--time-limit` bounds one design: ferrante2016 on the corpus' `eight-state-modal` with
 /// T2 = 0.42 takes about 14 s on this machine (1024 vertex LMIs of order 24, certified at a
-/// margin of 5e-8); with a 1 s budget it answers `budget_exhausted` (exit 1) soon after the
-/// second. (sferlazza2021 on a cart-pole served here until its long-window validation by proof
-/// made that design take 0.07 s.)
+/// margin of 5e-8); with a 1 s budget it answers `budget_exhausted` (exit 1) well before that.
+/// Its set-up before the first solve (about 2 s here, more under the load of the parallel
+/// tests) does not look at the budget, hence the bound of 8 s. (sferlazza2021 on a cart-pole
+/// served here until its long-window validation by proof made that design take 0.07 s.)
 #[test]
 fn time_limit_interrupts_a_slow_design_with_a_typed_reason() {
     let plant = scratch("eight-state-modal-slow.toml");
@@ -1197,7 +1198,7 @@ fn time_limit_interrupts_a_slow_design_with_a_typed_reason() {
     let r = d.reason.unwrap();
     assert_eq!(r.kind(), "budget_exhausted", "{r}");
     assert!(r.message().contains("1.00 s"), "{r}");
-    assert!(secs < 3.0, "{secs} s");
+    assert!(secs < 8.0, "{secs} s");
     let o = sporadic(&[
         "design",
         &p,
