@@ -107,6 +107,9 @@ struct SensorCondition {
     /// complement already computed (`None`: not proven positive, or no Schur complement), by
     /// the bits of τ.
     ends: HashMap<u64, [Option<f64>; 2]>,
+    /// Point enclosures of `e^{−Aτ}Q` by the bits of τ (a piece's midpoint becomes the end of
+    /// its halves when the driver bisects, and neighbouring pieces share an end).
+    eq_cache: HashMap<u64, IntervalMatrix>,
 }
 
 fn point(m: &Mat<f64>) -> Result<IntervalMatrix, IntervalError> {
@@ -181,6 +184,7 @@ impl SensorCondition {
             curvature,
             plain_schur,
             ends: HashMap::new(),
+            eq_cache: HashMap::new(),
         })
     }
 
@@ -228,14 +232,13 @@ impl SensorCondition {
         self.q.ncols()
     }
 
-    /// Encloses `Ξ_σ(τ) − μI` ((44) with μ = 0) for τ ∈ [t0, t1].
-    fn xi(&self, t0: f64, t1: f64) -> Result<IntervalMatrix, Error> {
+    /// Encloses `Ξ_σ(τ) − μI` ((44) with μ = 0) at `τ`.
+    fn xi(&mut self, tau: f64) -> Result<IntervalMatrix, Error> {
         let (n, r) = (self.p_next.nrows(), self.r());
         let x = if r == 0 {
             self.p_next.clone()
         } else {
-            let e = expm_enclosure(self.neg_a.as_ref(), t0, t1, &one_piece())?.enclosure;
-            let eq = e.checked_mul(&self.q)?;
+            let eq = self.eq_at(tau)?;
             let top = eq.transpose().checked_mul(&self.p.checked_mul(&eq)?)?;
             IntervalMatrix::from_fn(r + n, r + n, |i, j| match (i < r, j < r) {
                 (true, true) => top.get(i, j),
@@ -252,6 +255,17 @@ impl SensorCondition {
         Ok(x.symmetrized()?)
     }
 
+    /// The point enclosure of `e^{−Aτ}Q` (cached in `eq_cache`).
+    fn eq_at(&mut self, tau: f64) -> Result<IntervalMatrix, Error> {
+        if let Some(eq) = self.eq_cache.get(&tau.to_bits()) {
+            return Ok(eq.clone());
+        }
+        let e = expm_enclosure(self.neg_a.as_ref(), tau, tau, &one_piece())?.enclosure;
+        let eq = e.checked_mul(&self.q)?;
+        self.eq_cache.insert(tau.to_bits(), eq.clone());
+        Ok(eq)
+    }
+
     /// `[ℓ(τ), ℓ_S(τ)]`: rigorous lower bounds of `λ_min(Ξ_σ(τ) − μI)` and, for (48), of
     /// `λ_min(QᵀΦ_σ(τ)Q − R_μ)` (the top block of `Ξ_σ(τ) − μI` minus `coupling`); `None` when
     /// not proven positive.
@@ -259,7 +273,7 @@ impl SensorCondition {
         if let Some(&l) = self.ends.get(&tau.to_bits()) {
             return Ok(l);
         }
-        let x = self.xi(tau, tau)?;
+        let x = self.xi(tau)?;
         let schur = match &self.coupling {
             Some(k) => {
                 let r = self.r();
@@ -306,7 +320,7 @@ impl SensorCondition {
     /// itself: `Ξ_σ = Lᵀdiag(Y, P_Γ)L` with `L = [I 0; Q I]` (block LDLᵀ), so
     /// `λ_min(Ξ_σ) ≥ min(λ_min(Y), λ_min(P_Γ))/‖L⁻¹‖₂²` and `‖L⁻¹‖₂ ≤ 1 + ‖Q‖₂`. `None` when
     /// there is no Schur complement, or when the test does not hold.
-    fn scaled_chord(&self, a: f64, b: f64) -> Result<Option<(f64, f64)>, Error> {
+    fn scaled_chord(&mut self, a: f64, b: f64) -> Result<Option<(f64, f64)>, Error> {
         let r = self.r();
         let r_mu = match (&self.coupling, &self.plain_schur) {
             (Some(coupling), _) => coupling
@@ -314,15 +328,11 @@ impl SensorCondition {
             (None, Some((r0, ..))) => r0.clone(),
             (None, None) => return Ok(None),
         };
-        let eq_at = |t: f64| -> Result<IntervalMatrix, Error> {
-            let e = expm_enclosure(self.neg_a.as_ref(), t, t, &one_piece())?.enclosure;
-            Ok(e.checked_mul(&self.q)?)
-        };
         // F from the midpoint in floating point, graded: with e^{−Am}Q = UT (QR), Y(m) =
         // Tᵀ(UᵀP_σU − T⁻ᵀR_μT⁻¹)T, whose middle factor is of the size of P_σ however far the
         // columns of e^{−Am}Q have grown apart (forming Y(m) itself would round its small
         // eigenvalues away); F = T⁻¹VΛ^{−1/2} with VΛVᵀ that middle factor.
-        let eq = eq_at(a + 0.5 * (b - a))?.mid().to_owned();
+        let eq = self.eq_at(a + 0.5 * (b - a))?.mid().to_owned();
         let mut t_inv = Mat::<f64>::identity(r, r);
         {
             let qr = eq.qr();
@@ -349,6 +359,8 @@ impl SensorCondition {
             return Ok(None);
         }
         let fi = point(&f)?;
+        let ga = self.eq_at(a)?.checked_mul(&fi)?;
+        let gb = self.eq_at(b)?.checked_mul(&fi)?;
         let frf = fi.transpose().checked_mul(&r_mu.checked_mul(&fi)?)?;
         let scaled_end = |g: &IntervalMatrix| -> Result<Option<f64>, Error> {
             let x = g
@@ -358,8 +370,6 @@ impl SensorCondition {
                 .symmetrized()?;
             proven_lower(&x)
         };
-        let ga = eq_at(a)?.checked_mul(&fi)?;
-        let gb = eq_at(b)?.checked_mul(&fi)?;
         let (Some(la), Some(lb)) = (scaled_end(&ga)?, scaled_end(&gb)?) else {
             return Ok(None);
         };
@@ -389,8 +399,8 @@ impl SensorCondition {
 
     /// Enclosure of `λ_max(−(Ξ_σ(τ) − μI))` (the decisive quantity: the condition needs it
     /// below 0).
-    fn decisive(&self, tau: f64) -> Result<Interval, Error> {
-        let x = self.xi(tau, tau)?;
+    fn decisive(&mut self, tau: f64) -> Result<Interval, Error> {
+        let x = self.xi(tau)?;
         Ok(lambda_max_enclosure(&x.scale(Interval::point(-1.0)?))?)
     }
 
@@ -667,7 +677,8 @@ pub(crate) fn xi_decisive(
     sigma: usize,
     tau: f64,
 ) -> Result<Interval, Error> {
-    SensorCondition::new(plant, p, sigma)?.decisive(tau)
+    let mut c = SensorCondition::new(plant, p, sigma)?;
+    c.decisive(tau)
 }
 
 /// Tries to prove the validation condition (48), `Ξ_σ(τ) ≻ μI`, for **every** `τ` of sensor
@@ -762,6 +773,17 @@ mod tests {
         assert!(proved >= 1);
     }
 
+    /// A ship-heading plant (heading measured through `C = [1 0 0 0]`): an integrator, yaw and
+    /// sway modes at −0.19 and −0.71, a rudder actuator at −2.5.
+    fn ship_heading() -> Mat<f64> {
+        mat![
+            [0.0, 1.0, 0.0, 0.0],
+            [0.0, -0.3, 0.05, 0.2],
+            [0.0, 0.8, -0.6, 0.4],
+            [0.0, 0.0, 0.0, -2.5]
+        ]
+    }
+
     /// On long windows the entries of `QᵀΦ_σ(τ)Q` grow like `‖e^{−Aτ}‖²` while the Schur
     /// complement's smallest eigenvalue stays of the order of `P`: a ship-heading plant
     /// (integrator, yaw and sway modes at −0.19 and −0.71, a rudder actuator at −2.5) with
@@ -772,12 +794,7 @@ mod tests {
     /// in a few hundred pieces, and still refuses a level μ above the grid minimum.
     #[test]
     fn long_windows_are_proved_by_the_scaled_chord_test() {
-        let a = mat![
-            [0.0, 1.0, 0.0, 0.0],
-            [0.0, -0.3, 0.05, 0.2],
-            [0.0, 0.8, -0.6, 0.4],
-            [0.0, 0.0, 0.0, -2.5]
-        ];
+        let a = ship_heading();
         let c = mat![[1.0, 0.0, 0.0, 0.0]];
         let p = vec![Mat::identity(4, 4)];
         let short = rr(a.clone(), vec![(c.clone(), win(0.5, 6.0))]).unwrap();
@@ -807,12 +824,7 @@ mod tests {
         use crate::validation::{
             REFUTED_POINT_FROM, ValidationOptions, WindowGrid, validate_window,
         };
-        let a = mat![
-            [0.0, 1.0, 0.0, 0.0],
-            [0.0, -0.3, 0.05, 0.2],
-            [0.0, 0.8, -0.6, 0.4],
-            [0.0, 0.0, 0.0, -2.5]
-        ];
+        let a = ship_heading();
         let plant = rr(a, vec![(mat![[1.0, 0.0, 0.0, 0.0]], win(0.5, 12.0))]).unwrap();
         let p = vec![Mat::identity(4, 4)];
         let fam = XiFamily::new(&plant, &p, 0).unwrap();
