@@ -80,3 +80,16 @@ pub enum IntervalError {
     #[error("enclosure failed: {0}")]
     EnclosureFailed(&'static str),
 }
+
+impl IntervalError {
+    /// Whether the error says that a bound left the range of double precision (a radius or an
+    /// endpoint overflowed) rather than that the input was malformed: on such an error a
+    /// subdivided proof can decline the piece and split it, as for a wide enclosure.
+    pub fn is_overflow(&self) -> bool {
+        match self {
+            Self::Overflow(_) | Self::EnclosureFailed(_) => true,
+            Self::InvalidInterval { lo, hi } => lo.is_infinite() || hi.is_infinite(),
+            _ => false,
+        }
+    }
+}

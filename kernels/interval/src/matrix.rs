@@ -278,22 +278,34 @@ impl IntervalMatrix {
         best
     }
 
-    /// Upper bound of max ‖X‖_F (Frobenius norm) over all members X.
+    /// Upper bound of max ‖X‖_F (Frobenius norm) over all members X. The squares are summed
+    /// after dividing by a power of two near the largest magnitude, so the bound is finite
+    /// whenever the norm itself is representable (squaring entries above `1e154` would
+    /// overflow).
     pub fn norm_fro_up(&self) -> f64 {
         let mag = self.mag();
+        let largest = mag.norm_max();
+        if largest == 0.0 || !largest.is_finite() {
+            return largest;
+        }
+        // 2^e ≥ largest/2, a power of two: multiplying by it is exact (or overflows to ∞).
+        let e = largest.log2().floor().clamp(-1000.0, 1000.0) as i32;
+        let unit = 2f64.powi(e);
         let mut s = 0.0;
         for j in 0..self.ncols() {
             for i in 0..self.nrows() {
-                s = add_up(s, mul_up(mag[(i, j)], mag[(i, j)]));
+                let x = div_up(mag[(i, j)], unit);
+                s = add_up(s, mul_up(x, x));
             }
         }
-        sqrt_up(s)
+        mul_up(sqrt_up(s), unit)
     }
 
-    /// Upper bound of max ‖X‖₂ (spectral norm) over all members X: √(‖·‖₁‖·‖_∞), capped by
-    /// the Frobenius bound.
+    /// Upper bound of max ‖X‖₂ (spectral norm) over all members X: √‖·‖₁·√‖·‖_∞ (each root
+    /// taken before the product, so it overflows only with the norms), capped by the
+    /// Frobenius bound.
     pub fn norm_2_up(&self) -> f64 {
-        sqrt_up(mul_up(self.norm_1_up(), self.norm_inf_up())).min(self.norm_fro_up())
+        mul_up(sqrt_up(self.norm_1_up()), sqrt_up(self.norm_inf_up())).min(self.norm_fro_up())
     }
 
     /// The transpose (exact).

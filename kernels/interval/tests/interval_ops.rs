@@ -239,3 +239,32 @@ fn point_containment_is_exact_at_the_boundary() {
     let p = &big * &big;
     assert!(!p.is_bounded());
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// The Frobenius and spectral bounds are finite whenever the norm itself is (entries up to
+    /// 2^1000, whose squares overflow), and scale exactly with a power-of-two factor: they
+    /// bound `2^e·X` by `2^e` times bounds of `X` up to rounding.
+    #[test]
+    fn norm_bounds_do_not_overflow_before_the_norm(
+        n in 1usize..=6,
+        v in prop::collection::vec(-1.0f64..1.0, 36),
+        e in -900i32..1000,
+    ) {
+        let x = Mat::from_fn(n, n, |i, j| v[i * 6 + j]);
+        let sc = 2f64.powi(e);
+        let ix = IntervalMatrix::from_point(x.as_ref()).unwrap();
+        let iy = IntervalMatrix::from_point(Mat::from_fn(n, n, |i, j| x[(i, j)] * sc).as_ref()).unwrap();
+        let fro: f64 = (0..n).flat_map(|i| (0..n).map(move |j| (i, j))).map(|(i, j)| x[(i, j)] * x[(i, j)]).sum::<f64>().sqrt();
+        let sigma = x.singular_values().unwrap().into_iter().fold(0.0f64, f64::max);
+        let (fy, ny) = (iy.norm_fro_up(), iy.norm_2_up());
+        prop_assert!(fy.is_finite() && ny.is_finite(), "{fy} {ny}");
+        // Lower: the exact norms, up to the rounding of the references (relative 1e-14).
+        prop_assert!(fy / sc >= fro * (1.0 - 1e-14), "{} < {fro}", fy / sc);
+        prop_assert!(ny / sc >= sigma * (1.0 - 1e-14), "{} < {sigma}", ny / sc);
+        // Upper: as tight as the unscaled bounds, up to rounding.
+        prop_assert!(fy / sc <= ix.norm_fro_up() * (1.0 + 1e-13));
+        prop_assert!(ny / sc <= ix.norm_2_up() * (1.0 + 1e-13));
+    }
+}

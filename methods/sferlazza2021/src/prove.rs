@@ -116,12 +116,27 @@ fn point(m: &Mat<f64>) -> Result<IntervalMatrix, IntervalError> {
     IntervalMatrix::from_point(m.as_ref())
 }
 
-/// A rigorous lower bound of `λ_min(x)` when `x` is proven positive definite.
+/// A rigorous lower bound of `λ_min(x)` when `x` is proven positive definite (`None` also
+/// when the test overflows).
 fn proven_lower(x: &IntervalMatrix) -> Result<Option<f64>, Error> {
-    Ok(match is_verified_positive_definite(x)? {
-        Verdict::Proved { bound } => Some(bound),
-        Verdict::NotProved => None,
-    })
+    Ok(
+        match unless_overflow(is_verified_positive_definite(x).map_err(Error::from))? {
+            Some(Verdict::Proved { bound }) => Some(bound),
+            Some(Verdict::NotProved) | None => None,
+        },
+    )
+}
+
+/// `None` when the interval evaluation left the range of double precision (far into a long
+/// window, `e^{−Aτ}` and the products formed from it overflow): the piece check then declines
+/// what it was computing, as for an enclosure too wide to decide, and the driver splits the
+/// piece or gives it up as undecided. Other errors are kernel failures and pass through.
+fn unless_overflow<T>(r: Result<T, Error>) -> Result<Option<T>, Error> {
+    match r {
+        Ok(v) => Ok(Some(v)),
+        Err(Error::Enclosure(e)) if e.is_overflow() => Ok(None),
+        Err(e) => Err(e),
+    }
 }
 
 impl SensorCondition {
@@ -273,7 +288,10 @@ impl SensorCondition {
         if let Some(&l) = self.ends.get(&tau.to_bits()) {
             return Ok(l);
         }
-        let x = self.xi(tau)?;
+        let Some(x) = unless_overflow(self.xi(tau))? else {
+            self.ends.insert(tau.to_bits(), [None, None]);
+            return Ok([None, None]);
+        };
         let schur = match &self.coupling {
             Some(k) => {
                 let r = self.r();
@@ -289,7 +307,8 @@ impl SensorCondition {
 
     /// `ρ = (b − a)²/8 · sup_{[a,b]} ‖QᵀΦ_σ''Q‖₂` (rounded up), and the relative width of the
     /// hull of `e^{−Aτ}` over the piece (the only τ-dependent block of either matrix is
-    /// `QᵀΦ_σQ`).
+    /// `QᵀΦ_σQ`). The factor `(b − a)²/8` is applied to the curvature matrix before the
+    /// products, which therefore hold `(b − a)²A²`-sized terms, the same in any unit of time.
     fn remainder(&self, a: f64, b: f64) -> Result<(f64, f64), Error> {
         if self.r() == 0 {
             return Ok((0.0, 0.0));
@@ -298,10 +317,16 @@ impl SensorCondition {
         let eq = e.checked_mul(&self.q)?;
         let d2 = eq
             .transpose()
-            .checked_mul(&self.curvature.checked_mul(&eq)?)?;
+            .checked_mul(&self.chord_curvature(a, b)?.checked_mul(&eq)?)?;
+        Ok((Interval::point(d2.norm_2_up())?.hi(), e.rel_width()))
+    }
+
+    /// `(b − a)²/8 ·` [`Self::curvature`](SensorCondition): the chord remainder's factor
+    /// `ρ = sup‖Mᵀ(·)M‖₂` over the piece, for `M` the piece's enclosure of `e^{−Aτ}Q` (or of
+    /// `e^{−Aτ}QF`).
+    fn chord_curvature(&self, a: f64, b: f64) -> Result<IntervalMatrix, Error> {
         let h = Interval::point(b)? - Interval::point(a)?;
-        let rho = (h.sqr() * Interval::point(d2.norm_2_up())? / Interval::point(8.0)?).hi();
-        Ok((rho, e.rel_width()))
+        Ok(self.curvature.scale(h.sqr() / Interval::point(8.0)?))
     }
 
     /// The chord test of the validation's Schur complement `Y(τ) = QᵀΦ_σ(τ)Q − R_μ` after a
@@ -378,13 +403,12 @@ impl SensorCondition {
         let g = hull.checked_mul(&ga)?;
         let d2 = g
             .transpose()
-            .checked_mul(&self.curvature.checked_mul(&g)?)?;
-        let (d2_norm, f_norm) = (d2.norm_2_up(), fi.norm_2_up());
-        if !(d2_norm.is_finite() && f_norm.is_finite()) {
+            .checked_mul(&self.chord_curvature(a, b)?.checked_mul(&g)?)?;
+        let (rho, f_norm) = (d2.norm_2_up(), fi.norm_2_up());
+        if !(rho.is_finite() && f_norm.is_finite()) {
             return Ok(None);
         }
-        let rho = h.sqr() * Interval::point(d2_norm)? / Interval::point(8.0)?;
-        let lower = Interval::point(la.min(lb))? - rho;
+        let lower = Interval::point(la.min(lb))? - Interval::point(rho)?;
         if !(lower.lo() > 0.0) {
             return Ok(None);
         }
@@ -415,49 +439,67 @@ impl SensorCondition {
     /// (negated) when an end pair is proven, else up to the enclosures at the ends. Its width
     /// shrinks with the piece while the variation over the piece decides, and stops shrinking
     /// once rounding does, which is what the driver's stall test needs.
+    ///
+    /// Where the interval evaluation overflows (far into a long window), the test that needed
+    /// it is declined ([`unless_overflow`]) and the enclosure is unbounded on that side.
     fn check(&mut self, a: f64, b: f64, scale: f64) -> Result<PieceCheck, Error> {
-        let norm = |x: f64| -> Result<Interval, Error> {
-            Ok(Interval::point(x)? / Interval::point(scale)?)
-        };
         let (la, lb) = (self.end(a)?, self.end(b)?);
         let chord = (0..2)
             .filter_map(|k| Some(la[k]?.min(lb[k]?)))
             .reduce(f64::max);
         let mut upper = f64::NEG_INFINITY;
         if let Some(m) = chord {
-            let (rho, width) = self.remainder(a, b)?;
-            let lower = (Interval::point(m)? - Interval::point(rho)?).lo();
-            if lower > 0.0 {
-                return Ok(PieceCheck::Holds {
-                    margin_lower_bound: norm(lower)?.lo(),
-                    enclosure_width: width,
-                });
+            match unless_overflow(self.remainder(a, b))? {
+                Some((rho, width)) => {
+                    let lower = (Interval::point(m)? - Interval::point(rho)?).lo();
+                    if lower > 0.0 {
+                        return Ok(PieceCheck::Holds {
+                            margin_lower_bound: divided(lower, scale)?[0],
+                            enclosure_width: width,
+                        });
+                    }
+                    upper = -lower;
+                }
+                None => upper = f64::INFINITY,
             }
-            upper = -lower;
         }
-        if let Some((lower, width)) = self.scaled_chord(a, b)? {
+        if let Some((lower, width)) = unless_overflow(self.scaled_chord(a, b))?.flatten() {
             return Ok(PieceCheck::Holds {
-                margin_lower_bound: norm(lower)?.lo(),
+                margin_lower_bound: divided(lower, scale)?[0],
                 enclosure_width: width,
             });
         }
         for (t, l) in [(a, la), (b, lb)] {
             if l.iter().all(Option::is_none) {
-                let d = self.decisive(t)?;
-                if d.lo() >= 0.0 {
+                let [lo, hi] = self.decisive_or_unbounded(t)?;
+                if lo >= 0.0 {
                     return Ok(PieceCheck::Fails {
-                        enclosure: [norm(d.lo())?.lo(), norm(d.hi())?.hi()],
+                        enclosure: [divided(lo, scale)?[0], divided(hi, scale)?[1]],
                     });
                 }
-                upper = upper.max(d.hi());
+                upper = upper.max(hi);
             }
         }
-        let mid = a + 0.5 * (b - a);
-        let d = self.decisive(mid)?;
+        let [lo, hi] = self.decisive_or_unbounded(a + 0.5 * (b - a))?;
         Ok(PieceCheck::Undecided {
-            enclosure: [norm(d.lo())?.lo(), norm(upper.max(d.hi()))?.hi()],
+            enclosure: [divided(lo, scale)?[0], divided(upper.max(hi), scale)?[1]],
         })
     }
+
+    /// [`Self::decisive`] as `[lo, hi]`, `[−∞, ∞]` where the evaluation overflows.
+    fn decisive_or_unbounded(&mut self, tau: f64) -> Result<[f64; 2], Error> {
+        Ok(unless_overflow(self.decisive(tau))?
+            .map_or([f64::NEG_INFINITY, f64::INFINITY], |d| [d.lo(), d.hi()]))
+    }
+}
+
+/// `[lo, hi]` enclosing `x/scale`; an infinite `x` stays infinite.
+fn divided(x: f64, scale: f64) -> Result<[f64; 2], Error> {
+    if x.is_infinite() {
+        return Ok([x, x]);
+    }
+    let q = Interval::point(x)? / Interval::point(scale)?;
+    Ok([q.lo(), q.hi()])
 }
 
 fn one_piece() -> EnclosureOptions {

@@ -687,3 +687,33 @@ fn the_window_search_of_a_fast_stable_plant_reaches_its_long_windows() {
     assert!(t2 > 3.0, "{t2}: {:?}", s.reason);
     assert!(t.elapsed().as_secs_f64() < 20.0);
 }
+
+/// A hovering rotorcraft's lateral axis (order 5: lateral velocity, roll rate, roll, rotor
+/// flapping, actuator; one unstable mode; roll and lateral velocity measured), written for
+/// issue 22, in milliseconds and in seconds. Far into a long window `e^{−Aτ}` grows like
+/// `e^{0.06τ/ms}`, and the proof of (48) that replaces the (49) grid stopped with an error
+/// ("could not be set up: invalid interval [inf, inf]") where an interval product overflowed:
+/// the one-piece enclosure of `e^{−Aτ}` over a wide piece, and the chord remainder, whose
+/// factor `(b − a)²` was applied after a product of size `‖A‖²` (10⁶ in seconds, 1 in
+/// milliseconds), so the two units stopped at 2378 ms and 2.282 s. Overflowing tests now
+/// decline the piece (it is split), and the remainder is formed in units of the piece:
+/// `[2, 2600]` ms and `[0.002, 2.6]` s are both certified, with the same margin.
+#[test]
+fn a_long_window_is_certified_in_any_unit_of_time() {
+    let a_ms = mat![
+        [-5e-5, 0.0, -0.0098, 0.012, 0.0],
+        [3e-4, -0.0012, 0.0, 0.45, 0.0],
+        [0.0, 1.0, 0.0, 0.0, 0.0],
+        [0.0, -1.0, 0.0, -0.06, 0.05],
+        [0.0, 0.0, 0.0, 0.0, -0.04],
+    ];
+    let c = mat![[0.0, 0.0, 1.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0, 0.0]];
+    let a_s = Mat::from_fn(5, 5, |i, j| 1e3 * a_ms[(i, j)]);
+    let (ms, _) = run(a_ms, c.clone(), win(2.0, 2600.0));
+    let (s, _) = run(a_s, c, win(0.002, 2.6));
+    for r in [&ms, &s] {
+        assert_eq!(r.status, Status::Certified, "{:?}", r.reason);
+    }
+    let (m_ms, m_s) = (ms.margin.unwrap().value, s.margin.unwrap().value);
+    assert!(close(m_ms, m_s), "margins {m_ms} (ms) and {m_s} (s)");
+}
