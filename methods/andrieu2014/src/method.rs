@@ -347,14 +347,14 @@ impl Andrieu2014 {
         let t = &d.tuning;
         let mut notes = Vec::new();
         notes.push(format!(
-            "sampling rule (7): next sample when (t − t_k)·ω·L(t) = α, α = {}, ω = {} rad/s; \
+            "sampling rule (7): next sample when (t − t_k)·ω·L(t) = α, α = {}, ω = {} rad per unit of the plant's time; \
              between samples L(t) = L(t_k)·exp((a2/a3)(exp(a3·ω·c̃·(t − t_k)) − 1)), at a sample \
              L ← (1 − a1α)L⁻ + a1α, L(0) = 1",
             sig4(t.alpha()),
             sig4(d.omega)
         ));
         notes.push(format!(
-            "guaranteed intervals: every interval lies in the window [{}, {}] s: at most α/ω since \
+            "guaranteed intervals: every interval lies in the window [{}, {}] (the plant's time unit): at most α/ω since \
              L ≥ 1, at least α/(ω L̄) with L̄ = {} the bound of Lemma 1 on L (c_m = c̃ = {}, ℓ1 = \
              {}); the run itself decides where in this range each interval falls",
             sig4(d.shortest),

@@ -68,7 +68,7 @@ pub struct PlantDesign {
     pub weight_ratio: f64,
     /// `(K, α, a1, a2, a3)` in the scaled time `τ = ωt`.
     pub tuning: Tuning,
-    /// The frequency `ω` of the time scaling (rad/s of the plant's time).
+    /// The frequency `ω` of the time scaling (rad per unit of the plant's time).
     pub omega: f64,
     /// `c̃(ω)`, the constant of Assumption 1 in the scaled coordinates.
     pub c_scaled: f64,
