@@ -45,7 +45,8 @@ pub use method::{
 pub use outcome::{NotApplicable, Reason, Status};
 pub use plant::{Bounds, Lipschitz, Outputs, Plant};
 pub use proof::{
-    PieceCheck, Proof, ProofOptions, ProofPiece, ProofStatus, WindowProof, combine, prove_on_window,
+    PieceCheck, Proof, ProofOptions, ProofPiece, ProofStatus, ProofStop, WindowProof, combine,
+    prove_on_window,
 };
 pub use report::{
     COMPARE_SCHEMA, Check, CompareEntry, CompareReport, DESIGN_SCHEMA, DesignReport, Gain,

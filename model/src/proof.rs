@@ -151,6 +151,19 @@ pub enum PieceCheck {
     },
 }
 
+/// What stopped an `inconclusive` [`prove_on_window`] ([`WindowProof::stop`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ProofStop {
+    /// The time budget ran out.
+    Time,
+    /// The piece budget ([`ProofOptions::max_pieces`]) ran out.
+    Pieces,
+    /// The interval evaluation no longer resolves the condition: bisections stopped narrowing
+    /// the enclosure, or the piece cannot be split in floating point. More time or pieces
+    /// would not decide it.
+    Resolution,
+}
+
 /// The result of [`prove_on_window`] for one window.
 #[derive(Debug, Clone, PartialEq)]
 pub struct WindowProof {
@@ -166,6 +179,9 @@ pub struct WindowProof {
     pub failed_on: Option<ProofPiece>,
     /// Why it stopped, when it is not `proved`.
     pub message: String,
+    /// Which limit stopped an `inconclusive` subdivision (`None` otherwise, and for a proof
+    /// that is not a subdivision).
+    pub stop: Option<ProofStop>,
 }
 
 /// Proves `check` on every piece of an adaptive subdivision of `[t1, t2]` (a point window
@@ -248,6 +264,7 @@ pub fn prove_on_window<E>(
                 enclosure_width: width,
                 failed_on: Some(p),
                 message: m,
+                stop: Some(ProofStop::Time),
             });
         }
         match check(a, b)? {
@@ -281,6 +298,7 @@ pub fn prove_on_window<E>(
                     enclosure_width: width,
                     failed_on: Some(p),
                     message: m,
+                    stop: None,
                 });
             }
             PieceCheck::Undecided { enclosure } => {
@@ -295,6 +313,11 @@ pub fn prove_on_window<E>(
                     0
                 };
                 if !splittable || pieces >= max_pieces || stalls >= MAX_STALLS {
+                    let stop = if !splittable || stalls >= MAX_STALLS {
+                        ProofStop::Resolution
+                    } else {
+                        ProofStop::Pieces
+                    };
                     let why = if !splittable {
                         "the piece cannot be split further in floating point".to_string()
                     } else if stalls >= MAX_STALLS {
@@ -326,6 +349,7 @@ pub fn prove_on_window<E>(
                         enclosure_width: width,
                         failed_on: Some(p),
                         message: m,
+                        stop: Some(stop),
                     });
                 }
                 pieces += 1;
@@ -341,6 +365,7 @@ pub fn prove_on_window<E>(
         enclosure_width: width,
         failed_on: None,
         message: String::new(),
+        stop: None,
     })
 }
 
@@ -434,10 +459,10 @@ mod tests {
     fn proves_inside_and_refuses_outside() {
         let o = ProofOptions::default();
         let p = prove_on_window("toy", 0.1, 0.9, 4, &o, &mut toy(1.0)).unwrap();
-        assert_eq!(p.status, ProofStatus::Proved);
+        assert_eq!((p.status, p.stop), (ProofStatus::Proved, None));
         assert!((p.margin_lower_bound.unwrap() - 0.1).abs() < 1e-12);
         let p = prove_on_window("toy", 0.1, 1.5, 4, &o, &mut toy(1.0)).unwrap();
-        assert_eq!(p.status, ProofStatus::NotProved);
+        assert_eq!((p.status, p.stop), (ProofStatus::NotProved, None));
         let f = p.failed_on.unwrap();
         assert!(f.tau[0] <= 1.0 + 1e-3 && f.tau[1] >= 1.0 - 1e-3, "{f:?}");
     }
@@ -458,6 +483,7 @@ mod tests {
         let p = prove_on_window("c", 0.0, 1.0, 1, &o, &mut narrowing).unwrap();
         assert_eq!(p.status, ProofStatus::Inconclusive);
         assert!(p.message.contains("budget of 8 pieces"), "{}", p.message);
+        assert_eq!(p.stop, Some(ProofStop::Pieces));
         let mut undecided = |_: f64, _: f64| -> Result<PieceCheck, ()> {
             Ok(PieceCheck::Undecided {
                 enclosure: [-1.0, 1.0],
@@ -468,11 +494,23 @@ mod tests {
         let p = prove_on_window("c", 0.0, 1.0, 1, &big, &mut undecided).unwrap();
         assert_eq!(p.status, ProofStatus::Inconclusive);
         assert!(p.message.contains("did not narrow"), "{}", p.message);
+        assert_eq!(p.stop, Some(ProofStop::Resolution));
         assert!(p.pieces <= 8, "{}", p.pieces);
+        // No time: stopped before the first piece.
+        let none = ProofOptions {
+            time_limit: Some(Duration::ZERO),
+            ..big
+        };
+        let p = prove_on_window("c", 0.0, 1.0, 1, &none, &mut undecided).unwrap();
+        assert_eq!(
+            (p.status, p.stop),
+            (ProofStatus::Inconclusive, Some(ProofStop::Time))
+        );
         // A point window is one piece and cannot be split.
         let p = prove_on_window("c", 0.5, 0.5, 7, &o, &mut undecided).unwrap();
         assert_eq!(p.status, ProofStatus::Inconclusive);
         assert!(p.message.contains("cannot be split"), "{}", p.message);
+        assert_eq!(p.stop, Some(ProofStop::Resolution));
     }
 
     #[test]

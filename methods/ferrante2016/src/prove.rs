@@ -265,6 +265,7 @@ fn prove_tail(
             enclosure: [f64::NEG_INFINITY, f64::INFINITY],
         }),
         message,
+        stop: None,
     };
     // κ = λmax(X)/λmin(X) for X ≻ 0 with A'X + XA ≺ 0 (both proven): ‖e^{Aw}‖₂² ≤ κ, w ≥ 0.
     let Ok(x) = lyap_continuous(a, Mat::<f64>::identity(n, n).as_ref()) else {
@@ -320,5 +321,6 @@ fn prove_tail(
         enclosure_width: Some(e.rel_width),
         failed_on: None,
         message: String::new(),
+        stop: None,
     })
 }

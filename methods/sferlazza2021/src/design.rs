@@ -401,6 +401,7 @@ impl DesignLoop {
                     points,
                     cap,
                     proof: String::new(),
+                    unresolved: false,
                 });
             }
             grids.push(grid);

@@ -160,6 +160,11 @@ pub enum Error {
         /// How the proof of (48) tried in place of the grid ended, as a clause of the message
         /// starting with "; " (empty when none was tried).
         proof: String,
+        /// Whether that proof stopped where its interval evaluation no longer resolves (48)
+        /// ([`sporadic_model::ProofStop::Resolution`]): neither more time nor more pieces would
+        /// decide the window in double precision, so the verdict is a numerical failure rather
+        /// than an exhausted budget.
+        unresolved: bool,
     },
 }
 

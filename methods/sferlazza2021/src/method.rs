@@ -156,6 +156,9 @@ fn verdict(e: Error) -> Result<Reason, MethodError> {
             Reason::SolverInconclusive { message }
         }
         Error::VerificationFailed { .. } => Reason::VerificationFailed { tau: None, message },
+        Error::GridTooLarge {
+            unresolved: true, ..
+        } => Reason::NumericalFailure { message },
         Error::NotConverged { .. } | Error::GridTooLarge { .. } | Error::Interrupted { .. } => {
             Reason::BudgetExhausted { message }
         }

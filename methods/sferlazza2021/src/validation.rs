@@ -48,7 +48,7 @@ use crate::error::{Error, check_at_least, sig4};
 use crate::gain::check_sym;
 use crate::plant::RoundRobinPlant;
 use crate::prove::{prove_validation, xi_decisive};
-use sporadic_model::{ProofStatus, SamplingWindow};
+use sporadic_model::{ProofStatus, ProofStop, SamplingWindow};
 
 /// How the validation grid spacing `τ_{k+1} − τ_k` is chosen.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -182,6 +182,7 @@ impl UniformGrid {
                 points: intervals + 1.0,
                 cap,
                 proof: String::new(),
+                unresolved: false,
             });
         }
         let intervals = intervals.max(1.0) as usize;
@@ -1022,9 +1023,10 @@ pub const REFUTED_POINT_FROM: usize = 1 << 24;
 /// the proof (same piece budget) decides alone. When it shows that (48) fails at an end `τ` of
 /// a piece (a rigorous disproof), the validation fails there: one failing point, `points` 0, `min_eigenvalue` the
 /// floating-point `λ_min(Ξ_σ(τ))` at that `τ` (not the minimum over the window) and `argmin_tau`
-/// that `τ`. Otherwise (no proof attempted, or one that ran out of pieces or time, or could not
-/// be set up) the validation is undecided: [`Error::GridTooLarge`], whose message says how the
-/// proof ended.
+/// that `τ`. Otherwise (no proof attempted, or one that ran out of pieces or time, stopped where
+/// its interval evaluation no longer resolves (48), or could not be set up) the validation is
+/// undecided: [`Error::GridTooLarge`], whose message says how the proof ended (and whose
+/// `unresolved` flag marks the resolution limit, a numerical failure rather than a budget).
 ///
 /// # Errors
 /// As [`XiFamily::validate_grid`], and [`Error::GridTooLarge`] (sensor 1-based) for a grid above
@@ -1097,6 +1099,10 @@ pub fn validate_window(
             if let Some(piece) = refuted_piece {
                 return refuted(piece);
             }
+            let unresolved = matches!(
+                &proof,
+                Some(Ok(w)) if w.stop == Some(ProofStop::Resolution)
+            );
             let proof = match proof {
                 None => String::new(),
                 Some(Err(e)) => format!(
@@ -1114,6 +1120,7 @@ pub fn validate_window(
                 points,
                 cap,
                 proof,
+                unresolved,
             })
         }
     }

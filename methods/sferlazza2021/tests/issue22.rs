@@ -697,7 +697,8 @@ fn the_window_search_of_a_fast_stable_plant_reaches_its_long_windows() {
 /// factor `(b − a)²` was applied after a product of size `‖A‖²` (10⁶ in seconds, 1 in
 /// milliseconds), so the two units stopped at 2378 ms and 2.282 s. Overflowing tests now
 /// decline the piece (it is split), and the remainder is formed in units of the piece:
-/// `[2, 2600]` ms and `[0.002, 2.6]` s are both certified, with the same margin.
+/// `[2, 2600]` ms and `[0.002, 2.6]` s are both certified, with the same margin. At 2800 ms
+/// the proof stops where its enclosures no longer narrow: a numerical failure, not a budget.
 #[test]
 fn a_long_window_is_certified_in_any_unit_of_time() {
     let a_ms = mat![
@@ -709,11 +710,24 @@ fn a_long_window_is_certified_in_any_unit_of_time() {
     ];
     let c = mat![[0.0, 0.0, 1.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0, 0.0]];
     let a_s = Mat::from_fn(5, 5, |i, j| 1e3 * a_ms[(i, j)]);
-    let (ms, _) = run(a_ms, c.clone(), win(2.0, 2600.0));
-    let (s, _) = run(a_s, c, win(0.002, 2.6));
+    let (ms, _) = run(a_ms.clone(), c.clone(), win(2.0, 2600.0));
+    let (s, _) = run(a_s, c.clone(), win(0.002, 2.6));
     for r in [&ms, &s] {
         assert_eq!(r.status, Status::Certified, "{:?}", r.reason);
     }
     let (m_ms, m_s) = (ms.margin.unwrap().value, s.margin.unwrap().value);
     assert!(close(m_ms, m_s), "margins {m_ms} (ms) and {m_s} (s)");
+    // Beyond the limit of double precision (about 2755 ms) the verdict names it: a numerical
+    // failure of the proof (its enclosures stop narrowing), not an exhausted budget, which
+    // more time or pieces would not change.
+    let (beyond, _) = run(a_ms, c, win(2.0, 2800.0));
+    match &beyond.reason {
+        Some(Reason::NumericalFailure { message }) => {
+            assert!(
+                message.contains("did not narrow the enclosure"),
+                "{message}"
+            )
+        }
+        other => panic!("expected a numerical failure, got {other:?}"),
+    }
 }
