@@ -305,9 +305,11 @@ pub fn prove_on_window<E>(
                 let mid = a + 0.5 * (b - a);
                 let splittable = mid > a && mid < b;
                 // Bisection narrows an enclosure dominated by the variation over the piece by
-                // about half; one dominated by rounding does not narrow at all.
+                // about half; one dominated by rounding does not narrow at all, and an unbounded
+                // one (the evaluation overflowed) has not narrowed either.
                 let piece_width = enclosure[1] - enclosure[0];
-                let stalls = if piece_width > STALL_RATIO * parent_width {
+                let stalls = if !piece_width.is_finite() || piece_width > STALL_RATIO * parent_width
+                {
                     stalls + 1
                 } else {
                     0

@@ -86,10 +86,6 @@ impl IntervalError {
     /// endpoint overflowed) rather than that the input was malformed: on such an error a
     /// subdivided proof can decline the piece and split it, as for a wide enclosure.
     pub fn is_overflow(&self) -> bool {
-        match self {
-            Self::Overflow(_) | Self::EnclosureFailed(_) => true,
-            Self::InvalidInterval { lo, hi } => lo.is_infinite() || hi.is_infinite(),
-            _ => false,
-        }
+        matches!(self, Self::Overflow(_) | Self::EnclosureFailed(_))
     }
 }

@@ -288,7 +288,8 @@ impl IntervalMatrix {
         if largest == 0.0 || !largest.is_finite() {
             return largest;
         }
-        // 2^e ≥ largest/2, a power of two: multiplying by it is exact (or overflows to ∞).
+        // A power of two near `largest` (2^e ≤ largest < 2^(e+1) within the clamp), finite and
+        // nonzero thanks to the clamp, which is all the bound needs: every step below rounds up.
         let e = largest.log2().floor().clamp(-1000.0, 1000.0) as i32;
         let unit = 2f64.powi(e);
         let mut s = 0.0;

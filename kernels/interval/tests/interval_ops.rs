@@ -268,3 +268,27 @@ proptest! {
         prop_assert!(ny / sc <= ix.norm_2_up() * (1.0 + 1e-13));
     }
 }
+
+/// The norm bounds at the edges of the floating-point range: a zero matrix, subnormal entries,
+/// entries near `f64::MAX` (upper bounds, possibly `∞`), and a radius as large as the midpoint.
+#[test]
+fn norm_bounds_at_the_edges_of_the_range() {
+    let zero = IntervalMatrix::from_point(Mat::<f64>::zeros(3, 3).as_ref()).unwrap();
+    assert_eq!((zero.norm_fro_up(), zero.norm_2_up()), (0.0, 0.0));
+    let tiny = f64::from_bits(1);
+    let sub = IntervalMatrix::from_point(Mat::from_fn(2, 2, |_, _| tiny).as_ref()).unwrap();
+    // ‖·‖_F = 2·tiny, ‖·‖₂ = 2·tiny exactly.
+    assert!(sub.norm_fro_up() >= 2.0 * tiny && sub.norm_fro_up() <= 8.0 * tiny);
+    assert!(sub.norm_2_up() >= 2.0 * tiny && sub.norm_2_up() <= 8.0 * tiny);
+    let big = IntervalMatrix::from_point(Mat::from_fn(1, 1, |_, _| f64::MAX).as_ref()).unwrap();
+    assert!(big.norm_fro_up() >= f64::MAX && big.norm_2_up() >= f64::MAX);
+    let half = f64::MAX / 4.0;
+    let wide = IntervalMatrix::from_mid_rad(
+        Mat::from_fn(2, 2, |_, _| half / 2.0),
+        Mat::from_fn(2, 2, |_, _| half / 2.0),
+    )
+    .unwrap();
+    // Every member has entries up to `half`: ‖·‖_F ≤ 2·half, and the bounds cover it.
+    assert!(wide.norm_fro_up() >= 2.0 * half && wide.norm_fro_up().is_finite());
+    assert!(wide.norm_2_up() >= 2.0 * half && wide.norm_2_up().is_finite());
+}

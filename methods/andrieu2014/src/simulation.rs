@@ -171,7 +171,7 @@ pub fn simulate_linear(
             initial_error: initial,
             final_error: last,
             result: format!(
-                "{} samples{budget}, intervals in [{}, {}] ({} the guaranteed window [{}, {}]), \
+                "{} samples{budget}, intervals in [{}, {}] (the plant's time unit; {} the guaranteed window [{}, {}]), \
                  |x − x̂| at the end = {}",
                 r.samples.len(),
                 sig4(dmin),

@@ -116,15 +116,12 @@ fn point(m: &Mat<f64>) -> Result<IntervalMatrix, IntervalError> {
     IntervalMatrix::from_point(m.as_ref())
 }
 
-/// A rigorous lower bound of `λ_min(x)` when `x` is proven positive definite (`None` also
-/// when the test overflows).
+/// A rigorous lower bound of `λ_min(x)` when `x` is proven positive definite.
 fn proven_lower(x: &IntervalMatrix) -> Result<Option<f64>, Error> {
-    Ok(
-        match unless_overflow(is_verified_positive_definite(x).map_err(Error::from))? {
-            Some(Verdict::Proved { bound }) => Some(bound),
-            Some(Verdict::NotProved) | None => None,
-        },
-    )
+    Ok(match is_verified_positive_definite(x)? {
+        Verdict::Proved { bound } => Some(bound),
+        Verdict::NotProved => None,
+    })
 }
 
 /// `None` when the interval evaluation left the range of double precision (far into a long
@@ -318,12 +315,16 @@ impl SensorCondition {
         let d2 = eq
             .transpose()
             .checked_mul(&self.chord_curvature(a, b)?.checked_mul(&eq)?)?;
-        Ok((Interval::point(d2.norm_2_up())?.hi(), e.rel_width()))
+        let rho = d2.norm_2_up();
+        if !rho.is_finite() {
+            return Err(IntervalError::Overflow("chord remainder").into());
+        }
+        Ok((rho, e.rel_width()))
     }
 
-    /// `(b − a)²/8 ·` [`Self::curvature`](SensorCondition): the chord remainder's factor
-    /// `ρ = sup‖Mᵀ(·)M‖₂` over the piece, for `M` the piece's enclosure of `e^{−Aτ}Q` (or of
-    /// `e^{−Aτ}QF`).
+    /// `(b − a)²/8` times the curvature matrix `A²ᵀP_σ + 2AᵀP_σA + P_σA²`, so that
+    /// `sup‖Mᵀ(·)M‖₂` over the piece, `M` its enclosure of `e^{−Aτ}Q` (or of `e^{−Aτ}QF`), is
+    /// the chord remainder `ρ` (module docs).
     fn chord_curvature(&self, a: f64, b: f64) -> Result<IntervalMatrix, Error> {
         let h = Interval::point(b)? - Interval::point(a)?;
         Ok(self.curvature.scale(h.sqr() / Interval::point(8.0)?))

@@ -690,8 +690,8 @@ fn the_window_search_of_a_fast_stable_plant_reaches_its_long_windows() {
 
 /// A hovering rotorcraft's lateral axis (order 5: lateral velocity, roll rate, roll, rotor
 /// flapping, actuator; one unstable mode; roll and lateral velocity measured), written for
-/// issue 22, in milliseconds and in seconds. Far into a long window `e^{−Aτ}` grows like
-/// `e^{0.06τ/ms}`, and the proof of (48) that replaces the (49) grid stopped with an error
+/// issue 22, in milliseconds and in seconds. Far into a long window `‖e^{−Aτ}‖` grows like
+/// `e^{0.04τ/ms}` (the actuator pole) and `Φ_σ` like its square, and the proof of (48) that replaces the (49) grid stopped with an error
 /// ("could not be set up: invalid interval [inf, inf]") where an interval product overflowed:
 /// the one-piece enclosure of `e^{−Aτ}` over a wide piece, and the chord remainder, whose
 /// factor `(b − a)²` was applied after a product of size `‖A‖²` (10⁶ in seconds, 1 in
