@@ -315,20 +315,25 @@ pub fn prove_on_window<E>(
                     0
                 };
                 if !splittable || pieces >= max_pieces || stalls >= MAX_STALLS {
-                    let stop = if !splittable || stalls >= MAX_STALLS {
-                        ProofStop::Resolution
-                    } else {
-                        ProofStop::Pieces
-                    };
-                    let why = if !splittable {
-                        "the piece cannot be split further in floating point".to_string()
+                    let (stop, why) = if !splittable {
+                        (
+                            ProofStop::Resolution,
+                            "the piece cannot be split further in floating point".to_string(),
+                        )
                     } else if stalls >= MAX_STALLS {
-                        format!(
-                            "{MAX_STALLS} bisections in a row did not narrow the enclosure (the \
-                             margin there is below the accuracy of the interval evaluation)"
+                        (
+                            ProofStop::Resolution,
+                            format!(
+                                "{MAX_STALLS} bisections in a row did not narrow the enclosure \
+                                 (the margin there is below the accuracy of the interval \
+                                 evaluation)"
+                            ),
                         )
                     } else {
-                        format!("the budget of {max_pieces} pieces ran out")
+                        (
+                            ProofStop::Pieces,
+                            format!("the budget of {max_pieces} pieces ran out"),
+                        )
                     };
                     let (p, m) = stopped(
                         condition,

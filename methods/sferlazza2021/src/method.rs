@@ -34,7 +34,7 @@ use crate::gain::GainSchedule;
 use crate::gain::check_sym;
 use crate::normalise::balanced_plant;
 use crate::plant::{RoundRobinPlant, window_grid};
-use crate::prove::{GAIN_TOLERANCE, gain_mismatch, prove_design, xi_decisive};
+use crate::prove::{GAIN_TOLERANCE, XiDecisive, gain_mismatch, prove_design};
 use crate::simulation::{SimulationOptions, simulate_error};
 use crate::validation::{GridPolicy, XiFamily};
 use crate::validation::{WindowGrid, grid_spacing, validate_window};
@@ -950,13 +950,21 @@ impl Sferlazza2021 {
                 })
                 .collect::<Result<Vec<_>, _>>()?;
             let fam = XiFamily::new(rr, &d.p, s)?;
+            // Set up once per sensor, at its first floating-point λ_min ≤ 0.
+            let mut enclosure: Option<XiDecisive> = None;
             for &t in &taus {
                 // A floating-point λ_min ≤ 0 refutes (44) only where interval arithmetic
                 // shows Ξ_σ(τ) not positive definite: on long windows its entries grow like
                 // ‖e^(−Aτ)‖² (10¹⁹ on a ship-heading plant at τ = 8.9) while λ_min stays of the
                 // order of P_Γ, and a computed λ_min of −32 there was rounding.
                 let lambda = fam.min_eigenvalue(t)?;
-                let refuted = lambda <= 0.0 && xi_decisive(rr, &d.p, s, t)?.lo() >= 0.0;
+                let refuted = lambda <= 0.0 && {
+                    let c = match &mut enclosure {
+                        Some(c) => c,
+                        None => enclosure.insert(XiDecisive::new(rr, &d.p, s)?),
+                    };
+                    c.at(t)?.lo() >= 0.0
+                };
                 spot.push((s, t, lambda, refuted));
             }
             let mut ks = ks.into_iter();

@@ -707,21 +707,32 @@ pub fn prove_design(
     ))
 }
 
-/// Encloses `λ_max(−Ξ_σ(τ))` of (44) at one `τ` for the Lyapunov matrices `p` (point
-/// enclosure of `e^{−Aτ}`, exact kernel basis `Q`; the test of a piece end by the proof): a
-/// lower end ≥ 0 shows that `Ξ_σ(τ)` is not positive definite, so (44) and, for every μ > 0,
-/// (48) fail at `τ`.
-///
-/// # Errors
-/// A failing kernel (e.g. `C_σC_σᵀ` not proven nonsingular).
-pub(crate) fn xi_decisive(
-    plant: &RoundRobinPlant,
-    p: &[Mat<f64>],
-    sigma: usize,
-    tau: f64,
-) -> Result<Interval, Error> {
-    let mut c = SensorCondition::new(plant, p, sigma)?;
-    c.decisive(tau)
+/// The condition (44) of one sensor for fixed Lyapunov matrices, enclosed at single `τ` as the
+/// proof tests a piece end (point enclosure of `e^{−Aτ}`, exact kernel basis `Q`): set up once
+/// and queried at as many `τ` as needed.
+pub(crate) struct XiDecisive(SensorCondition);
+
+impl XiDecisive {
+    /// The condition of sensor `sigma` for the Lyapunov matrices `p`.
+    ///
+    /// # Errors
+    /// A failing kernel (e.g. `C_σC_σᵀ` not proven nonsingular).
+    pub(crate) fn new(
+        plant: &RoundRobinPlant,
+        p: &[Mat<f64>],
+        sigma: usize,
+    ) -> Result<Self, Error> {
+        Ok(Self(SensorCondition::new(plant, p, sigma)?))
+    }
+
+    /// Encloses `λ_max(−Ξ_σ(τ))`: a lower end ≥ 0 shows that `Ξ_σ(τ)` is not positive definite,
+    /// so (44) and, for every μ > 0, (48) fail at `τ`.
+    ///
+    /// # Errors
+    /// A failing kernel, or an enclosure that overflows.
+    pub(crate) fn at(&mut self, tau: f64) -> Result<Interval, Error> {
+        self.0.decisive(tau)
+    }
 }
 
 /// Tries to prove the validation condition (48), `Ξ_σ(τ) ≻ μI`, for **every** `τ` of sensor

@@ -47,7 +47,7 @@ use sporadic_linalg::{expm_scaled, expm_stepper, min_eigenvalue};
 use crate::error::{Error, check_at_least, sig4};
 use crate::gain::check_sym;
 use crate::plant::RoundRobinPlant;
-use crate::prove::{prove_validation, xi_decisive};
+use crate::prove::{XiDecisive, prove_validation};
 use sporadic_model::{ProofStatus, ProofStop, SamplingWindow};
 
 /// How the validation grid spacing `τ_{k+1} − τ_k` is chosen.
@@ -898,7 +898,7 @@ fn screen_points(window: SamplingWindow) -> Vec<f64> {
 /// most negative relative to the scale of `Ξ_σ(τ)` and so to the rounding of its evaluation
 /// (`‖Ξ_σ(τ)‖` grows like `‖e^{−Aτ}‖²`: far in a long window, a floating-point `λ_min` of the
 /// order of `ε‖Ξ_σ(τ)‖` below zero is rounding, whatever its absolute size). When that ratio is
-/// negative, `Ξ_σ(τ̂)` is tested in interval arithmetic ([`xi_decisive`], the test of a piece
+/// negative, `Ξ_σ(τ̂)` is tested in interval arithmetic ([`XiDecisive`], the test of a piece
 /// end by the proof): if it is shown not positive definite, (48) fails at `τ̂` for every μ > 0,
 /// and the validation fails there (`points` the screen's, one failure, `min_eigenvalue` the
 /// floating-point `λ_min(Ξ_σ(τ̂))`). Otherwise — no negative ratio, a `λ_min` below zero by no
@@ -925,7 +925,8 @@ fn screen_window(
     let Some((_, tau, lambda)) = worst else {
         return Ok(None);
     };
-    if !xi_decisive(plant, p, family.sigma, tau).is_ok_and(|d| d.lo() >= 0.0) {
+    let refuted = XiDecisive::new(plant, p, family.sigma).and_then(|mut c| c.at(tau));
+    if !refuted.is_ok_and(|d| d.lo() >= 0.0) {
         return Ok(None);
     }
     Ok(Some(SensorValidation {
