@@ -24,6 +24,14 @@
 //! (41) at the vertices), and a point at which every vertex LMI is negative definite by more
 //! than `2‖P‖₂δ` and rounding (`strictly_negative`) certifies the window as it stands; only a
 //! point in between is solved again in the robust form.
+//! When no form certifies, the solves whose margin was undecided (within the solver's
+//! verification threshold of zero) are repeated, the largest margin first and until one gives a
+//! certificate, in the coordinates in which their own `P` is the identity (module
+//! `certificate`, not in the paper), where the margin is not bounded by the condition number of
+//! `P`; a certificate found there whose grid check of (12) in the plant's coordinates cannot
+//! resolve it (its `λmax` within rounding, the spectral radius below one) is reported as the
+//! precision limit of the method ([`Error::PrecisionLimit`], `numerical_failure`), not as an
+//! infeasible LMI.
 //! The normal forms (not in the paper) are solved in the equivalent reduced form of
 //! [`LmiForm::Reduced`] (order `2n`, or `3n` with a remainder, instead of `3n` or `4n`), and a
 //! form whose embedding remainder makes the robust (41) infeasible on its face
@@ -53,6 +61,7 @@
 //! (the reference certificate of the bound constants of Theorems 1–2 for Example 2).
 
 use sporadic_linalg::InputError;
+use std::cmp::Ordering;
 use std::time::{Duration, Instant};
 
 use faer::{Mat, MatRef};
@@ -61,6 +70,7 @@ use sporadic_embed::{
 };
 use sporadic_sdp::lmi::{FeasibilityOptions, Outcome};
 
+use crate::certificate::{CertificateCoordinates, VertexSet, strictly_negative};
 use crate::detectability::{DetectabilityOptions, DetectabilityReport, check_detectability};
 use crate::error::Error;
 use crate::lmi::{GainTerm, Lmi41, LmiForm, LmiResult, LmiSize, Objective, Point41, gain_from};
@@ -235,8 +245,9 @@ fn solve_on(
     gain: GainTerm,
     (options, form): (&DesignOptions, LmiForm),
     cache: &mut LmiCache,
-    certifies: Option<&Embedding>,
+    certifies: Option<&VertexSet>,
 ) -> Result<(LmiResult, bool), Error> {
+    budget_left()?;
     let lmis = &mut cache.lmis;
     let reusable = lmis
         .iter()
@@ -261,7 +272,7 @@ fn solve_on(
     }
     lmis.push(lmi);
     let lmi = lmis.last_mut().expect("pushed above");
-    let Some(embedding) = certifies else {
+    let Some(set) = certifies else {
         return Ok((lmi.solve()?, false));
     };
     // Every iterate with a positive margin is tested for (41) holding by more than rounding and
@@ -277,7 +288,7 @@ fn solve_on(
     let r = lmi.solve_accepting(&mut |point| {
         if !strictly_negative(
             plant,
-            embedding,
+            set,
             point.p.as_ref(),
             point.f.as_ref(),
             point.j.as_ref(),
@@ -291,7 +302,7 @@ fn solve_on(
     })?;
     let certified = |r: &LmiResult| {
         r.margin.is_some_and(|t| t > 0.0)
-            && strictly_negative(plant, embedding, r.p.as_ref(), r.f.as_ref(), r.j.as_ref())
+            && strictly_negative(plant, set, r.p.as_ref(), r.f.as_ref(), r.j.as_ref())
     };
     Ok(match last {
         _ if certified(&r) => (r, true),
@@ -317,6 +328,13 @@ pub(crate) struct LmiCache {
     /// The normal form (and whether with the Taylor fallback) that certified the last
     /// certified probe, tried first at the next one.
     preferred: Option<(normalise::Coordinates, bool)>,
+    /// Whether the certificate pass of the window being designed has been made: there is one
+    /// per window, not another with a refined embedding ([`crate::refine`], which clears this
+    /// when it starts a window), whose vertex count makes it costly, and which could only
+    /// reach the precision limit of the plant's coordinates again.
+    pub certificate_pass_made: bool,
+    /// The undecided solves of the window being designed (one per form at most).
+    undecided: Vec<Undecided>,
 }
 
 /// Compiled instances of LMI (41) kept by a window search: one per form of the problem tried
@@ -412,6 +430,7 @@ pub(crate) fn design_cached(
 ) -> Result<Design, Error> {
     let start = Instant::now();
     options.validate()?;
+    cache.undecided.clear();
     let forms = normalise::scalings(plant, window);
     let longer = forms
         .iter()
@@ -455,13 +474,46 @@ pub(crate) fn design_cached(
             // Any failure of a normal form (even a numerical one that is no verdict) leaves
             // the verdict of the problem as given.
             Err(e) if e.reason().is_some() => {
-                attempt(plant, window, options, cache, scaling, context).map_err(|_| e)
+                attempt(plant, window, options, cache, scaling, context).map_err(|next| {
+                    if matches!(next, Error::PrecisionLimit { .. }) {
+                        next
+                    } else {
+                        e
+                    }
+                })
             }
             done => {
                 result = done;
                 break;
             }
         };
+    }
+    // Every form failed: those whose margin was undecided are solved once more in the
+    // coordinates of their own certificates (`crate::certificate`), the largest margin first,
+    // until one gives a certificate; once per window.
+    if let Err(e) = &result
+        && e.reason().is_some()
+        && !cache.certificate_pass_made
+        && !cache.undecided.is_empty()
+    {
+        cache.certificate_pass_made = true;
+        let mut undecided = std::mem::take(&mut cache.undecided);
+        undecided.sort_by(|a, b| {
+            b.result
+                .margin
+                .partial_cmp(&a.result.margin)
+                .unwrap_or(Ordering::Equal)
+        });
+        for u in &undecided {
+            if let Some((r, embedding, scaling)) = certificate_pass(u, options, cache) {
+                if let done @ (Ok(_) | Err(Error::PrecisionLimit { .. })) =
+                    finish((plant, window, options), (r, embedding, scaling), context)
+                {
+                    result = done;
+                }
+                break;
+            }
+        }
     }
     if let (Err(e), Some(taylor)) = (&result, &taylor)
         && e.reason().is_some()
@@ -526,64 +578,6 @@ fn remainder_too_large(plant: &Plant, embedding: &Embedding) -> Option<String> {
              z in the kernel of C: the robust form of LMI (41) would make X(I − LC) Schur \
              there, which its eigenvalue 1 forbids"
         )
-    })
-}
-
-/// Whether LMI (41) holds at a point `(P, F, J)` at every vertex by more than what
-/// rounding and the embedding's own error can explain: `λmax(Φ_i) < −τ` with
-/// `τ = 2‖P‖₂·(max(ε_rec, 64u)·max_i‖X_i‖_F + δ) + 64u·3n·s` (`ε_rec` the relative
-/// reconstruction error of the residue expansion, `δ` the embedding's remainder bound, `u` the
-/// unit roundoff, `s` the largest block norm of `Φ_i`). A backward-stable eigenvalue computation
-/// is within `O(u)‖Φ_i‖` of the exact one, and the true `e^{Av}` is within
-/// `ε_rec‖e^{Av}‖_F + δ` of the hull, which moves `Φ` by at most `‖P‖₂` times that in its
-/// `(3,1)` block: so this is Corollary 1's strict LMI, decided without the solver's verification
-/// threshold (which is relative to the normalisation `‖P‖₂ ≤ 1` of the margin problem and so
-/// depends on the coordinates). Residue embeddings only.
-fn strictly_negative(
-    plant: &Plant,
-    embedding: &Embedding,
-    p: MatRef<'_, f64>,
-    f: MatRef<'_, f64>,
-    j: MatRef<'_, f64>,
-) -> bool {
-    let delta = embedding.remainder_bound();
-    let rec = match embedding.method() {
-        sporadic_embed::Method::Residue {
-            reconstruction_error,
-            projector_sum_error,
-            ..
-        } => reconstruction_error.max(*projector_sum_error),
-        sporadic_embed::Method::Taylor { .. } => return false,
-    };
-    let (n, u) = (plant.n(), f64::EPSILON);
-    let coupling = f - j * plant.c();
-    let norm2 = |m: MatRef<'_, f64>| m.singular_values().map_or(f64::INFINITY, |s| s[0]);
-    let (np, nf, nc) = (norm2(p), norm2(f), norm2(coupling.as_ref()));
-    let xmax = embedding
-        .vertices()
-        .iter()
-        .map(|x| x.norm_l2())
-        .fold(0.0, f64::max);
-    let scale = np.max(2.0 * nf).max(nc).max(np * xmax);
-    let tau = 2.0 * np * (rec.max(64.0 * u) * xmax + delta) + 64.0 * u * (3 * n) as f64 * scale;
-    if !tau.is_finite() {
-        return false;
-    }
-    embedding.vertices().iter().all(|x| {
-        let px = p * x;
-        let phi = Mat::from_fn(3 * n, 3 * n, |i, k| {
-            let (bi, bk, ii, kk) = (i / n, k / n, i % n, k % n);
-            match (bi, bk) {
-                (0, 0) => -(f[(ii, kk)] + f[(kk, ii)]),
-                (0, 1) => coupling[(ii, kk)],
-                (1, 0) => coupling[(kk, ii)],
-                (0, 2) => px[(kk, ii)],
-                (2, 0) => px[(ii, kk)],
-                (1, 1) | (2, 2) => -0.5 * (p[(ii, kk)] + p[(kk, ii)]),
-                _ => 0.0,
-            }
-        });
-        sporadic_linalg::max_eigenvalue(phi.as_ref()).is_ok_and(|l| l < -tau)
     })
 }
 
@@ -664,6 +658,7 @@ fn attempt(
     scaling: &normalise::Scaling,
     (start, detectability): (Instant, &DetectabilityReport),
 ) -> Result<Design, Error> {
+    budget_left()?;
     let given = normalise::Scaling::identity(plant.n(), plant.q());
     let (np, nw, scaling) = match (scaling.plant(plant), scaling.window(window)) {
         (Some(p), Some(w)) => (p, w, scaling),
@@ -713,8 +708,8 @@ fn attempt(
     let absorb =
         delta > 0.0 && matches!(embedding.method(), sporadic_embed::Method::Residue { .. });
     let exact = if absorb { 0.0 } else { delta };
-    let residue = matches!(embedding.method(), sporadic_embed::Method::Residue { .. });
-    let certifies = residue.then_some(&embedding);
+    let set = VertexSet::residue(&embedding);
+    let certifies = set.as_ref();
     // `negative`: the returned point passes `strictly_negative` (tested by `solve_on` for a
     // residue box, which has a positive margin then; never for a Taylor polytope).
     let (mut r, negative) = solve_on(
@@ -744,6 +739,18 @@ fn attempt(
         r.feasible |= negative;
     }
     if !r.feasible {
+        if set.is_some()
+            && undecided(&r)
+            && let Some(coordinates) = CertificateCoordinates::of(r.p.as_ref())
+        {
+            cache.undecided.push(Undecided {
+                plant: np,
+                window: nw,
+                result: r.clone(),
+                scaling: scaling.clone(),
+                coordinates,
+            });
+        }
         return Err(match r.stats.outcome {
             Outcome::Inconclusive => Error::Inconclusive {
                 reason: r.stats.reason,
@@ -754,24 +761,161 @@ fn attempt(
             },
         });
     }
+    finish(
+        (plant, window, options),
+        (r, embedding, scaling.clone()),
+        (start, detectability),
+    )
+}
+
+/// A solved form of LMI (41) mapped back to the plant's coordinates and verified on its data
+/// ([`crate::verify()`]); a failed verification is [`Error::PrecisionLimit`] when
+/// [`precision_limit`] says so.
+fn finish(
+    (plant, window, options): (&Plant, &SamplingWindow, &DesignOptions),
+    (mut r, embedding, scaling): (LmiResult, Embedding, normalise::Scaling),
+    (start, detectability): (Instant, &DetectabilityReport),
+) -> Result<Design, Error> {
     let l = scaling.gain_back(gain_from(r.f.as_ref(), r.j.as_ref())?.as_ref());
     r.p = scaling.symmetric_congruence_back(r.p.as_ref());
     r.f = scaling.congruence_back(r.f.as_ref());
     r.j = scaling.multiplier_gain_back(r.j.as_ref());
     let verification = verify(plant, window, l.as_ref(), r.p.as_ref(), &options.verify)?;
     if !verification.passed() {
-        return Err(verification_failed(&verification));
+        return Err(
+            match precision_limit(
+                (plant, l.as_ref()),
+                &r,
+                &scaling,
+                &verification,
+                &options.verify,
+            ) {
+                Some(e) => e,
+                None => verification_failed(&verification),
+            },
+        );
     }
     Ok(Design {
         certificate: certificate_of(&r),
         l,
         embedding,
         verification,
-        scaling: scaling.clone(),
+        scaling,
         detectability: detectability.clone(),
         stats: r.stats,
         size: r.size,
         total_time: start.elapsed(),
+    })
+}
+
+/// The solve of a form of LMI (41) whose margin was undecided ([`undecided`]) and whose `P`
+/// gives usable certificate coordinates, kept for a certificate pass ([`certificate_pass`]).
+pub(crate) struct Undecided {
+    /// The certificate coordinates of the solve's `P`.
+    coordinates: CertificateCoordinates,
+    /// The plant in the form's coordinates.
+    plant: Plant,
+    /// The window in the form's time unit.
+    window: SamplingWindow,
+    /// The solve.
+    result: LmiResult,
+    /// The form.
+    scaling: normalise::Scaling,
+}
+
+/// `Err(Error::Inconclusive)` when the time budget of the enclosing scope
+/// ([`sporadic_sdp::budget`]) is spent: the set-up of a form of the problem (its embedding and
+/// the compilation of LMI (41), a large share of a design's time at order 8) is not started
+/// then, as the interior-point solve itself would not be.
+fn budget_left() -> Result<(), Error> {
+    if sporadic_sdp::budget::exhausted() {
+        return Err(Error::Inconclusive {
+            reason: "the time budget ran out before LMI (41) was set up".into(),
+        });
+    }
+    Ok(())
+}
+
+/// Whether the margin `t*` of a solve that did not certify is within the solver's verification
+/// threshold of zero (undecided by the solve: a new solve in other coordinates may decide it).
+fn undecided(r: &LmiResult) -> bool {
+    let threshold = r.stats.margin_threshold.unwrap_or(0.0);
+    r.margin.is_some_and(|t| t > -threshold)
+}
+
+/// A new solve of the reduced LMI (41) in the certificate coordinates of an undecided solve's
+/// `P` ([`Undecided::coordinates`]), on the residue embedding of the plant in those
+/// coordinates: the point, if it passes `strictly_negative`, with its embedding and the
+/// scaling composed with the coordinates. `None` when the plant or its embedding in those
+/// coordinates is not finite, or the point is no certificate (the verdict is then that of the forms already solved).
+fn certificate_pass(
+    u: &Undecided,
+    options: &DesignOptions,
+    cache: &mut LmiCache,
+) -> Option<(LmiResult, Embedding, normalise::Scaling)> {
+    let c = &u.coordinates;
+    let plant = c.plant(&u.plant)?;
+    let embedding = embed_split(
+        plant.a(),
+        u.window.t1(),
+        u.window.t2(),
+        options.pieces,
+        &options.embedding,
+    )
+    .ok()?;
+    let set = VertexSet::residue(&embedding)?;
+    // A solve that fails here (e.g. a non-finite value) leaves the verdict of the forms.
+    let (mut r, negative) = solve_on(
+        &plant,
+        (&set.vertices, 0.0),
+        GainTerm::Free,
+        (options, LmiForm::Reduced),
+        cache,
+        Some(&set),
+    )
+    .ok()?;
+    negative.then(|| {
+        r.feasible = true;
+        (r, embedding, u.scaling.followed_by(&c.r, &c.r_inv))
+    })
+}
+
+/// The error of a design whose LMI (41) holds in certificate coordinates but whose grid check of
+/// (12) in the plant's coordinates cannot resolve the certificate: at the grid's worst `v` its
+/// `λmax` is below the rounding bound `4nu‖P‖₂(‖e^{Av}(I − LM)‖₂² + 1)` of computing it (a
+/// positive value there is rounding, not a violation), and the spectral radius of
+/// `e^{Av}(I − LM)` (which does not involve `P`) is below one on the grid
+/// ([`Error::PrecisionLimit`]). `None` for any other failure.
+fn precision_limit(
+    (plant, l): (&Plant, MatRef<'_, f64>),
+    r: &LmiResult,
+    scaling: &normalise::Scaling,
+    v: &Verification,
+    options: &VerifyOptions,
+) -> Option<Error> {
+    if scaling.certificate_passes == 0 || !v.schur_holds {
+        return None;
+    }
+    let n = plant.n();
+    let worst = sporadic_linalg::expm_scaled(plant.a(), v.max_eigenvalue_at).ok()?;
+    let flow_jump = worst * plant.reset_matrix(l).ok()?;
+    let norm2 = |m: MatRef<'_, f64>| m.singular_values().ok().map(|s| s[0]);
+    let p_norm = norm2(r.p.as_ref())?;
+    let rounding =
+        4.0 * n as f64 * f64::EPSILON * p_norm * (norm2(flow_jump.as_ref())?.powi(2) + 1.0);
+    if !(v.max_eigenvalue < rounding) {
+        return None;
+    }
+    let e = r.p.self_adjoint_eigen(faer::Side::Lower).ok()?;
+    let s = e.S().column_vector();
+    let (lo, hi) = (s[0], s[n - 1]);
+    Some(Error::PrecisionLimit {
+        margin: r.margin?,
+        condition: if lo > 0.0 { hi / lo } else { f64::INFINITY },
+        max_eigenvalue: v.max_eigenvalue,
+        rounding,
+        tolerance: options.tolerance,
+        max_spectral_radius: v.max_spectral_radius,
     })
 }
 

@@ -94,6 +94,33 @@ pub enum Error {
         /// `radius_at`.
         tau: f64,
     },
+    /// LMI (41) holds, verified at every vertex by more than rounding, in the coordinates of
+    /// its own certificate (`crate::certificate`), but the certificate mapped back to the user's
+    /// coordinates is too ill-conditioned for double precision to resolve (12) there: the
+    /// window is at the precision limit of the method, not shown infeasible.
+    #[error(
+        "double-precision limit: LMI (41) holds in the coordinates of its own certificate \
+         (margin {margin:.3e} there), but that certificate P has condition number \
+         {condition:.1e} in the plant's coordinates, where the grid check of (12) cannot \
+         resolve it (max lambda_max of (12) = {max_eigenvalue:.3e}, below the rounding bound \
+         {rounding:.3e} of computing it, where the check asks for less than -{tolerance:.0e} \
+         times the scale of P; max spectral radius of e^(Av)(I-LM) = \
+         {max_spectral_radius:.4}, below one)"
+    )]
+    PrecisionLimit {
+        /// Margin of the reduced LMI (41) in certificate coordinates.
+        margin: f64,
+        /// `λmax(P)/λmin(P)` of the certificate in the plant's coordinates.
+        condition: f64,
+        /// Largest eigenvalue of (12)'s left-hand side on the grid.
+        max_eigenvalue: f64,
+        /// Bound on the rounding error of computing it at the worst grid point.
+        rounding: f64,
+        /// The grid check's relative tolerance.
+        tolerance: f64,
+        /// Largest spectral radius of `e^{Av}(I − LM)` on the grid.
+        max_spectral_radius: f64,
+    },
     /// Writing an output file failed.
     #[error("I/O error on {path}: {source}")]
     Io {
@@ -129,6 +156,7 @@ impl Error {
     /// | [`Error::VerificationFailed`] | [`Reason::VerificationFailed`] with its `tau` |
     /// | [`Error::ConditionViolated`] | [`Reason::VerificationFailed`] without `tau` |
     /// | [`Error::Singular`] (`F` of the certificate) | [`Reason::NumericalFailure`] |
+    /// | [`Error::PrecisionLimit`] | [`Reason::NumericalFailure`] |
     /// | too many vertices, unreachable Taylor tolerance | [`Reason::BudgetExhausted`] |
     /// | a kernel's overflow, non-convergence, singularity, non-finite data | [`Reason::NumericalFailure`] |
     pub fn reason(&self) -> Option<Reason> {
@@ -142,7 +170,9 @@ impl Error {
                 message,
             },
             Error::ConditionViolated { .. } => Reason::VerificationFailed { tau: None, message },
-            Error::Singular { .. } => Reason::NumericalFailure { message },
+            Error::Singular { .. } | Error::PrecisionLimit { .. } => {
+                Reason::NumericalFailure { message }
+            }
             Error::Embed(EmbedError::TooManyVertices { .. })
             | Error::Embed(EmbedError::ToleranceUnreachable { .. }) => {
                 Reason::BudgetExhausted { message }

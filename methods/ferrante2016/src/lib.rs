@@ -69,6 +69,7 @@
 //! ```
 
 pub mod bounds;
+mod certificate;
 pub mod design;
 pub mod detectability;
 mod error;

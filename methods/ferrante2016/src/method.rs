@@ -184,6 +184,16 @@ impl Ferrante2016 {
                 power_words(&d.scaling.output),
             )),
         }
+        if d.scaling.certificate_passes > 0 {
+            r.notes.push(
+                "no form of the problem certified the window and the largest margin was below \
+                 its solve's verification threshold, so LMI (41) was solved again in the \
+                 coordinates x'' = Rx' in which that solve's Lyapunov matrix is the identity \
+                 (R'R = P'); the plant was embedded again in those coordinates and the \
+                 certificate mapped back with R"
+                    .into(),
+            );
+        }
         r.notes.push(if d.stats.status.is_accepted() {
             "L is not unique: any gain satisfying (12) solves Problem 1; this one is the first \
              point of the margin solve of LMI (41) at which every vertex LMI verified (a window \

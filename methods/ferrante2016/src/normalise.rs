@@ -115,6 +115,9 @@ pub struct Scaling {
     pub state_inverse: Mat<f64>,
     /// Output scaling `S` (diagonal entries; `y' = Sy`).
     pub output: Vec<f64>,
+    /// How many changes of coordinates to the certificate of an earlier solve
+    /// (`crate::design`, not in the paper) `T` includes on top of the normal form.
+    pub certificate_passes: usize,
 }
 
 impl Scaling {
@@ -126,6 +129,18 @@ impl Scaling {
             state: Mat::identity(n, n),
             state_inverse: Mat::identity(n, n),
             output: vec![1.0; q],
+            certificate_passes: 0,
+        }
+    }
+
+    /// This scaling followed by the change of state coordinates `x'' = Rx'` (`R̃` the computed
+    /// inverse of `R`): `T → RT`, `T⁻¹ → T⁻¹R̃`.
+    pub fn followed_by(&self, r: &Mat<f64>, r_inv: &Mat<f64>) -> Self {
+        Self {
+            state: r * &self.state,
+            state_inverse: &self.state_inverse * r_inv,
+            certificate_passes: self.certificate_passes + 1,
+            ..self.clone()
         }
     }
 

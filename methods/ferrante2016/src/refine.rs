@@ -77,7 +77,10 @@ impl Refinement {
 /// certifies, the infeasibility of the finest one is returned (its
 /// reason says how many pieces and vertices that was); an error of the refined design that is
 /// not an infeasible LMI (the solver inconclusive, a failed verification, …) returns the first
-/// infeasibility, and any other first verdict (undetectable, …) is returned as it is.
+/// infeasibility, and any other first verdict (undetectable, …) is returned as it is. A
+/// design at the precision limit ([`Error::PrecisionLimit`]: (41) holds, (12) cannot be
+/// resolved in the plant's coordinates) is refined in the same way, and its evidence of
+/// feasibility is kept over an infeasibility of the other polytope.
 pub(crate) fn refined(
     plant: &Plant,
     window: &SamplingWindow,
@@ -85,8 +88,9 @@ pub(crate) fn refined(
     cache: &mut LmiCache,
     refinement: &Refinement,
 ) -> Result<Design, Error> {
+    cache.certificate_pass_made = false;
     let first = match design_cached(plant, window, options, cache) {
-        Err(e @ Error::Infeasible { .. }) => e,
+        Err(e @ (Error::Infeasible { .. } | Error::PrecisionLimit { .. })) => e,
         done => return done,
     };
     let Some((pieces, vertices)) = finest(plant, window, options, refinement) else {
@@ -101,13 +105,18 @@ pub(crate) fn refined(
     };
     match design_cached(plant, window, &finer, cache) {
         Ok(d) => Ok(d),
-        Err(Error::Infeasible { margin, reason }) => Err(Error::Infeasible {
-            margin,
-            reason: format!(
-                "{reason} (also with the embedding refined to {pieces} pieces, {vertices} \
+        Err(e @ Error::PrecisionLimit { .. }) if matches!(first, Error::Infeasible { .. }) => {
+            Err(e)
+        }
+        Err(Error::Infeasible { margin, reason }) if matches!(first, Error::Infeasible { .. }) => {
+            Err(Error::Infeasible {
+                margin,
+                reason: format!(
+                    "{reason} (also with the embedding refined to {pieces} pieces, {vertices} \
                  vertices)"
-            ),
-        }),
+                ),
+            })
+        }
         Err(_) => Err(first),
     }
 }
