@@ -101,11 +101,9 @@ impl CertificateCoordinates {
         if !(MIN_CERTIFICATE_CONDITION..=MAX_CERTIFICATE_CONDITION).contains(&(hi / lo)) {
             return None;
         }
-        let v = e.U();
-        Some(Self {
-            r: Mat::from_fn(n, n, |i, j| (lambda[i] / hi).sqrt() * v[(j, i)]),
-            r_inv: Mat::from_fn(n, n, |i, j| v[(i, j)] * (hi / lambda[j]).sqrt()),
-        })
+        let scaled: Vec<f64> = lambda.iter().map(|l| l / hi).collect();
+        let (r, r_inv) = crate::normalise::root_coordinates(e.U(), &scaled);
+        Some(Self { r, r_inv })
     }
 
     /// `(R A R⁻¹, C R⁻¹)` (`None` when an entry is not finite).

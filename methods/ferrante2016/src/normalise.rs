@@ -252,6 +252,19 @@ pub fn longer_unit_gramian(plant: &Plant, window: &SamplingWindow) -> Option<Sca
         .find_map(|u| gramian_on(plant, u))
 }
 
+/// The coordinates `x' = Gx` in which the symmetric positive definite matrix `VΛVᵀ` is the
+/// identity: `G = Λ^½Vᵀ` and `G⁻¹ = VΛ^{−½}` (as computed), for `V` orthogonal and every
+/// `λ_i > 0`. The Gramian form takes them for the observability Gramian, the certificate
+/// coordinates of `crate::design` for a Lyapunov matrix of LMI (41).
+pub(crate) fn root_coordinates(v: MatRef<'_, f64>, lambda: &[f64]) -> (Mat<f64>, Mat<f64>) {
+    let n = lambda.len();
+    let root: Vec<f64> = lambda.iter().map(|l| l.sqrt()).collect();
+    (
+        Mat::from_fn(n, n, |i, j| root[i] * v[(j, i)]),
+        Mat::from_fn(n, n, |i, j| v[(i, j)] / root[j]),
+    )
+}
+
 /// Eigenvalues (ascending) and eigenvectors of a symmetric matrix.
 fn eigen(w: &Mat<f64>) -> Option<(Vec<f64>, Mat<f64>)> {
     let e = w.self_adjoint_eigen(Side::Lower).ok()?;
@@ -356,9 +369,8 @@ fn gramian_on(plant: &Plant, unit: f64) -> Option<Scaling> {
             return None;
         }
         let floor = hi / MAX_GRAMIAN_CONDITION;
-        let root: Vec<f64> = lambda.iter().map(|l| l.max(floor).sqrt()).collect();
-        let g = Mat::from_fn(n, n, |i, j| root[i] * v[(j, i)]);
-        let gi = Mat::from_fn(n, n, |i, j| v[(i, j)] / root[j]);
+        let floored: Vec<f64> = lambda.iter().map(|l| l.max(floor)).collect();
+        let (g, gi) = root_coordinates(v.as_ref(), &floored);
         scaling = Scaling {
             state: g * &scaling.state,
             state_inverse: &scaling.state_inverse * gi,
