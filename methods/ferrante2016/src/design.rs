@@ -328,10 +328,11 @@ pub(crate) struct LmiCache {
     /// The normal form (and whether with the Taylor fallback) that certified the last
     /// certified probe, tried first at the next one.
     preferred: Option<(normalise::Coordinates, bool)>,
-    /// Whether the certificate pass of the window being designed has been made: there is one
-    /// per window, not another with a refined embedding ([`crate::refine`], which clears this
-    /// when it starts a window), whose vertex count makes it costly, and which could only
-    /// reach the precision limit of the plant's coordinates again.
+    /// Whether the certificate passes of the window being designed are made or not wanted:
+    /// they are made with the window's own embedding, not again with a refined one, whose
+    /// vertex count makes them costly and which could only reach the precision limit of the
+    /// plant's coordinates again ([`crate::refine`] clears this when it starts a window and
+    /// sets it before the refined design).
     pub certificate_pass_made: bool,
     /// The undecided solves of the window being designed (one per form at most).
     undecided: Vec<Undecided>,
@@ -474,13 +475,7 @@ pub(crate) fn design_cached(
             // Any failure of a normal form (even a numerical one that is no verdict) leaves
             // the verdict of the problem as given.
             Err(e) if e.reason().is_some() => {
-                attempt(plant, window, options, cache, scaling, context).map_err(|next| {
-                    if matches!(next, Error::PrecisionLimit { .. }) {
-                        next
-                    } else {
-                        e
-                    }
-                })
+                attempt(plant, window, options, cache, scaling, context).map_err(|_| e)
             }
             done => {
                 result = done;
@@ -505,6 +500,12 @@ pub(crate) fn design_cached(
                 .unwrap_or(Ordering::Equal)
         });
         for u in &undecided {
+            if budget_left().is_err() {
+                break;
+            }
+            // A certificate whose check of (12) fails for another reason than the precision
+            // limit leaves the verdict of the forms (and ends the passes: the next would meet
+            // the same check).
             if let Some((r, embedding, scaling)) = certificate_pass(u, options, cache) {
                 if let done @ (Ok(_) | Err(Error::PrecisionLimit { .. })) =
                     finish((plant, window, options), (r, embedding, scaling), context)
@@ -881,11 +882,14 @@ fn certificate_pass(
 }
 
 /// The error of a design whose LMI (41) holds in certificate coordinates but whose grid check of
-/// (12) in the plant's coordinates cannot resolve the certificate: at the grid's worst `v` its
-/// `λmax` is below the rounding bound `4nu‖P‖₂(‖e^{Av}(I − LM)‖₂² + 1)` of computing it (a
-/// positive value there is rounding, not a violation), and the spectral radius of
-/// `e^{Av}(I − LM)` (which does not involve `P`) is below one on the grid
-/// ([`Error::PrecisionLimit`]). `None` for any other failure.
+/// (12) in the plant's coordinates cannot decide the certificate ([`Error::PrecisionLimit`]):
+/// the spectral radius of `e^{Av}(I − LM)` (which does not involve `P`) is below one on the
+/// grid, and either the check's own test is out of reach (it asks for `λmax` of the diagonally
+/// scaled left-hand side below `−tolerance` times the scaled `P`, while that `λmax` is at least
+/// `−λmin/λmax` of the scaled `P`: no certificate whose diagonally scaled condition number
+/// exceeds `1/tolerance` passes), or `λmax` at the grid's worst `v` is below an estimate
+/// `4nu‖P‖₂(‖e^{Av}(I − LM)‖₂² + 1)` of its rounding error (a positive value there may be
+/// rounding). `None` for any other failure.
 fn precision_limit(
     (plant, l): (&Plant, MatRef<'_, f64>),
     r: &LmiResult,
@@ -893,7 +897,7 @@ fn precision_limit(
     v: &Verification,
     options: &VerifyOptions,
 ) -> Option<Error> {
-    if scaling.certificate_passes == 0 || !v.schur_holds {
+    if !scaling.certificate || !v.schur_holds {
         return None;
     }
     let n = plant.n();
@@ -903,15 +907,25 @@ fn precision_limit(
     let p_norm = norm2(r.p.as_ref())?;
     let rounding =
         4.0 * n as f64 * f64::EPSILON * p_norm * (norm2(flow_jump.as_ref())?.powi(2) + 1.0);
-    if !(v.max_eigenvalue < rounding) {
+    let condition = |p: MatRef<'_, f64>| {
+        let s = p.self_adjoint_eigenvalues(faer::Side::Lower).ok()?;
+        Some(if s[0] > 0.0 {
+            s[n - 1] / s[0]
+        } else {
+            f64::INFINITY
+        })
+    };
+    let d: Vec<f64> = (0..n).map(|i| r.p[(i, i)].abs().sqrt().recip()).collect();
+    let scaled = Mat::from_fn(n, n, |i, j| d[i] * r.p[(i, j)] * d[j]);
+    let scaled_condition = condition(scaled.as_ref())?;
+    let out_of_reach = options.tolerance * scaled_condition >= 1.0;
+    if !(out_of_reach || v.max_eigenvalue < rounding) {
         return None;
     }
-    let e = r.p.self_adjoint_eigen(faer::Side::Lower).ok()?;
-    let s = e.S().column_vector();
-    let (lo, hi) = (s[0], s[n - 1]);
     Some(Error::PrecisionLimit {
         margin: r.margin?,
-        condition: if lo > 0.0 { hi / lo } else { f64::INFINITY },
+        condition: condition(r.p.as_ref())?,
+        scaled_condition,
         max_eigenvalue: v.max_eigenvalue,
         rounding,
         tolerance: options.tolerance,
@@ -1020,7 +1034,9 @@ pub(crate) fn verification_failed(v: &Verification) -> Error {
     }
 }
 
-/// Certifies a given gain `L` with LMI (41) where `J = FL` (see the module docs).
+/// Certifies a given gain `L` with LMI (41) where `J = FL` (see the module docs). Within a spent
+/// time budget ([`sporadic_sdp::budget`]) the LMI is not set up, and the error is
+/// [`Error::Inconclusive`].
 pub fn analyse(
     plant: &Plant,
     window: &SamplingWindow,

@@ -94,27 +94,31 @@ pub enum Error {
         /// `radius_at`.
         tau: f64,
     },
-    /// LMI (41) holds, verified at every vertex by more than rounding, in the coordinates of
-    /// its own certificate (`crate::certificate`), but the certificate mapped back to the user's
-    /// coordinates is too ill-conditioned for double precision to resolve (12) there: the
-    /// window is at the precision limit of the method, not shown infeasible.
+    /// LMI (41) holds, verified at every vertex by more than rounding, for the plant in the
+    /// coordinates of its own certificate (computed as `R A R⁻¹`; module `certificate`), but
+    /// the certificate mapped back to the plant's coordinates is too ill-conditioned for the
+    /// grid check of (12) there to decide it: the window is at the precision limit of the
+    /// method, not shown infeasible.
     #[error(
         "double-precision limit: LMI (41) holds in the coordinates of its own certificate \
          (margin {margin:.3e} there), but that certificate P has condition number \
-         {condition:.1e} in the plant's coordinates, where the grid check of (12) cannot \
-         resolve it (max lambda_max of (12) = {max_eigenvalue:.3e}, below the rounding bound \
-         {rounding:.3e} of computing it, where the check asks for less than -{tolerance:.0e} \
-         times the scale of P; max spectral radius of e^(Av)(I-LM) = \
-         {max_spectral_radius:.4}, below one)"
+         {condition:.1e} in the plant's coordinates ({scaled_condition:.1e} after diagonal \
+         scaling), where the grid check of (12) cannot decide it: max lambda_max of (12) = \
+         {max_eigenvalue:.3e} (its rounding error estimated at {rounding:.1e}), and the check \
+         asks for less than -{tolerance:.0e} times the scale of P, out of reach above a \
+         scaled condition number of 1/{tolerance:.0e}; max spectral radius of e^(Av)(I-LM) = \
+         {max_spectral_radius:.4}, below one"
     )]
     PrecisionLimit {
         /// Margin of the reduced LMI (41) in certificate coordinates.
         margin: f64,
         /// `λmax(P)/λmin(P)` of the certificate in the plant's coordinates.
         condition: f64,
+        /// The same for `ΔPΔ`, `Δ = diag(P)^(−½)` (the matrix the grid check scales by).
+        scaled_condition: f64,
         /// Largest eigenvalue of (12)'s left-hand side on the grid.
         max_eigenvalue: f64,
-        /// Bound on the rounding error of computing it at the worst grid point.
+        /// Estimate of the rounding error of computing it at the worst grid point.
         rounding: f64,
         /// The grid check's relative tolerance.
         tolerance: f64,

@@ -147,6 +147,21 @@ impl Ferrante2016 {
             );
         }
         match d.scaling.coordinates {
+            _ if d.scaling.certificate => r.notes.push(format!(
+                "no form of the problem certified the window by its own solve: LMI (41) was \
+                 solved again in the coordinates x'' = Tx in which the Lyapunov matrix of an \
+                 undecided solve (margin below its verification threshold) of the {} form is \
+                 the identity up to scale (T = RT0, T0 that form's change of coordinates, \
+                 R'R = P'/lambda_max(P')), time unit k = {}, the plant embedded again in those \
+                 coordinates; L, P, F, J mapped back with T and (12) re-verified on the user's \
+                 data",
+                match d.scaling.coordinates {
+                    Coordinates::Given => "given",
+                    Coordinates::Gramian => "Gramian",
+                    Coordinates::Diagonal => "diagonal",
+                },
+                significant(d.scaling.time),
+            )),
             Coordinates::Given => {
                 if d.scaling.output.iter().any(|s| *s != 1.0) {
                     r.notes.push(format!(
@@ -184,16 +199,7 @@ impl Ferrante2016 {
                 power_words(&d.scaling.output),
             )),
         }
-        if d.scaling.certificate_passes > 0 {
-            r.notes.push(
-                "no form of the problem certified the window and the largest margin was below \
-                 its solve's verification threshold, so LMI (41) was solved again in the \
-                 coordinates x'' = Rx' in which that solve's Lyapunov matrix is the identity \
-                 (R'R = P'); the plant was embedded again in those coordinates and the \
-                 certificate mapped back with R"
-                    .into(),
-            );
-        }
+
         r.notes.push(if d.stats.status.is_accepted() {
             "L is not unique: any gain satisfying (12) solves Problem 1; this one is the first \
              point of the margin solve of LMI (41) at which every vertex LMI verified (a window \

@@ -115,9 +115,10 @@ pub struct Scaling {
     pub state_inverse: Mat<f64>,
     /// Output scaling `S` (diagonal entries; `y' = Sy`).
     pub output: Vec<f64>,
-    /// How many changes of coordinates to the certificate of an earlier solve
-    /// (`crate::design`, not in the paper) `T` includes on top of the normal form.
-    pub certificate_passes: usize,
+    /// Whether `T` includes, after the normal form, the change of coordinates to the
+    /// certificate of an undecided solve (`crate::design`, not in the paper): `T = RT₀` with
+    /// `RᵀR = P/λmax(P)` for that solve's `P`.
+    pub certificate: bool,
 }
 
 impl Scaling {
@@ -129,7 +130,7 @@ impl Scaling {
             state: Mat::identity(n, n),
             state_inverse: Mat::identity(n, n),
             output: vec![1.0; q],
-            certificate_passes: 0,
+            certificate: false,
         }
     }
 
@@ -139,7 +140,7 @@ impl Scaling {
         Self {
             state: r * &self.state,
             state_inverse: &self.state_inverse * r_inv,
-            certificate_passes: self.certificate_passes + 1,
+            certificate: true,
             ..self.clone()
         }
     }

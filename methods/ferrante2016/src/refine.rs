@@ -103,6 +103,7 @@ pub(crate) fn refined(
         pieces,
         ..options.clone()
     };
+    cache.certificate_pass_made = true;
     match design_cached(plant, window, &finer, cache) {
         Ok(d) => Ok(d),
         Err(e @ Error::PrecisionLimit { .. }) if matches!(first, Error::Infeasible { .. }) => {

@@ -403,8 +403,9 @@ fn a_design_keeps_an_iterate_that_certifies_when_its_optimal_point_does_not() {
 /// then as "no verifiable margin" (kind `infeasible_lmi`). Solved again in the coordinates of
 /// its own certificate `P` (condition number `~10¹¹` in the plant's coordinates), (41) holds with
 /// margin `~7e-5` at every vertex by more than rounding; the grid check of (12) on the plant's
-/// data finds `λmax < 0` but only `3e-10` of `‖P‖`, below its tolerance `1e-9`. The verdict must
-/// say that: the double-precision limit (`numerical_failure`), never infeasibility.
+/// data finds `λmax < 0` but only `3e-10` of the scale of `P`, where it asks for `1e-9`, out of
+/// reach for a certificate this ill-conditioned. The verdict must say that: the double-precision
+/// limit (`numerical_failure`), never infeasibility.
 #[test]
 fn a_margin_below_resolution_is_not_reported_as_infeasibility() {
     use sporadic_ferrante2016::{DesignOptions, Error, Plant, design as design_lmi};
@@ -556,15 +557,16 @@ fn a_window_search_does_not_call_a_certified_plant_undetectable_at_t1() {
 
 /// A magnetic levitation written for this test (order 3: position, velocity, coil current;
 /// open-loop poles `±44.27/s` and `−100/s`; position measured), in seconds and in milliseconds
-/// (velocity per ms, so the second is also a change of state coordinates). LMI (41) on the
+/// (with velocity and current in other units, so the second is also a diagonal change of state
+/// coordinates). LMI (41) on the
 /// residue box is strictly feasible for every `T2`: in modal coordinates the vertices are
 /// `diag(c₁, c₂, c₃)`, and the gain that resets the unstable mode from the measurement makes every
 /// `diag(c)(I − LC)` upper triangular with diagonal `(0, c₂, c₃)`, `|c₂|, |c₃| < 1`. Its
 /// margin falls like `1/‖e^{AT2}‖²`, and near `T2 = 0.17 s` the solver returned `t* ≈ −2e-9`
 /// (seconds) and `−4e-10` (milliseconds), which was reported as `infeasible_lmi` in both units.
 /// In the coordinates of its own certificate (41) holds there; what fails is the grid check of
-/// (12) in the plant's coordinates, at the limit of double precision. The verdict must say so, the
-/// same in both units: certified, or `numerical_failure` naming that limit, never infeasibility.
+/// (12) in the plant's coordinates, at the limit of double precision. The verdict must say so in
+/// each unit: certified, or `numerical_failure` naming that limit, never infeasibility.
 #[test]
 fn a_window_at_the_precision_limit_is_not_reported_as_infeasible() {
     let cases = [
