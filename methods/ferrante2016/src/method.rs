@@ -152,7 +152,8 @@ impl Ferrante2016 {
                  solved again in the coordinates x'' = Tx in which the Lyapunov matrix of an \
                  undecided solve (margin below its verification threshold) of the {} form is \
                  the identity up to scale (T = RT0, T0 that form's change of coordinates, \
-                 R'R = P'/lambda_max(P')), time unit k = {}, the plant embedded again in those \
+                 R'R = P'/lambda_max(P')), time unit k = {} in the plant's time unit, the \
+                 plant embedded again in those \
                  coordinates; L, P, F, J mapped back with T and (12) re-verified on the user's \
                  data",
                 match d.scaling.coordinates {
@@ -173,7 +174,8 @@ impl Ferrante2016 {
                 }
             }
             Coordinates::Gramian => r.notes.push(format!(
-                "LMI (41) solved on the normalised problem: time unit k = {} s (T2, or T1 plus \
+                "LMI (41) solved on the normalised problem: time unit k = {} in the plant's \
+                 time unit (T2, or T1 plus \
                  the decay horizon 72/|α| of A when the window is longer), state coordinates \
                  x' = Tx in which the observability Gramian over one time unit is the identity, output scaling y' = Sy with S = diag{}; L, P, F, J mapped back \
                  (L = T^-1 L' S, P = T'P'T, F = T'F'T, J = T'J'S) and (12) re-verified on the \
@@ -182,7 +184,8 @@ impl Ferrante2016 {
                 power_words(&d.scaling.output),
             )),
             Coordinates::Diagonal => r.notes.push(format!(
-                "LMI (41) solved on the normalised problem: time unit k = {} s (T2, or T1 plus \
+                "LMI (41) solved on the normalised problem: time unit k = {} in the plant's \
+                 time unit (T2, or T1 plus \
                  the decay horizon 72/|α| of A when the window is longer), state scaling x' = Dx with D = diag{} (powers of two), output scaling y' = Sy with S = diag{}; \
                  L, P, F, J mapped back (L = D^-1 L' S, P = D'P'D, F = D'F'D, J = D'J'S) and (12) \
                  re-verified on the user's data",
