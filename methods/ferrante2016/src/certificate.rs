@@ -41,18 +41,18 @@ pub const MAX_CERTIFICATE_CONDITION: f64 = 1e12;
 /// The vertices `X_i` of LMI (41) in the coordinates of a solve, with a bound `error` on the
 /// spectral-norm distance of every `e^{Av}`, `v` in the window, from their hull (in the same
 /// coordinates).
-#[derive(Debug, Clone)]
-pub(crate) struct VertexSet {
-    pub vertices: Vec<Mat<f64>>,
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct VertexSet<'a> {
+    pub vertices: &'a [Mat<f64>],
     pub error: f64,
 }
 
-impl VertexSet {
+impl<'a> VertexSet<'a> {
     /// The vertices of a residue embedding: `error = max(ε_rec, 64u)·max_i‖X_i‖_F + δ`
     /// (`ε_rec` the relative reconstruction error of the residue expansion, `δ` its truncation
     /// remainder). `None` for other embeddings (a Taylor polytope's remainder is handled by the
     /// robust form of (41) instead).
-    pub fn residue(embedding: &Embedding) -> Option<Self> {
+    pub fn residue(embedding: &'a Embedding) -> Option<Self> {
         let rec = match embedding.method() {
             sporadic_embed::Method::Residue {
                 reconstruction_error,
@@ -61,9 +61,9 @@ impl VertexSet {
             } => reconstruction_error.max(*projector_sum_error),
             sporadic_embed::Method::Taylor { .. } => return None,
         };
-        let vertices = embedding.vertices().to_vec();
+        let vertices = embedding.vertices();
         let error =
-            rec.max(64.0 * f64::EPSILON) * largest_norm(&vertices) + embedding.remainder_bound();
+            rec.max(64.0 * f64::EPSILON) * largest_norm(vertices) + embedding.remainder_bound();
         Some(Self { vertices, error })
     }
 }
@@ -124,7 +124,7 @@ impl CertificateCoordinates {
 /// normalisation `‖P‖₂ ≤ 1` of the margin problem and so depends on the coordinates).
 pub(crate) fn strictly_negative(
     plant: &Plant,
-    set: &VertexSet,
+    set: &VertexSet<'_>,
     p: MatRef<'_, f64>,
     f: MatRef<'_, f64>,
     j: MatRef<'_, f64>,
@@ -133,7 +133,7 @@ pub(crate) fn strictly_negative(
     let coupling = f - j * plant.c();
     let norm2 = |m: MatRef<'_, f64>| m.singular_values().map_or(f64::INFINITY, |s| s[0]);
     let (np, nf, nc) = (norm2(p), norm2(f), norm2(coupling.as_ref()));
-    let xmax = largest_norm(&set.vertices);
+    let xmax = largest_norm(set.vertices);
     let scale = np.max(2.0 * nf).max(nc).max(np * xmax);
     let tau = 2.0 * np * set.error + 64.0 * u * (3 * n) as f64 * scale;
     if !tau.is_finite() {

@@ -245,7 +245,7 @@ fn solve_on(
     gain: GainTerm,
     (options, form): (&DesignOptions, LmiForm),
     cache: &mut LmiCache,
-    certifies: Option<&VertexSet>,
+    certifies: Option<&VertexSet<'_>>,
 ) -> Result<(LmiResult, bool), Error> {
     budget_left()?;
     let lmis = &mut cache.lmis;
@@ -493,12 +493,7 @@ pub(crate) fn design_cached(
     {
         cache.certificate_pass_made = true;
         let mut undecided = std::mem::take(&mut cache.undecided);
-        undecided.sort_by(|a, b| {
-            b.result
-                .margin
-                .partial_cmp(&a.result.margin)
-                .unwrap_or(Ordering::Equal)
-        });
+        undecided.sort_by(|a, b| b.margin.partial_cmp(&a.margin).unwrap_or(Ordering::Equal));
         for u in &undecided {
             if budget_left().is_err() {
                 break;
@@ -747,7 +742,7 @@ fn attempt(
             cache.undecided.push(Undecided {
                 plant: np,
                 window: nw,
-                result: r.clone(),
+                margin: r.margin,
                 scaling: scaling.clone(),
                 coordinates,
             });
@@ -818,8 +813,8 @@ pub(crate) struct Undecided {
     plant: Plant,
     /// The window in the form's time unit.
     window: SamplingWindow,
-    /// The solve.
-    result: LmiResult,
+    /// The solve's margin `t*`.
+    margin: Option<f64>,
     /// The form.
     scaling: normalise::Scaling,
 }
@@ -868,7 +863,7 @@ fn certificate_pass(
     // A solve that fails here (e.g. a non-finite value) leaves the verdict of the forms.
     let (mut r, negative) = solve_on(
         &plant,
-        (&set.vertices, 0.0),
+        (set.vertices, 0.0),
         GainTerm::Free,
         (options, LmiForm::Reduced),
         cache,
@@ -877,7 +872,11 @@ fn certificate_pass(
     .ok()?;
     negative.then(|| {
         r.feasible = true;
-        (r, embedding, u.scaling.followed_by(&c.r, &c.r_inv))
+        let scaling = normalise::Scaling {
+            certificate: true,
+            ..u.scaling.then_state(&c.r, &c.r_inv)
+        };
+        (r, embedding, scaling)
     })
 }
 

@@ -134,13 +134,12 @@ impl Scaling {
         }
     }
 
-    /// This scaling followed by the change of state coordinates `x'' = Rx'` (`R̃` the computed
-    /// inverse of `R`): `T → RT`, `T⁻¹ → T⁻¹R̃`.
-    pub fn followed_by(&self, r: &Mat<f64>, r_inv: &Mat<f64>) -> Self {
+    /// This scaling followed by the change of state coordinates `x'' = Gx'` (`G̃` the computed
+    /// inverse of `G`): `T → GT`, `T⁻¹ → T⁻¹G̃`, the rest unchanged.
+    pub fn then_state(&self, g: &Mat<f64>, g_inv: &Mat<f64>) -> Self {
         Self {
-            state: r * &self.state,
-            state_inverse: &self.state_inverse * r_inv,
-            certificate: true,
+            state: g * &self.state,
+            state_inverse: &self.state_inverse * g_inv,
             ..self.clone()
         }
     }
@@ -373,15 +372,13 @@ fn gramian_on(plant: &Plant, unit: f64) -> Option<Scaling> {
         let floored: Vec<f64> = lambda.iter().map(|l| l.max(floor)).collect();
         let (g, gi) = root_coordinates(v.as_ref(), &floored);
         scaling = Scaling {
-            state: g * &scaling.state,
-            state_inverse: &scaling.state_inverse * gi,
             output: scaling
                 .output
                 .iter()
                 .zip(&weights)
                 .map(|(s, w)| s * w)
                 .collect(),
-            ..scaling
+            ..scaling.then_state(&g, &gi)
         };
     }
     Some(scaling)
