@@ -567,6 +567,32 @@ pub fn largest_window_with<M: ObserverMethod + ?Sized>(
     report.first_failing_t2 = search.first_failure;
     report.search_end = Some(search.end);
     report.monotone = search.monotone;
+    // A bracket whose failing end is a probe cut short by its own budget (a proof's pieces, a
+    // refinement's cap) is not resolved by a verdict: the largest certified T2 is a lower bound
+    // only, and the search says so instead of having converged.
+    let undecided = search.first_failure.and_then(|f| {
+        search
+            .probes
+            .iter()
+            .rev()
+            .find(|p| !p.certified && p.t2 == f)
+            .and_then(|p| match &p.reason {
+                Some(Reason::BudgetExhausted { message }) => Some(message.clone()),
+                _ => None,
+            })
+    });
+    if search.end == crate::report::SearchEnd::Converged
+        && search.best.is_some()
+        && let (Some(message), Some(f)) = (undecided, search.first_failure)
+    {
+        report.search_end = Some(crate::report::SearchEnd::BudgetExhausted);
+        report.reason = Some(Reason::BudgetExhausted {
+            message: format!(
+                "the probe at T2 = {f:.6} was not decided (its own budget ran out: {message}); \
+                 the largest certified T2 is a lower bound"
+            ),
+        });
+    }
     report.status = if search.best.is_some() {
         Status::Certified
     } else {
@@ -656,5 +682,73 @@ mod tests {
             run(&t, &[1.0, 0.0, f64::NAN, 0.0, 0.0]).settling_time(0.02),
             Some(3.0)
         );
+    }
+
+    /// Certifies every `T2 ≤ 2`; above, its probe is cut short by its own budget (no verdict).
+    struct Undecided;
+
+    impl ObserverMethod for Undecided {
+        fn id(&self) -> &'static str {
+            "undecided"
+        }
+        fn citation(&self) -> &'static str {
+            "a test method"
+        }
+        fn summary(&self) -> &'static str {
+            "certifies up to T2 = 2, undecided above"
+        }
+        fn observer(&self) -> &'static str {
+            "none"
+        }
+        fn applies(&self, _: &Plant, _: &Sampling) -> Result<(), NotApplicable> {
+            Ok(())
+        }
+        fn design(
+            &self,
+            plant: &Plant,
+            sampling: &Sampling,
+            _: &MethodOptions,
+        ) -> Result<DesignReport, MethodError> {
+            Ok(if sampling.t2() <= 2.0 {
+                DesignReport::certified(self, plant.name(), sampling)
+            } else {
+                let message = "the proof's piece budget ran out".to_string();
+                DesignReport::without_design(
+                    self,
+                    plant.name(),
+                    Some(sampling),
+                    Reason::BudgetExhausted { message },
+                )
+            })
+        }
+    }
+
+    /// A bracket whose failing end is a probe that its own budget cut short ends the search as
+    /// `budget_exhausted` with the largest certified `T2` as a lower bound, not `converged`
+    /// (a sferlazza2021 search on an unstable round-robin plant, whose proof of (48) ran out of
+    /// pieces above T2 ≈ 32.5, reported `converged` with that probe as the first failure).
+    #[test]
+    fn an_undecided_probe_does_not_end_a_search_as_converged() {
+        let plant = Plant::linear(
+            faer::mat![[-1.0]].as_ref(),
+            None,
+            faer::mat![[1.0]].as_ref(),
+        )
+        .unwrap();
+        let sampling = Sampling::Synchronous(crate::SamplingWindow::new(0.5, 1.0).unwrap());
+        let r = Undecided
+            .largest_window(&plant, &sampling, 8.0, &MethodOptions::default(), &mut |_| {})
+            .unwrap();
+        let best = r.largest_certified_t2.unwrap();
+        let failing = r.first_failing_t2.unwrap();
+        assert!(best <= 2.0 && failing > 2.0 && failing < 2.1, "{best} {failing}");
+        assert_eq!(r.status, Status::Certified);
+        assert_eq!(r.search_end, Some(crate::report::SearchEnd::BudgetExhausted));
+        match &r.reason {
+            Some(Reason::BudgetExhausted { message }) => {
+                assert!(message.contains("lower bound") && message.contains("piece budget"));
+            }
+            other => panic!("{other:?}"),
+        }
     }
 }

@@ -587,10 +587,10 @@ fn print_max_interval(r: &MaxIntervalReport) {
     let budget = r.search_end == Some(SearchEnd::BudgetExhausted);
     match (r.largest_certified_t2, r.first_failing_t2) {
         (Some(b), f) if budget => println!(
-            "result   largest certified T2 = {b:.6} when the time budget ran out ({}), T1 = {}",
+            "result   largest certified T2 = {b:.6}, a lower bound: a budget ran out ({}), T1 = {}",
             f.map_or_else(
                 || "no failing T2 found yet".to_string(),
-                |f| format!("fails at {f:.6}")
+                |f| format!("not certified at {f:.6}")
             ),
             r.t1.unwrap_or(f64::NAN)
         ),
@@ -737,7 +737,7 @@ fn print_compare(file: &PlantFile, report: &CompareReport) {
             Some(_) if own_rule => "-".to_string(),
             Some(r) => match (r.largest_certified_t2, r.first_failing_t2) {
                 (Some(b), _) if r.search_end == Some(SearchEnd::BudgetExhausted) => {
-                    format!("{} (out of time)", significant(b))
+                    format!("{} (budget ran out)", significant(b))
                 }
                 (Some(b), Some(f)) => {
                     let why = r
