@@ -737,13 +737,25 @@ mod tests {
         .unwrap();
         let sampling = Sampling::Synchronous(crate::SamplingWindow::new(0.5, 1.0).unwrap());
         let r = Undecided
-            .largest_window(&plant, &sampling, 8.0, &MethodOptions::default(), &mut |_| {})
+            .largest_window(
+                &plant,
+                &sampling,
+                8.0,
+                &MethodOptions::default(),
+                &mut |_| {},
+            )
             .unwrap();
         let best = r.largest_certified_t2.unwrap();
         let failing = r.first_failing_t2.unwrap();
-        assert!(best <= 2.0 && failing > 2.0 && failing < 2.1, "{best} {failing}");
+        assert!(
+            best <= 2.0 && failing > 2.0 && failing < 2.1,
+            "{best} {failing}"
+        );
         assert_eq!(r.status, Status::Certified);
-        assert_eq!(r.search_end, Some(crate::report::SearchEnd::BudgetExhausted));
+        assert_eq!(
+            r.search_end,
+            Some(crate::report::SearchEnd::BudgetExhausted)
+        );
         match &r.reason {
             Some(Reason::BudgetExhausted { message }) => {
                 assert!(message.contains("lower bound") && message.contains("piece budget"));

@@ -23,7 +23,7 @@ use crate::design::{Analysis, Design, DesignOptions, LmiCache, analyse, design_c
 use crate::error::Error;
 use crate::system::Plant;
 use faer::MatRef;
-use sporadic_embed::embed_split;
+use sporadic_embed::{EmbeddingMethod, ResidueOptions, embed_split};
 use sporadic_model::SamplingWindow;
 
 /// Limits of the refinement (see the module docs).
@@ -93,16 +93,13 @@ pub(crate) fn refined(
         Err(e @ (Error::Infeasible { .. } | Error::PrecisionLimit { .. })) => e,
         done => return done,
     };
-    let Some((pieces, vertices)) = finest(plant, window, options, refinement) else {
+    let Some((finer, vertices)) = finest(plant, window, options, refinement) else {
         return Err(first);
     };
     if sporadic_sdp::budget::exhausted() {
         return Err(first);
     }
-    let finer = DesignOptions {
-        pieces,
-        ..options.clone()
-    };
+    let pieces = finer.pieces;
     cache.certificate_pass_made = true;
     match design_cached(plant, window, &finer, cache) {
         Ok(d) => Ok(d),
@@ -138,26 +135,35 @@ pub(crate) fn refined_analysis(
     if first.certificate.is_some() || sporadic_sdp::budget::exhausted() {
         return Ok(first);
     }
-    let Some((pieces, _)) = finest(plant, window, options, refinement) else {
+    let Some((finer, _)) = finest(plant, window, options, refinement) else {
         return Ok(first);
-    };
-    let finer = DesignOptions {
-        pieces,
-        ..options.clone()
     };
     Ok(analyse(plant, window, l, &finer).unwrap_or(first))
 }
 
 /// The finest split of `window` within `refinement` (pieces a power-of-two multiple of the
-/// design's own, above it; vertices and work counted on the plant as given), with its vertex
-/// count; `None` when no split above the design's own fits, or when the window is one interval
-/// (`T1 = T2`: there is nothing to split).
+/// design's own, above it; vertices and work counted on the plant as given): the design's
+/// options for it, with its vertex count; `None` when no split above the design's own fits, or
+/// when the window is one interval (`T1 = T2`: there is nothing to split).
+///
+/// Each split is embedded as the design would embed it; when that exceeds the limits and the
+/// residue embedding took the power series of the whole spectrum on some short piece
+/// ([`sporadic_embed::ResidueOptions::short_window_series`]), the same split is tried with the
+/// clusters' box on every piece, before a coarser split. The series keeps up to two more box
+/// coordinates than the clusters, four times the vertices of a piece, and whether it does
+/// depends on the piece's length and on truncation bounds in the coordinates of `A`: without
+/// this fallback the split chosen jumped with `T2` and with the state coordinates (the corpus
+/// plant multi-output-unstable, a Jordan block at 0.2: on [0.05, 1.4] 8 pieces took 512
+/// vertices and only 4 pieces fitted, which left (41) infeasible, while [0.05, 1.58] took
+/// 128 at 8 pieces and was certified; the largest certified `T2` was 1.222 as given and 1.649
+/// in coordinates `x = Tz` with `κ(T) < 10`). The clusters' box of 16 pieces has 256 vertices
+/// in both coordinates.
 fn finest(
     plant: &Plant,
     window: &SamplingWindow,
     options: &DesignOptions,
     refinement: &Refinement,
-) -> Option<(usize, usize)> {
+) -> Option<(DesignOptions, usize)> {
     if window.t1() == window.t2() {
         return None;
     }
@@ -167,18 +173,31 @@ fn finest(
         candidates.push(pieces);
         pieces = pieces.saturating_mul(2);
     }
+    let clusters_only = match &options.embedding {
+        EmbeddingMethod::Residue(r) if r.short_window_series => {
+            Some(EmbeddingMethod::Residue(ResidueOptions {
+                short_window_series: false,
+                ..r.clone()
+            }))
+        }
+        _ => None,
+    };
+    let methods: Vec<&EmbeddingMethod> = std::iter::once(&options.embedding)
+        .chain(clusters_only.as_ref())
+        .collect();
     candidates.into_iter().rev().find_map(|pieces| {
-        let e = embed_split(
-            plant.a(),
-            window.t1(),
-            window.t2(),
-            pieces,
-            &options.embedding,
-        )
-        .ok()?;
-        let vertices = e.vertex_count();
-        let work = vertices as f64 * (plant.n() as f64).powi(6);
-        (vertices <= refinement.max_vertices && work <= refinement.max_work)
-            .then_some((pieces, vertices))
+        methods.iter().find_map(|&method| {
+            let e = embed_split(plant.a(), window.t1(), window.t2(), pieces, method).ok()?;
+            let vertices = e.vertex_count();
+            let work = vertices as f64 * (plant.n() as f64).powi(6);
+            (vertices <= refinement.max_vertices && work <= refinement.max_work).then(|| {
+                let finer = DesignOptions {
+                    pieces,
+                    embedding: method.clone(),
+                    ..options.clone()
+                };
+                (finer, vertices)
+            })
+        })
     })
 }

@@ -3,6 +3,7 @@
 
 use std::time::Instant;
 
+use faer::linalg::solvers::DenseSolveCore;
 use faer::{Mat, mat};
 use sporadic_ferrante2016::sporadic_model::Plant as ModelPlant;
 use sporadic_ferrante2016::{
@@ -624,4 +625,40 @@ fn a_spent_budget_stops_the_design_before_the_lmi_is_set_up() {
     }
     // The same design with its budget certifies.
     assert!(design_lmi(&lti, &window, &DesignOptions::default()).is_ok());
+}
+
+/// The corpus plant multi-output-unstable (a Jordan block at 0.2, eigenvalues −1 and 0.1, two
+/// outputs) as given and in the coordinates `x = Tz` of a well-conditioned `T`: the refinement
+/// of the embedding chose its split by vertex counts that jumped with `T2` and with the
+/// coordinates (the power series of a short piece keeps more box coordinates than the
+/// clusters), so the largest certified `T2` from `T1 = 0.05` was 1.222 as given and 1.649 in
+/// other coordinates, and [0.05, 1.4] was refused while [0.05, 1.58] was certified. The split
+/// now falls back to the clusters' box on every piece before a coarser split.
+#[test]
+fn a_jordan_block_plant_keeps_its_largest_window_in_other_coordinates() {
+    let a = mat![
+        [0.2, 1.0, 0.0, 0.0],
+        [0.0, 0.2, 0.0, 0.0],
+        [0.0, 0.0, -1.0, 1.0],
+        [0.0, 0.0, 0.0, 0.1],
+    ];
+    let c = mat![[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]];
+    let t = mat![
+        [1.0, 0.3, -0.2, 0.1],
+        [0.2, 1.0, 0.4, -0.3],
+        [-0.1, 0.25, 1.0, 0.2],
+        [0.3, -0.2, 0.1, 1.0],
+    ];
+    let s = t.singular_values().unwrap();
+    assert!(s[0] / s[3] < 10.0, "κ(T) = {}", s[0] / s[3]);
+    let t_inv = t.partial_piv_lu().inverse();
+    let given = plant(a.clone(), c.clone());
+    let other = plant(&t_inv * &a * &t, &c * &t);
+    let (g, o) = (largest(&given, 0.05, 5.0), largest(&other, 0.05, 5.0));
+    assert!(g > 2.0 && o > 2.0, "{g} {o}");
+    assert!((g - o).abs() <= 0.01 * g.max(o), "{g} {o}");
+    for p in [&given, &other] {
+        let r = design(p, 0.05, 1.4);
+        assert_eq!(r.status, Status::Certified, "{:?}", r.reason);
+    }
 }
