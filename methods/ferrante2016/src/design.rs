@@ -779,15 +779,9 @@ fn finish(
     let verification = verify(plant, window, l.as_ref(), r.p.as_ref(), &options.verify)?;
     if !verification.passed() {
         return Err(
-            match precision_limit(
-                (plant, l.as_ref()),
-                &r,
-                &scaling,
-                &verification,
-                &options.verify,
-            ) {
+            match precision_limit(&r, &scaling, &verification, &options.verify) {
                 Some(e) => e,
-                None => verification_failed(&verification),
+                None => verification_failed(&verification, &options.verify),
             },
         );
     }
@@ -883,14 +877,10 @@ fn certificate_pass(
 /// The error of a design whose LMI (41) holds in certificate coordinates but whose grid check of
 /// (12) in the plant's coordinates cannot decide the certificate ([`Error::PrecisionLimit`]):
 /// the spectral radius of `e^{Av}(I − LM)` (which does not involve `P`) is below one on the
-/// grid, and either the check's own test is out of reach (it asks for `λmax` of the diagonally
-/// scaled left-hand side below `−tolerance` times the scaled `P`, while that `λmax` is at least
-/// `−λmin/λmax` of the scaled `P`: no certificate whose diagonally scaled condition number
-/// exceeds `1/tolerance` passes), or `λmax` at the grid's worst `v` is below an estimate
-/// `4nu‖P‖₂(‖e^{Av}(I − LM)‖₂² + 1)` of its rounding error (a positive value there may be
-/// rounding). `None` for any other failure.
+/// grid, and the largest eigenvalue of (12) relative to `P` is below the check's resolution
+/// `max(tolerance, SAFETY·rounding)` ([`crate::verify`]): within rounding of zero, or a
+/// contraction weaker than the tolerance. `None` for any other failure.
 fn precision_limit(
-    (plant, l): (&Plant, MatRef<'_, f64>),
     r: &LmiResult,
     scaling: &normalise::Scaling,
     v: &Verification,
@@ -899,35 +889,25 @@ fn precision_limit(
     if !scaling.certificate || !v.schur_holds {
         return None;
     }
-    let n = plant.n();
-    let worst = sporadic_linalg::expm_scaled(plant.a(), v.max_eigenvalue_at).ok()?;
-    let flow_jump = worst * plant.reset_matrix(l).ok()?;
-    let norm2 = |m: MatRef<'_, f64>| m.singular_values().ok().map(|s| s[0]);
-    let p_norm = norm2(r.p.as_ref())?;
-    let rounding =
-        4.0 * n as f64 * f64::EPSILON * p_norm * (norm2(flow_jump.as_ref())?.powi(2) + 1.0);
-    let condition = |p: MatRef<'_, f64>| {
-        let s = p.self_adjoint_eigenvalues(faer::Side::Lower).ok()?;
-        Some(if s[0] > 0.0 {
-            s[n - 1] / s[0]
-        } else {
-            f64::INFINITY
-        })
-    };
-    let d: Vec<f64> = (0..n).map(|i| r.p[(i, i)].abs().sqrt().recip()).collect();
-    let scaled = Mat::from_fn(n, n, |i, j| d[i] * r.p[(i, j)] * d[j]);
-    let scaled_condition = condition(scaled.as_ref())?;
-    let out_of_reach = options.tolerance * scaled_condition >= 1.0;
-    if !(out_of_reach || v.max_eigenvalue < rounding) {
+    let resolution = options.tolerance.max(crate::verify::SAFETY * v.rounding);
+    if !(v.relative_max_eigenvalue < resolution) {
         return None;
     }
+    let n = r.p.nrows();
+    let s = r.p.self_adjoint_eigenvalues(faer::Side::Lower).ok()?;
+    let condition = if s[0] > 0.0 {
+        s[n - 1] / s[0]
+    } else {
+        f64::INFINITY
+    };
     Some(Error::PrecisionLimit {
         margin: r.margin?,
-        condition: condition(r.p.as_ref())?,
-        scaled_condition,
-        max_eigenvalue: v.max_eigenvalue,
-        rounding,
+        condition,
+        relative_max_eigenvalue: v.relative_max_eigenvalue,
+        rounding: v.rounding,
+        safety: crate::verify::SAFETY,
         tolerance: options.tolerance,
+        resolution,
         max_spectral_radius: v.max_spectral_radius,
     })
 }
@@ -1002,7 +982,7 @@ pub fn min_trace_certificate(
     }
     let verification = verify(plant, window, l, r.p.as_ref(), &options.verify)?;
     if !verification.passed() {
-        return Err(verification_failed(&verification));
+        return Err(verification_failed(&verification, &options.verify));
     }
     Ok(TraceCertificate {
         trace: (0..r.p.nrows()).map(|i| r.p[(i, i)]).sum(),
@@ -1019,8 +999,10 @@ pub fn min_trace_certificate(
 
 /// The error of a failed grid verification; its `tau` is where (12) fails, or where the Schur
 /// test fails when (12) passed.
-pub(crate) fn verification_failed(v: &Verification) -> Error {
+pub(crate) fn verification_failed(v: &Verification, options: &VerifyOptions) -> Error {
     Error::VerificationFailed {
+        relative_max_eigenvalue: v.relative_max_eigenvalue,
+        resolution: options.tolerance.max(crate::verify::SAFETY * v.rounding),
         max_eigenvalue: v.max_eigenvalue,
         at: v.max_eigenvalue_at,
         max_spectral_radius: v.max_spectral_radius,

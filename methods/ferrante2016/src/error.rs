@@ -76,12 +76,18 @@ pub enum Error {
     /// The LMI returned a certificate, but the independent grid check of (12) or of the Schur
     /// property of `e^{Av}(I − LM)` failed (the design is not returned as valid).
     #[error(
-        "a-posteriori verification failed: max lambda_max of (12) = {max_eigenvalue:.3e} at v = \
-         {}, max spectral radius of e^(Av)(I-LM) = {max_spectral_radius:.3e} at v = {}",
+        "a-posteriori verification failed: max lambda_max of (12) relative to P \
+         (||R e^(Av)(I-LM) R^-1||^2 - 1, P = R'R) = {relative_max_eigenvalue:.3e} at v = {}, \
+         required below -{resolution:.1e}; max spectral radius of e^(Av)(I-LM) = \
+         {max_spectral_radius:.3e} at v = {}",
         significant(*at),
         significant(*radius_at)
     )]
     VerificationFailed {
+        /// [`crate::Verification::relative_max_eigenvalue`] of the grid check.
+        relative_max_eigenvalue: f64,
+        /// `max(tolerance, SAFETY·rounding)`: the contraction (12) must show.
+        resolution: f64,
         /// Largest eigenvalue of (12)'s left-hand side on the grid.
         max_eigenvalue: f64,
         /// Where.
@@ -97,31 +103,34 @@ pub enum Error {
     /// LMI (41) holds, verified at every vertex by more than rounding, for the plant in the
     /// coordinates of its own certificate (computed as `R A R⁻¹`; module `certificate`), but
     /// the certificate mapped back to the plant's coordinates is too ill-conditioned for the
-    /// grid check of (12) there to decide it: the window is at the precision limit of the
-    /// method, not shown infeasible.
+    /// grid check of (12) there to decide it (its contraction in the norm of `P` is within
+    /// the check's resolution, [`crate::Verification::rounding`]): the window is at the
+    /// precision limit of the method, not shown infeasible.
     #[error(
         "double-precision limit: LMI (41) holds in the coordinates of its own certificate \
          (margin {margin:.3e} there), but that certificate P has condition number \
-         {condition:.1e} in the plant's coordinates ({scaled_condition:.1e} after diagonal \
-         scaling), where the grid check of (12) cannot decide it: max lambda_max of (12) = \
-         {max_eigenvalue:.3e} (its rounding error estimated at {rounding:.1e}), and the check \
-         asks for less than -{tolerance:.0e} times the scale of P, out of reach above a \
-         scaled condition number of 1/{tolerance:.0e}; max spectral radius of e^(Av)(I-LM) = \
-         {max_spectral_radius:.4}, below one"
+         {condition:.1e} in the plant's coordinates, where the grid check of (12) cannot decide \
+         it: the largest eigenvalue of (12) relative to P, ||R e^(Av)(I-LM) R^-1||^2 - 1 with \
+         P = R'R, is {relative_max_eigenvalue:.3e}, within the check's resolution \
+         {resolution:.1e} (the larger of its tolerance {tolerance:.0e} and {safety} times the \
+         rounding estimate {rounding:.1e}, which grows like the square root of that condition \
+         number); max spectral radius of e^(Av)(I-LM) = {max_spectral_radius:.4}, below one"
     )]
     PrecisionLimit {
         /// Margin of the reduced LMI (41) in certificate coordinates.
         margin: f64,
         /// `λmax(P)/λmin(P)` of the certificate in the plant's coordinates.
         condition: f64,
-        /// The same for `ΔPΔ`, `Δ = diag(P)^(−½)` (the matrix the grid check scales by).
-        scaled_condition: f64,
-        /// Largest eigenvalue of (12)'s left-hand side on the grid.
-        max_eigenvalue: f64,
-        /// Estimate of the rounding error of computing it at the worst grid point.
+        /// [`crate::Verification::relative_max_eigenvalue`] of the grid check.
+        relative_max_eigenvalue: f64,
+        /// [`crate::Verification::rounding`] of the grid check.
         rounding: f64,
+        /// The safety factor over the rounding estimate ([`crate::verify::SAFETY`]).
+        safety: f64,
         /// The grid check's relative tolerance.
         tolerance: f64,
+        /// `max(tolerance, safety·rounding)`: the contraction (12) must show.
+        resolution: f64,
         /// Largest spectral radius of `e^{Av}(I − LM)` on the grid.
         max_spectral_radius: f64,
     },

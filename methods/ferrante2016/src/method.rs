@@ -308,10 +308,17 @@ fn verification_checks(v: &Verification, tol: f64) -> Vec<Check> {
         Check {
             what: "condition (12) of Theorem 1 on a v-grid, independent of the embedding".into(),
             how: format!(
-                "λmax((I − LC)'e^(A'v)Pe^(Av)(I − LC) − P) on {} equally spaced v in [T1, T2] \
-                 plus a golden-section refinement (60 steps) of the worst cell, e^(Av) in f64; \
-                 passes when λmax < −{tol:e}·‖P‖ (relative value {:.3e}, worst at v = {:.6})",
-                v.grid_points, v.relative_max_eigenvalue, v.max_eigenvalue_at
+                "the contraction of e^(Av)(I − LC) in the norm of P, γ(v) = ‖R e^(Av)(I − LC) \
+                 R⁻¹‖₂² with P = R'R (Cholesky; (12) iff γ < 1), on {} equally spaced v in \
+                 [T1, T2] plus a golden-section refinement (60 steps) of the worst cell, e^(Av) \
+                 in f64; passes when γ − 1 < −max({tol:e}, {}·rounding), rounding estimated at \
+                 {:.1e} from √κ(P) (relative value γ − 1 = {:.3e}, worst at v = {:.6}; the value \
+                 is λmax((I − LC)'e^(A'v)Pe^(Av)(I − LC) − P) there)",
+                v.grid_points,
+                crate::verify::SAFETY,
+                v.rounding,
+                v.relative_max_eigenvalue,
+                v.max_eigenvalue_at
             ),
             value: Some(v.max_eigenvalue),
             passed: v.condition12_holds,
@@ -654,7 +661,7 @@ impl ObserverMethod for Ferrante2016 {
         let mut r = if v.passed() {
             DesignReport::certified(self, plant.name(), sampling)
         } else {
-            let e = crate::design::verification_failed(&v);
+            let e = crate::design::verification_failed(&v, &self.design.verify);
             let mut r = DesignReport::without_design(
                 self,
                 plant.name(),
@@ -685,7 +692,7 @@ impl ObserverMethod for Ferrante2016 {
         r.certificate.extend(extra);
         r.margin = Some(Margin {
             value: -v.relative_max_eigenvalue,
-            definition: "−λmax(Δ Q(v) Δ)/λmax(Δ P Δ) over the v-grid, Q(v) the left-hand side of                          (12), Δ = diag(P)^(-1/2)"
+            definition: "1 − max γ(v) over the v-grid: the contraction of e^(Av)(I − LC) in the norm of P, γ(v) = ‖R e^(Av)(I − LC) R⁻¹‖₂² with P = R'R, i.e. −λmax(P^(−½) Q(v) P^(−½)) with Q(v) the left-hand side of (12); the same in every state coordinates and for every scale of P"
                 .into(),
         });
         r.checks = verification_checks(&v, tol);

@@ -22,8 +22,11 @@
 //! (enclosed rigorously) is small enough — as it is, `‖e^{AS}‖ ~ e^{−72}` times the plant's
 //! transient. Otherwise the tail is `inconclusive` (never `proved` without that bound).
 //!
-//! The margin is scale-free: `−λmax(Δ Q Δ)/λmax(Δ P Δ)` (the relative value of the design's
-//! grid check), bounded below over the window.
+//! The margin is scale-free: `−λmax(Δ Q Δ)/λmax(Δ P Δ)`, bounded below over the window. (The
+//! design's grid check measures instead the contraction in the norm of `P`, which is also
+//! invariant under non-diagonal changes of coordinates, see [`crate::verify()`]; a certificate
+//! whose diagonally scaled `P` is very ill-conditioned can pass that check and leave this
+//! proof `inconclusive`.)
 
 use faer::{Mat, MatRef};
 use sporadic_interval::{

@@ -115,6 +115,14 @@ pub fn grid_spacing(
             sig4(p_norm)
         )));
     }
+    if let GridPolicy::Spacing(h) = policy
+        && !(h > 0.0 && h.is_finite())
+    {
+        return Err(Error::invalid(format!(
+            "grid spacing must be positive and finite (got {})",
+            sig4(h)
+        )));
+    }
     let sensor = plant.sensor(sigma)?;
     if sensor.c_perp().ncols() == 0 {
         // m_σ = n: Ξ_σ(τ) = P_Γ does not depend on τ; one point is exact.
@@ -129,14 +137,17 @@ pub fn grid_spacing(
         }
         GridPolicy::Spacing(s) => s,
     };
-    if spacing > 0.0 && spacing.is_finite() {
-        Ok(spacing)
-    } else if spacing == f64::INFINITY {
+    if spacing == f64::INFINITY {
         // A = 0 or C^⊥ = 0: Ξ does not depend on τ; any spacing is exact.
         Ok(f64::MAX)
+    } else if spacing >= 0.0 {
+        // 0 when (49) underflows (`‖A‖·γe^{βT_M}` beyond the double range, a strongly
+        // non-normal `A` on a long window): the grid would need infinitely many points, which
+        // `UniformGrid::covering` reports as above any cap.
+        Ok(spacing)
     } else {
         Err(Error::invalid(format!(
-            "grid spacing must be positive and finite (got {})",
+            "grid spacing must be nonnegative (got {})",
             sig4(spacing)
         )))
     }
@@ -159,11 +170,13 @@ impl UniformGrid {
     /// `ν = ⌈(T_M − T_m)/max_spacing⌉ + 1` points. `cap` bounds ν.
     ///
     /// # Errors
-    /// Non-positive spacing, or more than `cap` points ([`Error::GridTooLarge`], sensor reported as 0).
+    /// Negative or NaN spacing, or more than `cap` points ([`Error::GridTooLarge`], sensor
+    /// reported as 0; a spacing of 0, as [`grid_spacing`] gives when (49) underflows, needs
+    /// infinitely many).
     pub fn covering(window: SamplingWindow, max_spacing: f64, cap: f64) -> Result<Self, Error> {
-        if max_spacing.is_nan() || max_spacing <= 0.0 {
+        if max_spacing.is_nan() || max_spacing < 0.0 {
             return Err(Error::invalid(format!(
-                "grid spacing must be positive (got {})",
+                "grid spacing must be nonnegative (got {})",
                 sig4(max_spacing)
             )));
         }
@@ -176,7 +189,7 @@ impl UniformGrid {
             });
         }
         let intervals = (width / max_spacing).ceil();
-        if intervals + 1.0 > cap {
+        if !(intervals + 1.0 <= cap) {
             return Err(Error::GridTooLarge {
                 sigma: 0,
                 points: intervals + 1.0,

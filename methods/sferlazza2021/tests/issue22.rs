@@ -731,3 +731,28 @@ fn a_long_window_is_certified_in_any_unit_of_time() {
         other => panic!("expected a numerical failure, got {other:?}"),
     }
 }
+
+/// The corpus plant badly-scaled-units in coordinates `x = Tz` with a random well-conditioned
+/// `T` times a diagonal (entries of `A` up to `5·10⁵`, strongly non-normal): the spacing (49) of
+/// the validation grid underflowed to 0 and the design, and with it `compare`, stopped with
+/// "invalid input: grid spacing must be positive and finite (got 0)" (exit status 2) on a valid
+/// plant file. A grid that would need infinitely many points is now above the cap like any
+/// other, and the report gives the verdict of the proof tried in its place.
+#[test]
+fn an_underflowing_grid_spacing_is_no_input_error() {
+    let a = mat![
+        [-132111.39560073803, 534641.4499382566],
+        [-32644.99602309561, 132110.99560073798]
+    ];
+    let c = mat![[0.0010006150766787413, 0.00014937276875423493]];
+    for t2 in [1.0, 1.709976, 4.135185] {
+        let (r, _) = run(a.clone(), c.clone(), win(0.05, t2));
+        assert_eq!(r.status, Status::NotCertified, "{t2}: {:?}", r.reason);
+        match &r.reason {
+            Some(Reason::NumericalFailure { message } | Reason::BudgetExhausted { message }) => {
+                assert!(message.contains("above the cap"), "{t2}: {message}")
+            }
+            other => panic!("{t2}: {other:?}"),
+        }
+    }
+}
