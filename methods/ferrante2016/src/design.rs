@@ -29,7 +29,8 @@
 //! certificate, in the coordinates in which their own `P` is the identity (module
 //! `certificate`, not in the paper), where the margin is not bounded by the condition number of
 //! `P`; a certificate found there whose grid check of (12) in the plant's coordinates cannot
-//! resolve it (its `λmax` within rounding, the spectral radius below one) is reported as the
+//! resolve it (its contraction in the norm of `P` within the check's resolution, the spectral
+//! radius below one; [`crate::verify()`]) is reported as the
 //! precision limit of the method ([`Error::PrecisionLimit`], `numerical_failure`), not as an
 //! infeasible LMI.
 //! The normal forms (not in the paper) are solved in the equivalent reduced form of
