@@ -878,9 +878,10 @@ fn certificate_pass(
 /// The error of a design whose LMI (41) holds in certificate coordinates but whose grid check of
 /// (12) in the plant's coordinates cannot decide the certificate ([`Error::PrecisionLimit`]):
 /// the spectral radius of `e^{Av}(I − LM)` (which does not involve `P`) is below one on the
-/// grid, and the largest eigenvalue of (12) relative to `P` is below the check's resolution
-/// `max(tolerance, SAFETY·rounding)` ([`crate::verify`]): within rounding of zero, or a
-/// contraction weaker than the tolerance. `None` for any other failure.
+/// grid, and the largest eigenvalue of (12) relative to `P` is below the check's rounding
+/// allowance ([`crate::Verification::rounding`]): within rounding of zero, or a contraction the
+/// check cannot resolve.
+/// `None` for any other failure.
 fn precision_limit(
     r: &LmiResult,
     scaling: &normalise::Scaling,
@@ -890,8 +891,10 @@ fn precision_limit(
     if !scaling.certificate || !v.schur_holds {
         return None;
     }
-    let resolution = options.tolerance.max(crate::verify::SAFETY * v.rounding);
-    if !(v.relative_max_eigenvalue < resolution) {
+    let resolution = options.tolerance + v.rounding;
+    // A contraction within the rounding allowance of none (either side of it); a value above
+    // that is a resolved violation.
+    if !(v.relative_max_eigenvalue < v.rounding) {
         return None;
     }
     let n = r.p.nrows();
@@ -906,7 +909,6 @@ fn precision_limit(
         condition,
         relative_max_eigenvalue: v.relative_max_eigenvalue,
         rounding: v.rounding,
-        safety: crate::verify::SAFETY,
         tolerance: options.tolerance,
         resolution,
         max_spectral_radius: v.max_spectral_radius,
@@ -1003,7 +1005,7 @@ pub fn min_trace_certificate(
 pub(crate) fn verification_failed(v: &Verification, options: &VerifyOptions) -> Error {
     Error::VerificationFailed {
         relative_max_eigenvalue: v.relative_max_eigenvalue,
-        resolution: options.tolerance.max(crate::verify::SAFETY * v.rounding),
+        resolution: options.tolerance + v.rounding,
         max_eigenvalue: v.max_eigenvalue,
         at: v.max_eigenvalue_at,
         max_spectral_radius: v.max_spectral_radius,

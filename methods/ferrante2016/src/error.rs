@@ -86,7 +86,7 @@ pub enum Error {
     VerificationFailed {
         /// [`crate::Verification::relative_max_eigenvalue`] of the grid check.
         relative_max_eigenvalue: f64,
-        /// `max(tolerance, SAFETY·rounding)`: the contraction (12) must show.
+        /// `tolerance + rounding`: the contraction (12) must show.
         resolution: f64,
         /// Largest eigenvalue of (12)'s left-hand side on the grid.
         max_eigenvalue: f64,
@@ -111,10 +111,10 @@ pub enum Error {
          (margin {margin:.3e} there), but that certificate P has condition number \
          {condition:.1e} in the plant's coordinates, where the grid check of (12) cannot decide \
          it: the largest eigenvalue of (12) relative to P, ||R e^(Av)(I-LM) R^-1||^2 - 1 with \
-         P = R'R, is {relative_max_eigenvalue:.3e}, within the check's resolution \
-         {resolution:.1e} (the larger of its tolerance {tolerance:.0e} and {safety} times the \
-         rounding estimate {rounding:.1e}, which grows like the square root of that condition \
-         number); max spectral radius of e^(Av)(I-LM) = {max_spectral_radius:.4}, below one"
+         P = R'R, is {relative_max_eigenvalue:.3e}, within its rounding allowance \
+         {rounding:.1e} of zero, where the check asks for less than -{resolution:.1e} (its \
+         tolerance {tolerance:.0e} plus that allowance); max spectral radius of e^(Av)(I-LM) = \
+         {max_spectral_radius:.4}, below one"
     )]
     PrecisionLimit {
         /// Margin of the reduced LMI (41) in certificate coordinates.
@@ -125,11 +125,9 @@ pub enum Error {
         relative_max_eigenvalue: f64,
         /// [`crate::Verification::rounding`] of the grid check.
         rounding: f64,
-        /// The safety factor over the rounding estimate ([`crate::verify::SAFETY`]).
-        safety: f64,
         /// The grid check's relative tolerance.
         tolerance: f64,
-        /// `max(tolerance, safety·rounding)`: the contraction (12) must show.
+        /// `tolerance + rounding`: the contraction (12) must show.
         resolution: f64,
         /// Largest spectral radius of `e^{Av}(I − LM)` on the grid.
         max_spectral_radius: f64,

@@ -148,7 +148,8 @@ pub enum Error {
     /// The validation grid would exceed the configured cap (and no proof of (48) over the
     /// window decided in its place).
     #[error(
-        "sensor {sigma}: validation grid needs {points:.3e} points, above the cap {cap:.3e}{proof}"
+        "sensor {sigma}: validation grid needs {}, above the cap {cap:.3e}{proof}",
+        grid_points(*points)
     )]
     GridTooLarge {
         /// Sensor (1-based).
@@ -166,6 +167,15 @@ pub enum Error {
         /// than an exhausted budget.
         unresolved: bool,
     },
+}
+
+/// The points a validation grid needs, in words (`∞` when the spacing (49) underflows).
+fn grid_points(points: f64) -> String {
+    if points.is_finite() {
+        format!("{points:.3e} points")
+    } else {
+        "infinitely many points (its spacing (49) underflows to 0)".into()
+    }
 }
 
 /// `x` must be a positive finite number (the error names the field `name`).

@@ -137,8 +137,9 @@ pub fn grid_spacing(
         }
         GridPolicy::Spacing(s) => s,
     };
-    if spacing == f64::INFINITY {
-        // A = 0 or C^⊥ = 0: Ξ does not depend on τ; any spacing is exact.
+    if spacing == f64::INFINITY || (spacing.is_nan() && spectral_norm(plant.a())? == 0.0) {
+        // A = 0 (also when its `0·∞` with an overflowing growth bound is NaN) or C^⊥ = 0: Ξ
+        // does not depend on τ; any spacing is exact.
         Ok(f64::MAX)
     } else if spacing >= 0.0 {
         // 0 when (49) underflows (`‖A‖·γe^{βT_M}` beyond the double range, a strongly
@@ -1113,10 +1114,13 @@ pub fn validate_window(
             if let Some(piece) = refuted_piece {
                 return refuted(piece);
             }
-            let unresolved = matches!(
-                &proof,
-                Some(Ok(w)) if w.stop == Some(ProofStop::Resolution)
-            );
+            // A grid of infinitely many points ((49) underflowed) is beyond every cap: no budget
+            // decides the window, as when the proof stops at its resolution.
+            let unresolved = points.is_infinite()
+                || matches!(
+                    &proof,
+                    Some(Ok(w)) if w.stop == Some(ProofStop::Resolution)
+                );
             let proof = match proof {
                 None => String::new(),
                 Some(Err(e)) => format!(
