@@ -69,9 +69,11 @@ impl Refinement {
 
 /// The design at `window` ([`design_cached`]), refined when LMI (41) is infeasible (see the
 /// module docs): the design's own embedding first (so a window it certifies gets the paper's
-/// construction exactly), then at once the finest split within the limits: it is the tightest
-/// polytope on offer (a piece of a finer split lies in a piece of a coarser one, and the residue
-/// box of a sub-window lies in the box of the window), so the intermediate splits would mostly
+/// construction exactly), then at once the finest split within the limits: with one embedding
+/// method it is the tightest polytope on offer (a piece of a finer split lies in a piece of a
+/// coarser one, and the residue box of a sub-window lies in the box of the window; the clusters'
+/// box that [`finest`] may fall back to is looser on a short piece than the power series it
+/// replaces, but it is what the limits admit at that split), so the intermediate splits would mostly
 /// cost time (`max-interval` on the corpus plant two-mass-flexible: 13.8 s with 2, 4, 8 and 16
 /// pieces tried in turn, 6.4 s with the finest at once, the same answer). When neither
 /// certifies, the infeasibility of the finest one is returned (its
@@ -100,6 +102,12 @@ pub(crate) fn refined(
         return Err(first);
     }
     let pieces = finer.pieces;
+    let boxes = match &finer.embedding {
+        EmbeddingMethod::Residue(r) if !r.short_window_series => {
+            ", the clusters' box on every piece"
+        }
+        _ => "",
+    };
     cache.certificate_pass_made = true;
     match design_cached(plant, window, &finer, cache) {
         Ok(d) => Ok(d),
@@ -111,7 +119,7 @@ pub(crate) fn refined(
                 margin,
                 reason: format!(
                     "{reason} (also with the embedding refined to {pieces} pieces, {vertices} \
-                 vertices)"
+                     vertices{boxes})"
                 ),
             })
         }
