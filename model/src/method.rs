@@ -570,28 +570,47 @@ pub fn largest_window_with<M: ObserverMethod + ?Sized>(
     // A bracket whose failing end is a probe cut short by its own budget (a proof's pieces, a
     // refinement's cap) is not resolved by a verdict: the largest certified T2 is a lower bound
     // only, and the search says so instead of having converged.
-    let undecided = search.first_failure.and_then(|f| {
+    // So does one whose failing end ended at the limit of double precision or with an
+    // inconclusive solve (`SearchEnd::Undecided`).
+    let failing = search.first_failure.and_then(|f| {
         search
             .probes
             .iter()
             .rev()
             .find(|p| !p.certified && p.t2 == f)
-            .and_then(|p| match &p.reason {
-                Some(Reason::BudgetExhausted { message }) => Some(message.clone()),
-                _ => None,
-            })
+            .and_then(|p| p.reason.clone())
     });
     if search.end == crate::report::SearchEnd::Converged
         && search.best.is_some()
-        && let (Some(message), Some(f)) = (undecided, search.first_failure)
+        && let (Some(why), Some(f)) = (failing, search.first_failure)
     {
-        report.search_end = Some(crate::report::SearchEnd::BudgetExhausted);
-        report.reason = Some(Reason::BudgetExhausted {
-            message: format!(
-                "the probe at T2 = {f:.6} was not decided (its own budget ran out: {message}); \
-                 the largest certified T2 is a lower bound"
-            ),
-        });
+        let lower = |what: &str, message: &str| {
+            format!(
+                "the probe at T2 = {f:.6} was not decided ({what}: {message}); the largest \
+                 certified T2 is a lower bound"
+            )
+        };
+        match why {
+            Reason::BudgetExhausted { message } => {
+                report.search_end = Some(crate::report::SearchEnd::BudgetExhausted);
+                report.reason = Some(Reason::BudgetExhausted {
+                    message: lower("its own budget ran out", &message),
+                });
+            }
+            Reason::NumericalFailure { message } => {
+                report.search_end = Some(crate::report::SearchEnd::Undecided);
+                report.reason = Some(Reason::NumericalFailure {
+                    message: lower("numerical failure", &message),
+                });
+            }
+            Reason::SolverInconclusive { message } => {
+                report.search_end = Some(crate::report::SearchEnd::Undecided);
+                report.reason = Some(Reason::SolverInconclusive {
+                    message: lower("the solve was inconclusive", &message),
+                });
+            }
+            _ => {}
+        }
     }
     report.status = if search.best.is_some() {
         Status::Certified
@@ -684,8 +703,11 @@ mod tests {
         );
     }
 
-    /// Certifies every `T2 ≤ 2`; above, its probe is cut short by its own budget (no verdict).
-    struct Undecided;
+    /// Certifies every `T2 ≤ 2`; above, its probe is cut short by its own budget (no verdict),
+    /// or with `precision`, ends at the limit of double precision.
+    struct Undecided {
+        precision: bool,
+    }
 
     impl ObserverMethod for Undecided {
         fn id(&self) -> &'static str {
@@ -712,13 +734,16 @@ mod tests {
             Ok(if sampling.t2() <= 2.0 {
                 DesignReport::certified(self, plant.name(), sampling)
             } else {
-                let message = "the proof's piece budget ran out".to_string();
-                DesignReport::without_design(
-                    self,
-                    plant.name(),
-                    Some(sampling),
-                    Reason::BudgetExhausted { message },
-                )
+                let reason = if self.precision {
+                    Reason::NumericalFailure {
+                        message: "double-precision limit".into(),
+                    }
+                } else {
+                    Reason::BudgetExhausted {
+                        message: "the proof's piece budget ran out".into(),
+                    }
+                };
+                DesignReport::without_design(self, plant.name(), Some(sampling), reason)
             })
         }
     }
@@ -726,7 +751,8 @@ mod tests {
     /// A bracket whose failing end is a probe that its own budget cut short ends the search as
     /// `budget_exhausted` with the largest certified `T2` as a lower bound, not `converged`
     /// (a sferlazza2021 search on an unstable round-robin plant, whose proof of (48) ran out of
-    /// pieces above T2 ≈ 32.5, reported `converged` with that probe as the first failure).
+    /// pieces above T2 ≈ 32.5, reported `converged` with that probe as the first failure); one
+    /// that ended at the limit of double precision ends `undecided`.
     #[test]
     fn an_undecided_probe_does_not_end_a_search_as_converged() {
         let plant = Plant::linear(
@@ -736,31 +762,40 @@ mod tests {
         )
         .unwrap();
         let sampling = Sampling::Synchronous(crate::SamplingWindow::new(0.5, 1.0).unwrap());
-        let r = Undecided
-            .largest_window(
-                &plant,
-                &sampling,
-                8.0,
-                &MethodOptions::default(),
-                &mut |_| {},
-            )
-            .unwrap();
-        let best = r.largest_certified_t2.unwrap();
-        let failing = r.first_failing_t2.unwrap();
-        assert!(
-            best <= 2.0 && failing > 2.0 && failing < 2.1,
-            "{best} {failing}"
-        );
-        assert_eq!(r.status, Status::Certified);
-        assert_eq!(
-            r.search_end,
-            Some(crate::report::SearchEnd::BudgetExhausted)
-        );
-        match &r.reason {
-            Some(Reason::BudgetExhausted { message }) => {
-                assert!(message.contains("lower bound") && message.contains("piece budget"));
+        for precision in [false, true] {
+            let r = Undecided { precision }
+                .largest_window(
+                    &plant,
+                    &sampling,
+                    8.0,
+                    &MethodOptions::default(),
+                    &mut |_| {},
+                )
+                .unwrap();
+            let best = r.largest_certified_t2.unwrap();
+            let failing = r.first_failing_t2.unwrap();
+            assert!(
+                best <= 2.0 && failing > 2.0 && failing < 2.1,
+                "{best} {failing}"
+            );
+            assert_eq!(r.status, Status::Certified);
+            match (&r.reason, r.search_end) {
+                (
+                    Some(Reason::BudgetExhausted { message }),
+                    Some(crate::report::SearchEnd::BudgetExhausted),
+                ) if !precision => {
+                    assert!(message.contains("lower bound") && message.contains("piece budget"));
+                }
+                (
+                    Some(Reason::NumericalFailure { message }),
+                    Some(crate::report::SearchEnd::Undecided),
+                ) if precision => {
+                    assert!(
+                        message.contains("lower bound") && message.contains("double-precision")
+                    );
+                }
+                other => panic!("{other:?}"),
             }
-            other => panic!("{other:?}"),
         }
     }
 }

@@ -341,8 +341,14 @@ pub enum SearchEnd {
     /// Not even the shortest window (periodic sampling at the fixed end) is certified.
     NothingCertified,
     /// The probe budget or the wall-time budget ran out before the bracket was resolved (the
-    /// reason says which).
+    /// reason says which), or the probe at its failing end was cut short by its own budget.
     BudgetExhausted,
+    /// The bracket is within the tolerance, but the probe at its failing end did not decide its
+    /// window: it ended at the limit of double precision or with an inconclusive solve
+    /// (`numerical_failure`, `solver_inconclusive`; the reason says which). The largest
+    /// certified `T2` is then a lower bound of what the method certifies, not the method's
+    /// boundary.
+    Undecided,
 }
 
 /// One probed window of a search.

@@ -586,6 +586,12 @@ fn print_max_interval(r: &MaxIntervalReport) {
     println!("method   {}", r.method);
     let budget = r.search_end == Some(SearchEnd::BudgetExhausted);
     match (r.largest_certified_t2, r.first_failing_t2) {
+        (Some(b), Some(f)) if r.search_end == Some(SearchEnd::Undecided) => println!(
+            "result   largest certified T2 = {b:.6}, a lower bound: T2 = {f:.6} was not decided \
+             ({}), T1 = {}",
+            r.first_failure_reason().map_or("?", |why| why.kind()),
+            r.t1.unwrap_or(f64::NAN)
+        ),
         (Some(b), f) if budget => println!(
             "result   largest certified T2 = {b:.6}, a lower bound: a budget ran out ({}), T1 = {}",
             f.map_or_else(
@@ -738,6 +744,12 @@ fn print_compare(file: &PlantFile, report: &CompareReport) {
             Some(r) => match (r.largest_certified_t2, r.first_failing_t2) {
                 (Some(b), _) if r.search_end == Some(SearchEnd::BudgetExhausted) => {
                     format!("{} (budget ran out)", significant(b))
+                }
+                (Some(b), Some(f)) if r.search_end == Some(SearchEnd::Undecided) => {
+                    let why = r
+                        .first_failure_reason()
+                        .map_or(String::new(), |why| format!(": {}", why.kind()));
+                    format!("{} (undecided {}{why})", significant(b), significant(f))
                 }
                 (Some(b), Some(f)) => {
                     let why = r

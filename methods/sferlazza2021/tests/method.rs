@@ -256,7 +256,14 @@ fn largest_window_brackets_the_former_answer() {
         )
         .unwrap();
     assert_eq!(r.status, Status::Certified);
-    assert_eq!(r.search_end, Some(SearchEnd::Converged));
+    // The bracket is resolved; its failing end (T2 ≈ 1.40) is the §5.3 loop stalling with its
+    // worst τ already in the synthesis set (`solver_inconclusive`), not a verdict of the
+    // method: the search says `undecided`, and the largest certified T2 is a lower bound.
+    assert_eq!(r.search_end, Some(SearchEnd::Undecided));
+    assert!(matches!(
+        r.first_failure_reason(),
+        Some(Reason::SolverInconclusive { .. })
+    ));
     let (best, fail) = (r.largest_certified_t2.unwrap(), r.first_failing_t2.unwrap());
     assert!(fail / best - 1.0 <= 1e-2 + 1e-12 && probes == r.probes.len());
     let (lo, hi) = former_search(&m, &plant, &sampling, limit);
