@@ -567,22 +567,35 @@ pub fn largest_window_with<M: ObserverMethod + ?Sized>(
     report.first_failing_t2 = search.first_failure;
     report.search_end = Some(search.end);
     report.monotone = search.monotone;
+    report.status = if search.best.is_some() {
+        Status::Certified
+    } else {
+        Status::NotCertified
+    };
+    if search.best.is_none() {
+        report.reason = search.probes.iter().rev().find_map(|p| p.reason.clone());
+    } else if search.end == crate::report::SearchEnd::BudgetExhausted {
+        let probes = search.probes.len();
+        report.reason = Some(Reason::BudgetExhausted {
+            message: if timed_out {
+                format!(
+                    "window search stopped after {probes} probes: {}",
+                    TimeLimit(options.time_limit)
+                )
+            } else {
+                format!("window search stopped after {probes} probes, its probe budget")
+            },
+        });
+    }
+    report.probes = search.probes;
     // A bracket whose failing end is a probe cut short by its own budget (a proof's pieces, a
     // refinement's cap) is not resolved by a verdict: the largest certified T2 is a lower bound
     // only, and the search says so instead of having converged.
     // So does one whose failing end ended at the limit of double precision or with an
     // inconclusive solve (`SearchEnd::Undecided`).
-    let failing = search.first_failure.and_then(|f| {
-        search
-            .probes
-            .iter()
-            .rev()
-            .find(|p| !p.certified && p.t2 == f)
-            .and_then(|p| p.reason.clone())
-    });
-    if search.end == crate::report::SearchEnd::Converged
-        && search.best.is_some()
-        && let (Some(why), Some(f)) = (failing, search.first_failure)
+    if report.search_end == Some(crate::report::SearchEnd::Converged)
+        && let (Some(_), Some(f)) = (report.largest_certified_t2, report.first_failing_t2)
+        && let Some(why) = report.first_failure_reason().cloned()
     {
         let lower = |what: &str, message: &str| {
             format!(
@@ -612,27 +625,6 @@ pub fn largest_window_with<M: ObserverMethod + ?Sized>(
             _ => {}
         }
     }
-    report.status = if search.best.is_some() {
-        Status::Certified
-    } else {
-        Status::NotCertified
-    };
-    if search.best.is_none() {
-        report.reason = search.probes.iter().rev().find_map(|p| p.reason.clone());
-    } else if search.end == crate::report::SearchEnd::BudgetExhausted {
-        let probes = search.probes.len();
-        report.reason = Some(Reason::BudgetExhausted {
-            message: if timed_out {
-                format!(
-                    "window search stopped after {probes} probes: {}",
-                    TimeLimit(options.time_limit)
-                )
-            } else {
-                format!("window search stopped after {probes} probes, its probe budget")
-            },
-        });
-    }
-    report.probes = search.probes;
     report.design = certified
         .into_iter()
         .find(|(t2, _)| Some(*t2) == search.best)

@@ -745,17 +745,16 @@ fn print_compare(file: &PlantFile, report: &CompareReport) {
                 (Some(b), _) if r.search_end == Some(SearchEnd::BudgetExhausted) => {
                     format!("{} (budget ran out)", significant(b))
                 }
-                (Some(b), Some(f)) if r.search_end == Some(SearchEnd::Undecided) => {
-                    let why = r
-                        .first_failure_reason()
-                        .map_or(String::new(), |why| format!(": {}", why.kind()));
-                    format!("{} (undecided {}{why})", significant(b), significant(f))
-                }
                 (Some(b), Some(f)) => {
                     let why = r
                         .first_failure_reason()
                         .map_or(String::new(), |why| format!(": {}", why.kind()));
-                    format!("{} (fails {}{why})", significant(b), significant(f))
+                    let end = if r.search_end == Some(SearchEnd::Undecided) {
+                        "undecided"
+                    } else {
+                        "fails"
+                    };
+                    format!("{} ({end} {}{why})", significant(b), significant(f))
                 }
                 (Some(b), None) => format!("{} (= limit)", significant(b)),
                 (None, _) => "none".to_string(),

@@ -89,3 +89,9 @@ pub use scalar::Interval;
 pub mod constants {
     pub use crate::round::{ETA, UNIT_ROUNDOFF};
 }
+
+/// Error-free transformations of a sum and a product (the exact rounding error as a second
+/// double), for residuals computed in double-double arithmetic.
+pub mod exact {
+    pub use crate::round::{two_prod, two_sum};
+}

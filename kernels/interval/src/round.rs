@@ -22,12 +22,22 @@ pub const UNIT_ROUNDOFF: f64 = 1.0 / 9_007_199_254_740_992.0;
 /// Smallest positive subnormal binary64 number η = 2⁻¹⁰⁷⁴ (absolute underflow error unit).
 pub const ETA: f64 = f64::from_bits(1);
 
+/// Knuth's TwoSum: `(s, e)` with `s = fl(a + b)` and `s + e = a + b` exactly (finite
+/// arguments, no overflow).
 #[inline]
-fn two_sum(a: f64, b: f64) -> (f64, f64) {
+pub fn two_sum(a: f64, b: f64) -> (f64, f64) {
     let s = a + b;
     let bb = s - a;
     let e = (a - (s - bb)) + (b - bb);
     (s, e)
+}
+
+/// TwoProduct by a fused multiply-add: `(p, e)` with `p = fl(a·b)` and `p + e = a·b` exactly
+/// (no underflow or overflow).
+#[inline]
+pub fn two_prod(a: f64, b: f64) -> (f64, f64) {
+    let p = a * b;
+    (p, a.mul_add(b, -p))
 }
 
 /// Upper bound of a + b.

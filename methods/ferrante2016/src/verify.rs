@@ -28,6 +28,8 @@
 
 use faer::linalg::solvers::DenseSolveCore;
 use faer::{Mat, MatRef, Side};
+use sporadic_interval::constants::UNIT_ROUNDOFF;
+use sporadic_interval::exact::{two_prod, two_sum};
 use sporadic_linalg::InputError;
 use sporadic_linalg::{max_eigenvalue, spectral_radius};
 
@@ -184,13 +186,19 @@ pub fn verify(
     let r_inv = r.as_ref().partial_piv_lu().inverse();
     let residual = Mat::from_fn(n, n, |i, j| {
         let (x, y) = halves(i, j);
-        let mut acc = DoubleDouble::default();
+        let (mut hi, mut lo) = (0.0, 0.0);
+        let mut add = |(t, e): (f64, f64)| {
+            let (s, f) = two_sum(hi, t);
+            hi = s;
+            lo += f;
+            lo += e;
+        };
         for k in 0..=i.min(j) {
-            acc.add_product(r[(k, i)], r[(k, j)]);
+            add(two_prod(r[(k, i)], r[(k, j)]));
         }
-        acc.add(-x);
-        acc.add(-y);
-        acc.value()
+        add((-x, 0.0));
+        add((-y, 0.0));
+        hi + lo
     });
     let factorisation = (r_inv.transpose() * &residual * &r_inv).norm_l2();
     let kappa_r = (lambda[n - 1] / lambda[0]).sqrt();
@@ -204,16 +212,16 @@ pub fn verify(
         let nm = &r * &er * &r_inv;
         let gram = nm.transpose() * &nm;
         let g = max_eigenvalue(gram.as_ref())?;
-        let eps = (n as f64 * f64::EPSILON + exponential) * kappa_r * er.norm_l2();
+        let eps = (2.0 * n as f64 * UNIT_ROUNDOFF + exponential) * kappa_r * er.norm_l2();
         let estimate =
-            2.0 * g.max(0.0).sqrt() * eps + eps * eps + 0.5 * n as f64 * f64::EPSILON * g.abs();
+            2.0 * g.max(0.0).sqrt() * eps + eps * eps + n as f64 * UNIT_ROUNDOFF * g.abs();
         Ok((
             g - 1.0,
             SAFETY * estimate + MEASURED * (1.0 + g.abs()) * factorisation,
         ))
     };
-    let stepper = STEPPER_REANCHOR * (n as f64 + 1.0) * 0.5 * f64::EPSILON;
-    let fresh = |v: f64| (n as f64 + anorm * v) * 0.5 * f64::EPSILON;
+    let stepper = STEPPER_REANCHOR * (n as f64 + 1.0) * UNIT_ROUNDOFF;
+    let fresh = |v: f64| (n as f64 + anorm * v) * UNIT_ROUNDOFF;
     // The test function `γ − 1 + rounding` at every grid point (with its own rounding
     // allowance); a point of the stepper's grid that it does not decide is evaluated again with
     // a fresh exponential.
@@ -245,39 +253,6 @@ pub fn verify(
 /// The stepper's error bound in units of `(n + 1)u` ([`sporadic_linalg::DEFAULT_REANCHOR`]
 /// steps between fresh exponentials).
 const STEPPER_REANCHOR: f64 = sporadic_linalg::DEFAULT_REANCHOR as f64;
-
-/// A double-double accumulator (Dekker's and Knuth's error-free transformations): the sum
-/// `hi + lo` carries about 106 bits.
-#[derive(Debug, Default, Clone, Copy)]
-struct DoubleDouble {
-    hi: f64,
-    lo: f64,
-}
-
-impl DoubleDouble {
-    /// Adds `x` (Knuth's two-sum).
-    fn add(&mut self, x: f64) {
-        let s = self.hi + x;
-        let bb = s - self.hi;
-        let err = (self.hi - (s - bb)) + (x - bb);
-        self.hi = s;
-        self.lo += err;
-    }
-
-    /// Adds `a·b` exactly up to the accumulator's precision (the product's rounding error by
-    /// a fused multiply-add).
-    fn add_product(&mut self, a: f64, b: f64) {
-        let p = a * b;
-        let e = a.mul_add(b, -p);
-        self.add(p);
-        self.lo += e;
-    }
-
-    /// The value rounded to a double.
-    fn value(self) -> f64 {
-        self.hi + self.lo
-    }
-}
 
 /// Safety factor of the test of (12) over the first-order rounding estimate of the products and
 /// the exponential ([`Verification::rounding`]).

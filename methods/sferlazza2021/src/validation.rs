@@ -129,17 +129,20 @@ pub fn grid_spacing(
         return Ok(f64::MAX);
     }
     let growth = bound.at(plant.t_max());
+    let a_norm = spectral_norm(plant.a())?;
     let spacing = match policy {
-        GridPolicy::Paper => 2.0 * mu / (p_norm * spectral_norm(plant.a())? * growth),
+        // A = 0: Ξ does not depend on τ (also when the growth bound overflows, where the
+        // formulas would give `0·∞`).
+        GridPolicy::Paper | GridPolicy::Rigorous if a_norm == 0.0 => f64::INFINITY,
+        GridPolicy::Paper => 2.0 * mu / (p_norm * a_norm * growth),
         GridPolicy::Rigorous => {
             let cp = spectral_norm(sensor.c_perp())?;
-            2.0 * mu / (2.0 * p_norm * spectral_norm(plant.a())? * growth * growth * cp * cp)
+            2.0 * mu / (2.0 * p_norm * a_norm * growth * growth * cp * cp)
         }
         GridPolicy::Spacing(s) => s,
     };
-    if spacing == f64::INFINITY || (spacing.is_nan() && spectral_norm(plant.a())? == 0.0) {
-        // A = 0 (also when its `0·∞` with an overflowing growth bound is NaN) or C^⊥ = 0: Ξ
-        // does not depend on τ; any spacing is exact.
+    if spacing == f64::INFINITY {
+        // A = 0 or C^⊥ = 0: Ξ does not depend on τ; any spacing is exact.
         Ok(f64::MAX)
     } else if spacing >= 0.0 {
         // 0 when (49) underflows (`‖A‖·γe^{βT_M}` beyond the double range, a strongly
