@@ -9,6 +9,9 @@
 //!   (plus tighter per-piece enclosures), [`expm_interval`]: e^X for every X in an interval matrix.
 //! * [`is_verified_positive_definite`] / [`is_verified_negative_definite`]: Rump's verified
 //!   definiteness test for symmetric interval matrices, with a rigorous eigenvalue bound.
+//! * [`double_double`]: double-double arithmetic for small dense matrices (products, the
+//!   inverse of a triangular matrix, the matrix exponential), for evaluations whose double
+//!   precision errors a later product would amplify.
 //!
 //! Bad input gives a typed [`IntervalError`], never a panic (the `std::ops` operators on
 //! interval matrices panic on shape mismatch like faer's; use the `checked_*` methods for a
@@ -71,6 +74,7 @@
 //! λ_min(X) ≥ min_j(mid_jj − ã_jj) − β·Σ_j(ã_jj + υ) − 2υ − ‖rad‖_∞ (all rounded downward).
 
 mod definite;
+pub mod double_double;
 mod error;
 mod expm;
 mod matrix;

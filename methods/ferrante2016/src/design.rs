@@ -77,7 +77,7 @@ use crate::error::Error;
 use crate::lmi::{GainTerm, Lmi41, LmiForm, LmiResult, LmiSize, Objective, Point41, gain_from};
 use crate::normalise;
 use crate::system::Plant;
-use crate::verify::{Verification, VerifyOptions, verify};
+use crate::verify::{Verification, VerifyOptions, factor_product, verify, verify_factor};
 use sporadic_model::SamplingWindow;
 use sporadic_model::SolverStats;
 use sporadic_sdp::lmi::Normalisation;
@@ -178,8 +178,16 @@ pub const TAIL_TOLERANCE: f64 = 1e-9;
 /// The LMI certificate of a design or analysis.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Certificate {
-    /// Lyapunov matrix `P ≻ 0` of (12)/(13).
+    /// Lyapunov matrix `P ≻ 0` of (12)/(13) (for a design, the product `RᵀR` of
+    /// [`Certificate::factor`] rounded to doubles).
     pub p: Mat<f64>,
+    /// For a design, the upper-triangular factor `R` (positive diagonal) with `P = RᵀR` exactly:
+    /// the certificate the check of (12) verified ([`crate::verify_factor`]). A certificate at
+    /// the end of a long window of an unstable plant can have `κ(P)` near `1/u`, where `P`
+    /// rounded to doubles does not determine its smallest eigenvalue, while `R`
+    /// (`κ(R) = √κ(P)`) still determines `P`. `None` for an analysis (its `P` is checked as
+    /// given, [`crate::verify()`]).
+    pub factor: Option<Mat<f64>>,
     /// Multiplier `F` of Proposition 1 (`F + F' ≻ 0`).
     pub f: Mat<f64>,
     /// `J = FL` (Remark 8).
@@ -403,9 +411,10 @@ fn by_taylor(d: &Design) -> bool {
     matches!(d.embedding.method(), sporadic_embed::Method::Taylor { .. })
 }
 
-fn certificate_of(r: &LmiResult) -> Certificate {
+fn certificate_of(r: &LmiResult, factor: Option<Mat<f64>>) -> Certificate {
     Certificate {
         p: r.p.clone(),
+        factor,
         f: r.f.clone(),
         j: r.j.clone(),
         margin: r.margin.unwrap_or(f64::NAN),
@@ -774,20 +783,33 @@ fn finish(
     (start, detectability): (Instant, &DetectabilityReport),
 ) -> Result<Design, Error> {
     let l = scaling.gain_back(gain_from(r.f.as_ref(), r.j.as_ref())?.as_ref());
-    r.p = scaling.symmetric_congruence_back(r.p.as_ref());
+    let factor = scaling.factor_back(r.p.as_ref());
+    r.p = match &factor {
+        Some(f) => factor_product(f.as_ref()),
+        None => scaling.symmetric_congruence_back(r.p.as_ref()),
+    };
     r.f = scaling.congruence_back(r.f.as_ref());
     r.j = scaling.multiplier_gain_back(r.j.as_ref());
-    let verification = verify(plant, window, l.as_ref(), r.p.as_ref(), &options.verify)?;
+    let verification = match &factor {
+        Some(f) => verify_factor(plant, window, l.as_ref(), f.as_ref(), &options.verify)?,
+        None => verify(plant, window, l.as_ref(), r.p.as_ref(), &options.verify)?,
+    };
     if !verification.passed() {
         return Err(
-            match precision_limit(&r, &scaling, &verification, &options.verify) {
+            match precision_limit(
+                &r,
+                factor.as_ref(),
+                &scaling,
+                &verification,
+                &options.verify,
+            ) {
                 Some(e) => e,
                 None => verification_failed(&verification, &options.verify),
             },
         );
     }
     Ok(Design {
-        certificate: certificate_of(&r),
+        certificate: certificate_of(&r, factor),
         l,
         embedding,
         verification,
@@ -884,6 +906,7 @@ fn certificate_pass(
 /// `None` for any other failure.
 fn precision_limit(
     r: &LmiResult,
+    factor: Option<&Mat<f64>>,
     scaling: &normalise::Scaling,
     v: &Verification,
     options: &VerifyOptions,
@@ -897,12 +920,25 @@ fn precision_limit(
     if !(v.relative_max_eigenvalue < v.rounding) {
         return None;
     }
-    let n = r.p.nrows();
-    let s = r.p.self_adjoint_eigenvalues(faer::Side::Lower).ok()?;
-    let condition = if s[0] > 0.0 {
-        s[n - 1] / s[0]
-    } else {
-        f64::INFINITY
+    // `κ(P) = κ(R)²` from the singular values of the factor: the eigenvalues of `P` rounded
+    // to doubles do not resolve its smallest one when `κ(P)` is near `1/u`.
+    let condition = match factor {
+        Some(f) => {
+            let s = f.singular_values().ok()?;
+            let (lo, hi) = s.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), x| {
+                (lo.min(*x), hi.max(*x))
+            });
+            (hi / lo).powi(2)
+        }
+        None => {
+            let n = r.p.nrows();
+            let s = r.p.self_adjoint_eigenvalues(faer::Side::Lower).ok()?;
+            if s[0] > 0.0 {
+                s[n - 1] / s[0]
+            } else {
+                f64::INFINITY
+            }
+        }
     };
     Some(Error::PrecisionLimit {
         margin: r.margin?,
@@ -1046,7 +1082,7 @@ pub fn analyse(
     )?;
     let (certificate, verification) = if r.feasible {
         let v = verify(plant, window, l, r.p.as_ref(), &options.verify)?;
-        (Some(certificate_of(&r)), Some(v))
+        (Some(certificate_of(&r, None)), Some(v))
     } else {
         (None, None)
     };

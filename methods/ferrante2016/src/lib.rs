@@ -98,7 +98,7 @@ pub use prove::prove_condition12;
 pub use refine::Refinement;
 pub use simulation::{BoundCheck, check_bound, simulate_error, simulate_observer};
 pub use system::Plant;
-pub use verify::{Verification, VerifyOptions, verify};
+pub use verify::{Verification, VerifyOptions, factor_product, verify, verify_factor};
 pub use window::{largest_t2, smallest_t1};
 
 // The crates whose types appear in this crate's API, and their items at the root, so that a user

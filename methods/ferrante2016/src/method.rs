@@ -25,7 +25,7 @@ use crate::prove::prove_condition12;
 use crate::refine::{Refinement, refined, refined_analysis};
 use crate::simulation::simulate_error;
 use crate::system::Plant;
-use crate::verify::Verification;
+use crate::verify::{Verification, factor_product};
 use crate::window::{probe, probe_options};
 
 const ID: &str = "ferrante2016";
@@ -89,6 +89,15 @@ impl Ferrante2016 {
             "Lyapunov matrix of Theorem 1: (12) (I − LC)'e^{A'v}Pe^{Av}(I − LC) − P ≺ 0 for every \
              v ∈ [T1, T2]; V(ε, τ) = ε'e^{A'τ}Pe^{Aτ}ε (13), τ the time to the next sample",
         ));
+        if let Some(factor) = &cert.factor {
+            r.certificate.push(NamedMatrix::new(
+                "R",
+                factor.as_ref(),
+                "upper-triangular factor of the certificate, P = R'R exactly: the P that the \
+                 check of (12) verified (P above is this product rounded to doubles, which for \
+                 a condition number near 1e16 no longer determines its smallest eigenvalue)",
+            ));
+        }
         r.certificate.push(NamedMatrix::new(
             "F",
             cert.f.as_ref(),
@@ -309,17 +318,30 @@ fn verification_checks(v: &Verification, tol: f64) -> Vec<Check> {
             what: "condition (12) of Theorem 1 on a v-grid, independent of the embedding".into(),
             how: format!(
                 "the contraction of e^(Av)(I − LC) in the norm of P, γ(v) = ‖R e^(Av)(I − LC) \
-                 R⁻¹‖₂² with P = R'R (Cholesky; (12) iff γ < 1), on {} equally spaced v in \
+                 R⁻¹‖₂² with P = R'R ({}; (12) iff γ < 1), on {} equally spaced v in \
                  [T1, T2] plus a golden-section refinement (60 steps) of the worst cell, e^(Av) \
-                 in f64; passes when γ − 1 + allowance < −{tol:e} at every point, the allowance \
-                 for rounding being {} times a first-order estimate (products, the exponential's \
-                 error) plus {} times the measured effect of the residual of the Cholesky \
-                 factor, formed in double-double ({:.1e} at the worst point, relative value \
-                 γ − 1 = {:.3e} at v = {:.6}; the value is λmax((I − LC)'e^(A'v)Pe^(Av)(I − LC) \
-                 − P) there)",
+                 in f64, a point it does not decide again with a fresh exponential, then in \
+                 double-double arithmetic; passes when γ − 1 + allowance < −{tol:e} at every \
+                 point, the allowance for rounding being {} times a first-order estimate \
+                 (products, the exponential's error){} ({:.1e} at the worst point, relative \
+                 value γ − 1 = {:.3e} at v = {:.6}; the value is \
+                 λmax((I − LC)'e^(A'v)Pe^(Av)(I − LC) − P) there)",
+                if v.factor_given {
+                    "R the certificate's factor, P = R'R exactly"
+                } else {
+                    "R the Cholesky factor of P"
+                },
                 v.grid_points,
                 crate::verify::SAFETY,
-                crate::verify::MEASURED,
+                if v.factor_given {
+                    String::new()
+                } else {
+                    format!(
+                        " plus {} times the measured effect of the residual of the Cholesky \
+                         factor, formed in double-double",
+                        crate::verify::MEASURED
+                    )
+                },
                 v.rounding,
                 v.relative_max_eigenvalue,
                 v.max_eigenvalue_at
@@ -609,10 +631,41 @@ impl ObserverMethod for Ferrante2016 {
                 .into(),
             })?;
         p.check_gain(l.as_ref()).map_err(invalid)?;
-        let given_p = certificate
-            .iter()
-            .find(|m| m.name == "P")
-            .map(NamedMatrix::to_mat);
+        let named_matrix = |name: &str| {
+            certificate
+                .iter()
+                .find(|m| m.name == name)
+                .map(NamedMatrix::to_mat)
+        };
+        // A factor `R` (as a design reports it) is the certificate `P = R'R` itself, and takes
+        // the place of a `P` given with it (that `P` is the product rounded).
+        let given_factor = named_matrix("R");
+        if let Some(rf) = &given_factor {
+            p.check_lyapunov_factor(rf.as_ref()).map_err(invalid)?;
+        }
+        let given_p = match (&given_factor, named_matrix("P")) {
+            (Some(rf), given) => {
+                let product = factor_product(rf.as_ref());
+                if let Some(pm) = given {
+                    p.check_lyapunov_matrix(pm.as_ref()).map_err(invalid)?;
+                    let off = (&pm - &product).norm_max();
+                    if !(off <= 1e-10 * product.norm_max()) {
+                        return Err(MethodError::InvalidInput {
+                            method: ID,
+                            source: format!(
+                                "the certificate gives P and its factor R, and P differs from \
+                                 R'R by {off:.3e} (largest entry; P has largest entry {:.3e}): \
+                                 give one of them",
+                                product.norm_max()
+                            )
+                            .into(),
+                        });
+                    }
+                }
+                Some(product)
+            }
+            (None, given) => given,
+        };
         let (pm, extra, found) = match given_p {
             Some(pm) => {
                 p.check_lyapunov_matrix(pm.as_ref()).map_err(invalid)?;
@@ -659,8 +712,13 @@ impl ObserverMethod for Ferrante2016 {
                 }
             }
         };
-        let v = crate::verify(&p, window, l.as_ref(), pm.as_ref(), &self.design.verify)
-            .map_err(not_a_verdict)?;
+        let v = match &given_factor {
+            Some(rf) => {
+                crate::verify_factor(&p, window, l.as_ref(), rf.as_ref(), &self.design.verify)
+            }
+            None => crate::verify(&p, window, l.as_ref(), pm.as_ref(), &self.design.verify),
+        }
+        .map_err(not_a_verdict)?;
         let tol = self.design.verify.tolerance;
         let mut r = if v.passed() {
             DesignReport::certified(self, plant.name(), sampling)
@@ -693,6 +751,13 @@ impl ObserverMethod for Ferrante2016 {
                 "Lyapunov matrix of Theorem 1, given by the user"
             },
         ));
+        if let Some(rf) = &given_factor {
+            r.certificate.push(NamedMatrix::new(
+                "R",
+                rf.as_ref(),
+                "upper-triangular factor of P given by the user, P = R'R exactly: the P checked",
+            ));
+        }
         r.certificate.extend(extra);
         r.margin = Some(Margin {
             value: -v.relative_max_eigenvalue,

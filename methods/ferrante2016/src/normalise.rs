@@ -196,6 +196,29 @@ impl Scaling {
         Mat::from_fn(x.nrows(), x.ncols(), |i, j| 0.5 * (x[(i, j)] + x[(j, i)]))
     }
 
+    /// The upper-triangular factor `R` (positive diagonal) of `P = TᵀP'T` for a symmetric
+    /// positive definite `P'`: `R` is the triangular factor of the QR decomposition of
+    /// `R'T`, with `P' = R'ᵀR'` (Cholesky, in the normalised coordinates, where `P'` is well
+    /// conditioned), so that `RᵀR = TᵀP'T` up to the rounding of `R` alone (relative to
+    /// `‖R‖`, not to `‖P‖`). `None` when `P'` is not positive definite or an entry is not
+    /// finite.
+    pub fn factor_back(&self, p: MatRef<'_, f64>) -> Option<Mat<f64>> {
+        let n = p.nrows();
+        let sym = Mat::from_fn(n, n, |i, j| 0.5 * (p[(i, j)] + p[(j, i)]));
+        let llt = sym.llt(Side::Lower).ok()?;
+        let rt = llt.L().transpose() * &self.state;
+        let qr = rt.qr();
+        let q = qr.R();
+        let r = Mat::from_fn(n, n, |i, j| {
+            if i > j {
+                0.0
+            } else {
+                q[(i, j)] * q[(i, i)].signum()
+            }
+        });
+        ((0..n).all(|i| r[(i, i)] > 0.0) && r.is_all_finite()).then_some(r)
+    }
+
     /// `J = Tᵀ J' S`.
     pub fn multiplier_gain_back(&self, j: MatRef<'_, f64>) -> Mat<f64> {
         let j = self.state.transpose() * j;

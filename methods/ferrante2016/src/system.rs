@@ -112,6 +112,35 @@ impl Plant {
         Ok(())
     }
 
+    /// Checks that `R` is a finite upper-triangular `n × n` matrix (the factor of `P = RᵀR`).
+    pub fn check_lyapunov_factor(&self, r: MatRef<'_, f64>) -> Result<(), Error> {
+        if r.nrows() != r.ncols() {
+            return Err(Error::Input(InputError::NotSquare {
+                what: "R".into(),
+                rows: r.nrows(),
+                cols: r.ncols(),
+            }));
+        }
+        if r.nrows() != self.n() {
+            return Err(InputError::mismatch("order of R vs n", self.n(), r.nrows()).into());
+        }
+        check_finite(r, "R")?;
+        for j in 0..r.ncols() {
+            for i in j + 1..r.nrows() {
+                if r[(i, j)] != 0.0 {
+                    return Err(InputError::parameter(
+                        "R",
+                        r[(i, j)],
+                        "the factor R of P = R'R must be upper triangular (the value is an \
+                         entry below its diagonal)",
+                    )
+                    .into());
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// The jump matrix `I − LC` of the error dynamics (5) (`I − LM` in the paper).
     pub fn reset_matrix(&self, l: MatRef<'_, f64>) -> Result<Mat<f64>, Error> {
         self.check_gain(l)?;

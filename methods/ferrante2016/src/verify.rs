@@ -25,10 +25,27 @@
 //! a certificate with `κ(P) = 2.8·10⁸` contracts by `1 − γ = 3.2·10⁻³` while that test read
 //! `−3.6·10⁻⁹` relative, and a window 1.8% longer failed it (`−2.8·10⁻¹⁰`): the largest
 //! certified `T2` was 0.670 in those coordinates against 0.768 as given.
+//!
+//! **The certificate as its factor** ([`verify_factor`]). At the end of a long window of an
+//! unstable plant `κ(P)` reaches `1/u` (it grows like `‖e^{A T2}‖²`): rounded to doubles, `P`
+//! no longer determines its smallest eigenvalue, and the Cholesky residual alone makes the
+//! allowance exceed one. A design therefore hands over the factor `R` it has from the
+//! normalised coordinates, where its `P` is well conditioned (`crate::normalise::Scaling::factor_back`),
+//! and the certificate is `P = RᵀR` exactly: `κ(R) = √κ(P)` and no residual. The products
+//! are then the limit: their error estimate `u·κ(R)·‖Ê‖` exceeds one when `‖Ê‖ ~ 10⁶`, although
+//! the error itself stays near `10⁻¹²` (measured in 60-digit arithmetic on the two-wheeled
+//! robot of issue 22, `κ(R) = 7·10⁸`). A point that neither the stepper's exponential nor a
+//! fresh one decides is evaluated again in double-double arithmetic
+//! ([`sporadic_interval::double_double`]: `e^{Av}`, `I − LM`, `R⁻¹` and both products), whose
+//! estimate is `u‖N‖` plus `10⁻³¹`-level terms amplified by `κ(R)²‖Ê‖`. On that robot the
+//! largest certified `T2` went from 1.088 s and 1046.8 ms (seconds and milliseconds, both
+//! ending at this check) to 1.226 s and 1172.8 ms (both ending at LMI (41), whose margin is
+//! `10⁻⁹` there).
 
 use faer::linalg::solvers::DenseSolveCore;
 use faer::{Mat, MatRef, Side};
 use sporadic_interval::constants::UNIT_ROUNDOFF;
+use sporadic_interval::double_double::{self, DdMatrix, DoubleDouble, UNIT_ROUNDOFF_DD};
 use sporadic_interval::exact::{two_prod, two_sum};
 use sporadic_linalg::InputError;
 use sporadic_linalg::{max_eigenvalue, spectral_radius};
@@ -104,6 +121,9 @@ pub struct Verification {
     pub max_spectral_radius: f64,
     /// Where it is attained.
     pub max_spectral_radius_at: f64,
+    /// Whether `P` was given by its factor `R` ([`verify_factor`]: `P = RᵀR` exactly, no
+    /// Cholesky residual) rather than as a matrix ([`verify`]).
+    pub factor_given: bool,
     /// Whether (12) holds on the grid: `γ(v) − 1 + rounding(v) < −tolerance` at every grid and
     /// refinement point, each with its own rounding allowance.
     pub condition12_holds: bool,
@@ -118,7 +138,9 @@ impl Verification {
     }
 }
 
-/// Checks (12) and the Schur property of `e^{Av}(I − LM)` on a dense grid of `[T1, T2]`.
+/// Checks (12) and the Schur property of `e^{Av}(I − LM)` on a dense grid of `[T1, T2]`, for
+/// the Lyapunov matrix `P` as given (its Cholesky factor is computed, and the effect of its
+/// residual is part of the rounding allowance; see the module docs).
 pub fn verify(
     plant: &Plant,
     window: &SamplingWindow,
@@ -127,23 +149,12 @@ pub fn verify(
     options: &VerifyOptions,
 ) -> Result<Verification, Error> {
     plant.check_lyapunov_matrix(p)?;
-    let reset = plant.reset_matrix(l)?;
-    options.validate()?;
-    let (a, t1, t2) = (plant.a(), window.t1(), window.t2());
-    let pts = options.grid_points.max(1);
     let n = p.nrows();
     // `P̂ = ΔPΔ` with `Δ` the powers of two nearest `diag(P)^(−½)` (exact scalings): `γ` is that
     // of `Ê = Δ⁻¹EΔ` in the norm of `P̂`, and its rounding is estimated there, so that neither
     // depends on the units of the state coordinates (a diagonal similarity).
     let delta: Vec<f64> = (0..n)
-        .map(|i| {
-            let d = p[(i, i)];
-            if d > 0.0 && d.is_finite() {
-                (-0.5 * d.log2()).round().exp2()
-            } else {
-                1.0
-            }
-        })
+        .map(|i| nearest_power_of_two(p[(i, i)], -0.5))
         .collect();
     // `P̂ = Δ·sym(P)·Δ`: each entry the exact sum of two doubles (the scalings are powers of
     // two), kept as such for the residual of its factorisation below.
@@ -155,6 +166,134 @@ pub fn verify(
         let (x, y) = halves(i, j);
         x + y
     });
+    let eigenvalues = psym.self_adjoint_eigenvalues(Side::Lower).ok();
+    let factor = psym.llt(Side::Lower).ok();
+    let factored = match (eigenvalues, factor) {
+        (Some(lambda), Some(factor)) if lambda[0] > 0.0 => {
+            // `R = Lᵀ` (`P̂ ≈ LLᵀ`); `γ(v) = λmax(NᵀN)` with `N = R Ê R⁻¹` is the contraction
+            // in the norm of `P̃ = RᵀR`, which differs from `P̂` by the residual
+            // `δP = RᵀR − P̂` of the factorisation (of size `u‖P̂‖`, which `κ(P̂)` amplifies).
+            // It is measured: `RᵀR` is formed in double-double arithmetic, and
+            // `(1 + γ)‖R⁻ᵀδPR⁻¹‖_F` bounds the change of the largest eigenvalue of (12)
+            // relative to `P̂` against that relative to `P̃` (module docs).
+            let r = factor.L().transpose().to_owned();
+            let r_inv = r.as_ref().partial_piv_lu().inverse();
+            let residual = Mat::from_fn(n, n, |i, j| {
+                let (x, y) = halves(i, j);
+                let (hi, lo) = (0..=i.min(j))
+                    .map(|k| two_prod(r[(k, i)], r[(k, j)]))
+                    .chain([(-x, 0.0), (-y, 0.0)])
+                    .fold((0.0, 0.0), |(hi, lo), (t, e)| {
+                        let (s, f) = two_sum(hi, t);
+                        (s, lo + f + e)
+                    });
+                hi + lo
+            });
+            Some(Factored {
+                factorisation: (r_inv.transpose() * &residual * &r_inv).norm_l2(),
+                kappa_r: (lambda[n - 1] / lambda[0]).sqrt(),
+                r,
+                r_inv,
+                delta,
+            })
+        }
+        _ => None,
+    };
+    contraction_test(plant, window, l, p, (factored, false), options)
+}
+
+/// Checks (12) and the Schur property of `e^{Av}(I − LM)` on a dense grid of `[T1, T2]` for the
+/// Lyapunov matrix `P = RᵀR` given by its factor: `R` upper triangular with a positive
+/// diagonal, and `P` the exact product (not its rounding). No factorisation is computed, so the
+/// rounding allowance has no residual term: it is that of the products, of size `u·κ(R)`
+/// with `κ(R) = √κ(P)` (module docs). A certificate whose `κ(P)` is near or beyond `1/u` (the
+/// end of a long window of an unstable plant) cannot be checked as a matrix of doubles, whose
+/// rounding alone moves its smallest eigenvalue by `u‖P‖`, but can as a factor.
+pub fn verify_factor(
+    plant: &Plant,
+    window: &SamplingWindow,
+    l: MatRef<'_, f64>,
+    r: MatRef<'_, f64>,
+    options: &VerifyOptions,
+) -> Result<Verification, Error> {
+    plant.check_lyapunov_factor(r)?;
+    let n = r.nrows();
+    // `Δ` the powers of two nearest `diag(P)^(−½)`, the inverse column norms of `R`; `R̂ = RΔ`
+    // (exact), so that `P̂ = ΔPΔ = R̂ᵀR̂` has a diagonal near one.
+    let delta: Vec<f64> = (0..n)
+        .map(|j| nearest_power_of_two(r.col(j).norm_l2(), -1.0))
+        .collect();
+    let r_hat = Mat::from_fn(n, n, |i, j| r[(i, j)] * delta[j]);
+    let p = factor_product(r);
+    let sigma = r_hat.singular_values().ok();
+    let factored = match sigma {
+        Some(s) if (0..n).all(|i| r[(i, i)] > 0.0) && s.iter().all(|x| *x > 0.0) => {
+            let (lo, hi) = s.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), x| {
+                (lo.min(*x), hi.max(*x))
+            });
+            Some(Factored {
+                factorisation: 0.0,
+                kappa_r: hi / lo,
+                r_inv: r_hat.as_ref().partial_piv_lu().inverse(),
+                r: r_hat,
+                delta,
+            })
+        }
+        _ => None,
+    };
+    contraction_test(plant, window, l, p.as_ref(), (factored, true), options)
+}
+
+/// `RᵀR` for an upper-triangular `R`, each entry summed in the same order as its mirror (the
+/// result is exactly symmetric): the certificate of a factor rounded to doubles.
+pub fn factor_product(r: MatRef<'_, f64>) -> Mat<f64> {
+    let n = r.nrows();
+    Mat::from_fn(n, n, |i, j| {
+        (0..=i.min(j)).map(|k| r[(k, i)] * r[(k, j)]).sum::<f64>()
+    })
+}
+
+/// The power of two nearest `x^e` (`1` for `x` not positive and finite): exact scalings.
+fn nearest_power_of_two(x: f64, e: f64) -> f64 {
+    if x > 0.0 && x.is_finite() {
+        (e * x.log2()).round().exp2()
+    } else {
+        1.0
+    }
+}
+
+/// `P̂ = ΔPΔ = RᵀR` in the units in which `P` has a diagonal near one (`Δ` exact powers of
+/// two), for [`contraction_test`].
+struct Factored {
+    /// `R`, upper triangular.
+    r: Mat<f64>,
+    /// `R⁻¹` as computed.
+    r_inv: Mat<f64>,
+    /// The diagonal of `Δ`.
+    delta: Vec<f64>,
+    /// `κ(R)`.
+    kappa_r: f64,
+    /// `‖R⁻ᵀδPR⁻¹‖_F` for the residual `δP = RᵀR − P̂` of a computed factor (0 for a given
+    /// one).
+    factorisation: f64,
+}
+
+/// The grid test of (12) and of the Schur property shared by [`verify`] and [`verify_factor`]:
+/// `p` is `P` as reported (for the value of (12) in the user's scale), `factored` its factor
+/// (`None` when `P` is not positive definite).
+fn contraction_test(
+    plant: &Plant,
+    window: &SamplingWindow,
+    l: MatRef<'_, f64>,
+    p: MatRef<'_, f64>,
+    (factored, factor_given): (Option<Factored>, bool),
+    options: &VerifyOptions,
+) -> Result<Verification, Error> {
+    let reset = plant.reset_matrix(l)?;
+    options.validate()?;
+    let (a, t1, t2) = (plant.a(), window.t1(), window.t2());
+    let pts = options.grid_points.max(1);
+    let n = p.nrows();
     // λmax of (12)'s left-hand side in the user's scale at `e`, for the value reported.
     let lhs_at = |e: MatRef<'_, f64>| -> Result<f64, Error> {
         let er = e * reset.as_ref();
@@ -169,39 +308,16 @@ pub fn verify(
     })?;
     let grid_points = if window.is_periodic() { 1 } else { pts };
     let schur_holds = radius.value < 1.0 - options.tolerance;
-    let eigenvalues = psym.self_adjoint_eigenvalues(Side::Lower).ok();
-    let factor = psym.llt(Side::Lower).ok();
-    let (Some(lambda), Some(factor)) = (eigenvalues, factor) else {
-        return not_positive_definite(a, window, pts, &lhs_at, radius, schur_holds);
+    let Some(Factored {
+        r,
+        r_inv,
+        delta,
+        kappa_r,
+        factorisation,
+    }) = factored
+    else {
+        return not_positive_definite(a, window, pts, &lhs_at, radius, (schur_holds, factor_given));
     };
-    if !(lambda[0] > 0.0) {
-        return not_positive_definite(a, window, pts, &lhs_at, radius, schur_holds);
-    }
-    // `R = Lᵀ` (`P̂ ≈ LLᵀ`) and `R⁻¹`; `γ(v) = λmax(NᵀN)` with `N = R Ê R⁻¹` is the contraction
-    // in the norm of `P̃ = RᵀR`, which differs from `P̂` by the residual `δP = RᵀR − P̂` of
-    // the factorisation (of size `u‖P̂‖`, which `κ(P̂)` amplifies). It is measured: `RᵀR` is
-    // formed in double-double arithmetic, and `(1 + γ)‖R⁻ᵀδPR⁻¹‖_F` bounds the change of the
-    // largest eigenvalue of (12) relative to `P̂` against that relative to `P̃` (module docs).
-    let r = factor.L().transpose().to_owned();
-    let r_inv = r.as_ref().partial_piv_lu().inverse();
-    let residual = Mat::from_fn(n, n, |i, j| {
-        let (x, y) = halves(i, j);
-        let (mut hi, mut lo) = (0.0, 0.0);
-        let mut add = |(t, e): (f64, f64)| {
-            let (s, f) = two_sum(hi, t);
-            hi = s;
-            lo += f;
-            lo += e;
-        };
-        for k in 0..=i.min(j) {
-            add(two_prod(r[(k, i)], r[(k, j)]));
-        }
-        add((-x, 0.0));
-        add((-y, 0.0));
-        hi + lo
-    });
-    let factorisation = (r_inv.transpose() * &residual * &r_inv).norm_l2();
-    let kappa_r = (lambda[n - 1] / lambda[0]).sqrt();
     let anorm = a.norm_l1();
     // The contraction at `e` and its rounding estimate: `exponential` is the relative error
     // level of `e` (the stepper's bound on the uniform grid, `n + ‖Av‖₁` units of roundoff for
@@ -210,33 +326,71 @@ pub fn verify(
         let er = e * reset.as_ref();
         let er = Mat::from_fn(n, n, |i, j| er[(i, j)] * delta[j] / delta[i]);
         let nm = &r * &er * &r_inv;
-        let gram = nm.transpose() * &nm;
-        let g = max_eigenvalue(gram.as_ref())?;
         let eps = (2.0 * n as f64 * UNIT_ROUNDOFF + exponential) * kappa_r * er.norm_l2();
-        let estimate =
-            2.0 * g.max(0.0).sqrt() * eps + eps * eps + n as f64 * UNIT_ROUNDOFF * g.abs();
-        Ok((
-            g - 1.0,
-            SAFETY * estimate + MEASURED * (1.0 + g.abs()) * factorisation,
-        ))
+        allowance(nm.as_ref(), eps, factorisation)
+    };
+    // The same in double-double arithmetic ([`sporadic_interval::double_double`]): `e^{Av}`,
+    // `I − LM`, `R⁻¹` and the products, with `N` rounded to doubles at the end. Its error is
+    // that rounding, `u‖N‖_F`, plus the double-double errors amplified as above (`κ(R)‖Ê‖_F`
+    // times those of the exponential and the products, `κ(R)²‖Ê‖_F` times that of `R⁻¹`):
+    // at the end of a long window of an unstable plant (`κ(R) ~ 10⁹`, `‖Ê‖ ~ 10⁶`) the
+    // double-precision estimate exceeds one while this one stays below `10⁻⁶`.
+    let r_dd = DdMatrix::from_f64(r.as_ref());
+    let r_inv_dd = double_double::upper_triangular_inverse(r.as_ref());
+    let (c, q) = (plant.c(), plant.q());
+    let reset_dd = DdMatrix::from_fn(n, n, |i, j| {
+        let lc = (0..q).fold(DoubleDouble::ZERO, |s, k| {
+            s + DoubleDouble::product(l[(i, k)], c[(k, j)])
+        });
+        DoubleDouble::from(f64::from(u8::from(i == j))) - lc
+    });
+    let precise = |v: f64| -> Result<Option<(f64, f64)>, Error> {
+        let (Some(e), Some(x)) = (double_double::expm(a, v), r_inv_dd.as_ref()) else {
+            return Ok(None);
+        };
+        let er = e.mul(&reset_dd);
+        let er = DdMatrix::from_fn(n, n, |i, j| er.get(i, j).scaled(delta[j] / delta[i]));
+        let nm = r_dd.mul(&er).mul(x).to_f64();
+        let ehat = er.to_f64().norm_l2();
+        let level = (4.0 * n as f64 + anorm * v) * UNIT_ROUNDOFF_DD;
+        let eps = UNIT_ROUNDOFF * nm.norm_l2() + level * kappa_r * (1.0 + kappa_r) * ehat;
+        allowance(nm.as_ref(), eps, factorisation).map(Some)
     };
     let stepper = STEPPER_REANCHOR * (n as f64 + 1.0) * UNIT_ROUNDOFF;
     let fresh = |v: f64| (n as f64 + anorm * v) * UNIT_ROUNDOFF;
-    // The test function `γ − 1 + rounding` at every grid point (with its own rounding
-    // allowance); a point of the stepper's grid that it does not decide is evaluated again with
-    // a fresh exponential.
-    let test = |v: f64, e: MatRef<'_, f64>| -> Result<f64, Error> {
-        let (rel, rounding) = contraction(e, stepper)?;
-        if rel + rounding < -options.tolerance {
-            return Ok(rel + rounding);
+    // `γ − 1` and its rounding allowance at `v`, from the first evaluation that decides the
+    // test `γ − 1 + rounding < −tolerance`: the stepper's `e` on its grid (when given), a
+    // fresh exponential, double-double arithmetic; when none decides, the smallest value of
+    // the test among them.
+    let evaluate = |v: f64, on_grid: Option<MatRef<'_, f64>>| -> Result<(f64, f64), Error> {
+        let mut best = (f64::INFINITY, 0.0);
+        let mut keep = |(rel, rounding): (f64, f64)| {
+            if rel + rounding < best.0 + best.1 {
+                best = (rel, rounding);
+            }
+            best.0 + best.1 < -options.tolerance
+        };
+        if let Some(e) = on_grid
+            && keep(contraction(e, stepper)?)
+        {
+            return Ok(best);
         }
         let e = crate::grid::expm_far(a, v)?;
-        let (rel, rounding) = contraction(e.as_ref(), fresh(v))?;
+        if keep(contraction(e.as_ref(), fresh(v))?) {
+            return Ok(best);
+        }
+        if let Some(x) = precise(v)? {
+            keep(x);
+        }
+        Ok(best)
+    };
+    let test = |v: f64, e: MatRef<'_, f64>| -> Result<f64, Error> {
+        let (rel, rounding) = evaluate(v, Some(e))?;
         Ok(rel + rounding)
     };
     let worst = extremum(a, t1, t2, pts, Sense::Max, test)?;
     let e = crate::grid::expm_far(a, worst.at)?;
-    let (relative, rounding) = contraction(e.as_ref(), fresh(worst.at))?;
+    let (relative, rounding) = evaluate(worst.at, None)?;
     Ok(Verification {
         grid_points,
         max_eigenvalue: lhs_at(e.as_ref())?,
@@ -245,9 +399,24 @@ pub fn verify(
         rounding,
         max_spectral_radius: radius.value,
         max_spectral_radius_at: radius.at,
+        factor_given,
         condition12_holds: worst.value < -options.tolerance,
         schur_holds,
     })
+}
+
+/// `(γ − 1, rounding)` for `N = R Ê R⁻¹` as computed, with `eps` its first-order error bound
+/// (relative to nothing: an absolute bound on `‖δN‖₂`) and `factorisation` the effect of the
+/// Cholesky residual ([`Verification::rounding`]).
+fn allowance(nm: MatRef<'_, f64>, eps: f64, factorisation: f64) -> Result<(f64, f64), Error> {
+    let n = nm.nrows();
+    let gram = nm.transpose() * nm;
+    let g = max_eigenvalue(gram.as_ref())?;
+    let estimate = 2.0 * g.max(0.0).sqrt() * eps + eps * eps + n as f64 * UNIT_ROUNDOFF * g.abs();
+    Ok((
+        g - 1.0,
+        SAFETY * estimate + MEASURED * (1.0 + g.abs()) * factorisation,
+    ))
 }
 
 /// The stepper's error bound in units of `(n + 1)u` ([`sporadic_linalg::DEFAULT_REANCHOR`]
@@ -271,7 +440,7 @@ fn not_positive_definite(
     pts: usize,
     lhs_at: &dyn Fn(MatRef<'_, f64>) -> Result<f64, Error>,
     radius: crate::grid::Extremum,
-    schur_holds: bool,
+    (schur_holds, factor_given): (bool, bool),
 ) -> Result<Verification, Error> {
     let lhs = extremum(a, window.t1(), window.t2(), pts, Sense::Max, |_, e| {
         lhs_at(e)
@@ -284,6 +453,7 @@ fn not_positive_definite(
         rounding: 0.0,
         max_spectral_radius: radius.value,
         max_spectral_radius_at: radius.at,
+        factor_given,
         condition12_holds: false,
         schur_holds,
     })

@@ -7,7 +7,7 @@ use faer::Mat;
 use proptest::prelude::*;
 use sporadic_ferrante2016::{
     BoundOptions, DetectabilityOptions, Error, Plant, SamplingWindow, VerifyOptions,
-    bound_constants, check_detectability, verify,
+    bound_constants, check_detectability, verify, verify_factor,
 };
 use sporadic_linalg::{
     expm_scaled, lyap_discrete, max_eigenvalue, min_eigenvalue, spectral_radius,
@@ -180,4 +180,100 @@ fn spectral_abscissa(a: &Mat<f64>) -> f64 {
         .iter()
         .map(|z| z.re)
         .fold(f64::NEG_INFINITY, f64::max)
+}
+
+/// A certificate beyond double precision, checked as its factor (issue 22). In coordinates
+/// `z = Rx`, `R = [[1, 1], [0, s]]` with `s = 2⁻³⁰`, the error dynamics are
+/// `e^{Ãv}(I − L̃C̃)` with `Ã = diag(3, −1)`, `C̃ = [1, 0]`, `L̃ = [1, ℓ]'`, whose norm is
+/// `‖·‖² = γ(v) = e^{−2v}(1 + ℓ²)` exactly; in `x` the plant is `A = R⁻¹ÃR = [[3, 4], [0, −1]]`,
+/// `C = C̃R = [1, 1]`, `L = R⁻¹L̃ = [1 − ℓ/s, ℓ/s]'` (all exact in doubles), and
+/// `P = RᵀR` has condition number `~4.6·10¹⁸`: rounded to doubles it is singular
+/// (`1 + s² = 1`), so the check of `P` as given cannot pass, while the check of `R` must find
+/// `γ − 1` as the formula gives it (to `10⁻⁶`) and pass or fail as the formula says.
+#[test]
+fn a_certificate_beyond_double_precision_is_verified_as_its_factor() {
+    let s = 2f64.powi(-30);
+    let a = faer::mat![[3.0, 4.0], [0.0, -1.0]];
+    let c = faer::mat![[1.0, 1.0]];
+    let r = faer::mat![[1.0, 1.0], [0.0, s]];
+    let plant = Plant::new(a.as_ref(), c.as_ref()).unwrap();
+    for (ell, t1, t2) in [
+        (0.5, 0.5, 2.0),
+        (2.0, 0.05, 2.0),
+        (0.5, 0.05, 0.12),
+        (0.5, 0.2, 0.3),
+    ] {
+        let l = faer::mat![[1.0 - ell / s], [ell / s]];
+        let w = SamplingWindow::new(t1, t2).unwrap();
+        let exact = (-2.0 * t1).exp() * (1.0 + ell * ell) - 1.0;
+        let v = verify_factor(
+            &plant,
+            &w,
+            l.as_ref(),
+            r.as_ref(),
+            &VerifyOptions::default(),
+        )
+        .unwrap();
+        assert!(
+            (v.relative_max_eigenvalue - exact).abs() < 1e-6,
+            "ℓ = {ell}: γ − 1 = {} against {exact}",
+            v.relative_max_eigenvalue
+        );
+        assert_eq!(v.condition12_holds, exact < 0.0, "ℓ = {ell}: {v:?}");
+        assert!(v.rounding < 0.5 * exact.abs(), "{v:?}");
+        let p = sporadic_ferrante2016::factor_product(r.as_ref());
+        let given = verify(
+            &plant,
+            &w,
+            l.as_ref(),
+            p.as_ref(),
+            &VerifyOptions::default(),
+        )
+        .unwrap();
+        assert!(!given.condition12_holds, "{given:?}");
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(32))]
+
+    /// For a well-conditioned `P`, the check of its Cholesky factor and the check of `P` agree
+    /// (the same `γ − 1` to `10⁻⁹`, the same verdict), and the factor of `P` in other
+    /// coordinates `x = Tz` (`R → RT`, re-triangularised) gives the same `γ − 1`.
+    #[test]
+    fn the_factor_and_the_matrix_give_the_same_contraction(seed in any::<u64>()) {
+        let mut rng = SimRng::new(seed);
+        let n = 2 + (seed % 3) as usize;
+        let a = random(&mut rng, n, n, 1.0);
+        let m = random(&mut rng, 1, n, 1.0);
+        let l = random(&mut rng, n, 1, 1.0);
+        let t1 = rng.uniform(0.05, 0.5);
+        let t2 = t1 + rng.uniform(0.0, 0.5);
+        let plant = Plant::new(a.as_ref(), m.as_ref()).unwrap();
+        let w = SamplingWindow::new(t1, t2).unwrap();
+        let g = random(&mut rng, n, n, 1.0);
+        let p = g.transpose() * &g + Mat::<f64>::identity(n, n);
+        let p = Mat::from_fn(n, n, |i, j| 0.5 * (p[(i, j)] + p[(j, i)]));
+        let factor = p.llt(faer::Side::Lower).unwrap().L().transpose().to_owned();
+        let opts = VerifyOptions::default();
+        let by_p = verify(&plant, &w, l.as_ref(), p.as_ref(), &opts).unwrap();
+        let by_r = verify_factor(&plant, &w, l.as_ref(), factor.as_ref(), &opts).unwrap();
+        prop_assert!((by_p.relative_max_eigenvalue - by_r.relative_max_eigenvalue).abs() < 1e-9,
+            "{by_p:?} {by_r:?}");
+        prop_assume!(by_r.relative_max_eigenvalue.abs() > 1e-6);
+        prop_assert_eq!(by_p.condition12_holds, by_r.condition12_holds);
+        // Other coordinates: A → T⁻¹AT, C → CT, L → T⁻¹L, R → qr(RT).
+        let t = random(&mut rng, n, n, 1.0) + Mat::<f64>::identity(n, n) * faer::Scale(2.0);
+        let t_inv = {
+            use faer::linalg::solvers::DenseSolveCore;
+            t.partial_piv_lu().inverse()
+        };
+        let other = Plant::new((&t_inv * &a * &t).as_ref(), (&m * &t).as_ref()).unwrap();
+        let rt = (&factor * &t).qr().R().to_owned();
+        let rt = Mat::from_fn(n, n, |i, j| if i > j { 0.0 } else { rt[(i, j)] * rt[(i, i)].signum() });
+        let moved = verify_factor(&other, &w, (&t_inv * &l).as_ref(), rt.as_ref(), &opts).unwrap();
+        prop_assert!((moved.relative_max_eigenvalue - by_r.relative_max_eigenvalue).abs()
+            < 1e-8 * (1.0 + by_r.relative_max_eigenvalue.abs()),
+            "{moved:?} {by_r:?}");
+    }
 }
