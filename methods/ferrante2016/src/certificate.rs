@@ -23,6 +23,14 @@
 //! its `P` is too ill-conditioned in the plant's coordinates for that check to resolve (12)
 //! (condition number `5e14` on the magnetic levitation), the design reports the precision
 //! limit of the method (`Error::PrecisionLimit`), not an infeasible LMI.
+//!
+//! The `P` of an undecided margin solve (`t* < 0` within the solver's threshold) is itself
+//! indefinite by about `t*`; its coordinates are those of `P + 2|λmin|·I`
+//! ([`MAX_INDEFINITENESS`]), and the Gramian form's solve is taken first, as it is the same
+//! for every change of units or coordinates (`crate::design`). Without these two, the
+//! two-wheeled robot of issue 22 ended its window searches at different `T2` in seconds and in
+//! milliseconds, the corpus cart-pole at 0.77 in its coordinates and 0.71 in others; with
+//! them, 1.229 s and 1229.4 ms, and 1.84 to 2.00 (the band where LMI (41) itself ends).
 
 use faer::{Mat, MatRef, Side};
 use sporadic_embed::Embedding;
@@ -37,6 +45,11 @@ pub const MIN_CERTIFICATE_CONDITION: f64 = 1e2;
 /// smallest eigenvalues, and `λmin(P)` itself, are not known to a relative accuracy better than
 /// about `10⁻³` in double precision (`u·λmax/λmin`).
 pub const MAX_CERTIFICATE_CONDITION: f64 = 1e12;
+
+/// Largest `−λmin(P)/λmax(P)` of an indefinite `P` of a margin solve whose coordinates are
+/// used ([`CertificateCoordinates::of`]): a margin `t*` this close to zero is undecided by
+/// the solver (its verification threshold is `10⁻⁷` or more relative to `‖P‖₂ ≤ 1`).
+pub const MAX_INDEFINITENESS: f64 = 1e-6;
 
 /// The vertices `X_i` of LMI (41) in the coordinates of a solve, with a bound `error` on the
 /// spectral-norm distance of every `e^{Av}`, `v` in the window, from their hull (in the same
@@ -86,16 +99,26 @@ pub(crate) struct CertificateCoordinates {
 
 impl CertificateCoordinates {
     /// The coordinates of `p` (symmetric), or `None` when they would not help or cannot be
-    /// trusted: `P` not positive definite, or its condition number below
+    /// trusted: `P` indefinite by more than a margin solve's `P` can be (see below) or its
+    /// condition number below
     /// [`MIN_CERTIFICATE_CONDITION`] or above [`MAX_CERTIFICATE_CONDITION`].
     pub fn of(p: MatRef<'_, f64>) -> Option<Self> {
         let n = p.nrows();
         let sym = Mat::from_fn(n, n, |i, j| 0.5 * (p[(i, j)] + p[(j, i)]));
         let e = sym.self_adjoint_eigen(Side::Lower).ok()?;
         let s = e.S().column_vector();
-        let lambda: Vec<f64> = (0..n).map(|i| s[i]).collect();
+        // The `P` of a margin solve with `t* < 0` has `λmin(P) ≈ t*`: indefinite by about the
+        // margin. Its coordinates are taken for `P + 2|λmin|·I` then (positive definite, the same
+        // eigenvectors), as long as `|λmin|` is below [`MAX_INDEFINITENESS`] times `λmax`: only
+        // the coordinates are taken from it, never the certificate.
+        let (lo, hi) = (s[0], s[n - 1]);
+        if !(hi > 0.0 && hi.is_finite()) || lo < -MAX_INDEFINITENESS * hi {
+            return None;
+        }
+        let shift = if lo > 0.0 { 0.0 } else { -2.0 * lo };
+        let lambda: Vec<f64> = (0..n).map(|i| s[i] + shift).collect();
         let (lo, hi) = (lambda[0], lambda[n - 1]);
-        if !(lo > 0.0 && hi.is_finite()) {
+        if !(lo > 0.0) {
             return None;
         }
         if !(MIN_CERTIFICATE_CONDITION..=MAX_CERTIFICATE_CONDITION).contains(&(hi / lo)) {

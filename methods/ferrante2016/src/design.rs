@@ -494,7 +494,7 @@ pub(crate) fn design_cached(
         };
     }
     // Every form failed: those whose margin was undecided are solved once more in the
-    // coordinates of their own certificates (`crate::certificate`), the largest margin first,
+    // coordinates of their own certificates (`crate::certificate`), the Gramian form first,
     // until one gives a certificate; once per window.
     if let Err(e) = &result
         && e.reason().is_some()
@@ -503,21 +503,36 @@ pub(crate) fn design_cached(
     {
         cache.certificate_pass_made = true;
         let mut undecided = std::mem::take(&mut cache.undecided);
-        undecided.sort_by(|a, b| b.margin.partial_cmp(&a.margin).unwrap_or(Ordering::Equal));
+        // The Gramian form first (it is the same for every change of units or coordinates, so
+        // its pass is too), then the others, the largest margin first.
+        let not_gramian = |u: &Undecided| u.scaling.coordinates != normalise::Coordinates::Gramian;
+        undecided.sort_by(|a, b| {
+            not_gramian(a)
+                .cmp(&not_gramian(b))
+                .then(b.margin.partial_cmp(&a.margin).unwrap_or(Ordering::Equal))
+        });
         for u in &undecided {
             if budget_left().is_err() {
                 break;
             }
-            // A certificate whose check of (12) fails for another reason than the precision
-            // limit leaves the verdict of the forms (and ends the passes: the next would meet
-            // the same check).
+            // The first certificate that passes the check of (12) ends the passes; one at the
+            // precision limit is kept as the verdict unless a later one passes; one whose
+            // check fails for another reason leaves the verdict of the forms. (Each form's
+            // pass gives another certificate, checked as its own factor: one failing does not
+            // make the next fail.)
             if let Some((r, embedding, scaling)) = certificate_pass(u, options, cache) {
-                if let done @ (Ok(_) | Err(Error::PrecisionLimit { .. })) =
-                    finish((plant, window, options), (r, embedding, scaling), context)
-                {
-                    result = done;
+                match finish((plant, window, options), (r, embedding, scaling), context) {
+                    Ok(d) => {
+                        result = Ok(d);
+                        break;
+                    }
+                    Err(e @ Error::PrecisionLimit { .. }) => {
+                        if !matches!(result, Err(Error::PrecisionLimit { .. })) {
+                            result = Err(e);
+                        }
+                    }
+                    Err(_) => {}
                 }
-                break;
             }
         }
     }

@@ -108,13 +108,13 @@ pub enum Error {
     /// precision limit of the method, not shown infeasible.
     #[error(
         "double-precision limit: LMI (41) holds in the coordinates of its own certificate \
-         (margin {margin:.3e} there), but that certificate P has condition number \
-         {condition:.1e} in the plant's coordinates, where the grid check of (12) cannot decide \
-         it: the largest eigenvalue of (12) relative to P, ||R e^(Av)(I-LM) R^-1||^2 - 1 with \
+         (margin {margin:.3e} there), but that certificate P has condition number {} in the \
+         plant's coordinates, where the grid check of (12) cannot decide it: the largest eigenvalue of (12) relative to P, ||R e^(Av)(I-LM) R^-1||^2 - 1 with \
          P = R'R, is {relative_max_eigenvalue:.3e}, within its rounding allowance \
          {rounding:.1e} of zero, where the check asks for less than -{resolution:.1e} (its \
          tolerance {tolerance:.0e} plus that allowance); max spectral radius of e^(Av)(I-LM) = \
-         {max_spectral_radius:.4}, below one"
+         {max_spectral_radius:.4}, below one",
+        condition_words(*.condition)
     )]
     PrecisionLimit {
         /// Margin of the reduced LMI (41) in certificate coordinates.
@@ -152,6 +152,16 @@ pub enum Error {
     /// An error from the hybrid simulator or the figure writer.
     #[error("simulation: {0}")]
     Sim(#[from] sporadic_sim::SimError),
+}
+
+/// A condition number for a message: `1.2e17`, or words when it is not finite (`P` rounded to
+/// doubles is not positive definite).
+fn condition_words(condition: f64) -> String {
+    if condition.is_finite() {
+        format!("{condition:.1e}")
+    } else {
+        "beyond double precision (rounded to doubles it is not positive definite)".into()
+    }
 }
 
 impl Error {

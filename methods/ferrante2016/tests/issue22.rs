@@ -644,3 +644,87 @@ fn a_jordan_block_plant_keeps_its_largest_window_in_other_coordinates() {
         assert_eq!(r.status, Status::Certified, "{:?}", r.reason);
     }
 }
+
+/// A two-wheeled balancing robot written for issue 22 (pitch and wheel angle measured, an
+/// unstable pitch mode), in seconds and in milliseconds with the wheel angle in mrad. Near the
+/// end of its largest window the certificate has `κ(P) ~ 10¹⁷`: the check of `P` rounded to
+/// doubles stopped the searches at 1.088 s and 1046.8 ms (its Cholesky residual alone exceeded
+/// the contraction), and the margin solves there return a `P` indefinite by about their margin
+/// (`t* ~ −10⁻⁹`), whose coordinates were not used for a new solve. The certificate is now
+/// checked as its factor (`verify_factor`), the coordinates of a slightly indefinite `P` are
+/// used, the Gramian form's first: both units end at the same `T2`.
+#[test]
+fn a_two_wheeled_robot_keeps_its_largest_window_in_milliseconds() {
+    let seconds = plant(
+        mat![
+            [0.0, 1.0, 0.0, 0.0],
+            [0.0, -8.3, 3.2, 0.05],
+            [0.0, 0.0, 0.0, 1.0],
+            [0.0, 21.0, 55.7, -0.4]
+        ],
+        mat![[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]],
+    );
+    let milliseconds = plant(
+        mat![
+            [0.0, 1.0, 0.0, 0.0],
+            [0.0, -0.0083, 0.0032, 5e-05],
+            [0.0, 0.0, 0.0, 0.001],
+            [0.0, 0.021, 0.0557, -0.0004]
+        ],
+        mat![[0.001, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]],
+    );
+    let s = largest(&seconds, 0.002, 10.0);
+    let ms = largest(&milliseconds, 2.0, 10000.0);
+    assert!(s > 1.2 && ms > 1200.0, "{s} s, {ms} ms");
+    assert!((1000.0 * s - ms).abs() <= 0.005 * ms, "{s} s, {ms} ms");
+}
+
+/// The corpus cart-pole as given and in coordinates `x = Tz` of a random `T` with `κ(T) < 10`
+/// (`A`, `C` below as they were generated). The largest certified `T2` from `T1 = 0.02` was
+/// 0.766 and 0.707, both ending at the precision limit of the check of `P`; with the check of
+/// its factor and the coordinates of the Gramian form's undecided solve, both searches reach
+/// the band where LMI (41) itself ends: single designs on `[0.02, T2]` in the two coordinates
+/// gave (certified, certified) at 1.95, (refused, certified) at 1.8423, (certified, refused) at
+/// 1.9 and (refused, refused) at 1.99, with margins `6·10⁻⁸` to `4·10⁻⁹`, where rounding
+/// decides. Each search ends somewhere in that band (1.84 to 2.00, by its probes); this asserts
+/// both above 1.8 and within 10 % of each other.
+#[test]
+fn the_cart_pole_keeps_a_long_window_in_other_coordinates() {
+    let other = plant(
+        mat![
+            [
+                -0.383857759543738,
+                1.8196786552547044,
+                -2.2024777680703957,
+                1.7352231230912882
+            ],
+            [
+                -0.010418512539230172,
+                0.33043800894173975,
+                -1.6189031268873035,
+                0.12038577373193624
+            ],
+            [
+                0.42966615561393895,
+                -1.4839212154912642,
+                7.038555534803288,
+                -2.6150567404338365
+            ],
+            [
+                1.196238229988724,
+                -2.31128945511715,
+                12.109872857086605,
+                -7.0851357842012925
+            ]
+        ],
+        mat![[
+            1.0372581143857318,
+            0.28834479183509265,
+            -0.09439106267537466,
+            0.341455133597603
+        ]],
+    );
+    let (g, o) = (largest(&cart_pole(), 0.02, 5.0), largest(&other, 0.02, 5.0));
+    assert!(g > 1.8 && o > 1.8, "{g} {o}");
+    assert!((g - o).abs() <= 0.1 * g.max(o), "{g} {o}");
+}
