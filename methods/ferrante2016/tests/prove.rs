@@ -242,4 +242,24 @@ fn verify_checks_a_users_gain_with_and_without_its_p() {
     let mut wrong_p = d.certificate.clone();
     wrong_p[0].rows.pop();
     assert!(method.verify(&plant, &s, &d.gains, &wrong_p, &o).is_err());
+    // A design's certificate carries the factor R of P = R'R; a P that disagrees with it is
+    // refused, and R alone is checked as the certificate.
+    assert!(d.certificate.iter().any(|m| m.name == "R"));
+    let mut edited = d.certificate.clone();
+    edited[0].rows[0][0] *= 1.01;
+    let e = method
+        .verify(&plant, &s, &d.gains, &edited, &o)
+        .unwrap_err();
+    assert!(e.to_string().contains("differs from R'R"), "{e}");
+    let factor_only: Vec<_> = d
+        .certificate
+        .iter()
+        .filter(|m| m.name == "R")
+        .cloned()
+        .collect();
+    let r = method
+        .verify(&plant, &s, &d.gains, &factor_only, &o)
+        .unwrap();
+    assert!(r.status.is_certified(), "{:?}", r.reason);
+    assert!(r.certificate.iter().any(|m| m.name == "R"));
 }
