@@ -140,13 +140,7 @@ impl DdMatrix {
 
     /// The identity of order `n`.
     pub fn identity(n: usize) -> Self {
-        Self::from_fn(n, n, |i, j| {
-            if i == j {
-                DoubleDouble::ONE
-            } else {
-                DoubleDouble::ZERO
-            }
-        })
+        Self::from_fn(n, n, |i, j| DoubleDouble::from(f64::from(u8::from(i == j))))
     }
 
     /// Number of rows.
@@ -198,18 +192,14 @@ impl DdMatrix {
 /// the diagonal are ignored.
 pub fn upper_triangular_inverse(r: MatRef<'_, f64>) -> Option<DdMatrix> {
     let n = r.nrows();
+    if (0..n).any(|i| r[(i, i)] == 0.0) {
+        return None;
+    }
     let mut x = DdMatrix::from_fn(n, n, |_, _| DoubleDouble::ZERO);
     for j in 0..n {
         for i in (0..=j).rev() {
-            let rhs = if i == j {
-                DoubleDouble::ONE
-            } else {
-                DoubleDouble::ZERO
-            };
+            let rhs = DoubleDouble::from(f64::from(u8::from(i == j)));
             let sum = (i + 1..=j).fold(rhs, |s, k| s - x.get(k, j) * r[(i, k)].into());
-            if r[(i, i)] == 0.0 {
-                return None;
-            }
             x.data[i + j * n] = sum / r[(i, i)].into();
         }
     }
@@ -249,12 +239,7 @@ pub fn expm(a: MatRef<'_, f64>, v: f64) -> Option<DdMatrix> {
         let xt = x.mul(&t);
         let inv_k = DoubleDouble::ONE / f64::from(k).into();
         t = DdMatrix::from_fn(n, n, |i, j| {
-            let d = if i == j {
-                DoubleDouble::ONE
-            } else {
-                DoubleDouble::ZERO
-            };
-            d + xt.get(i, j) * inv_k
+            DoubleDouble::from(f64::from(u8::from(i == j))) + xt.get(i, j) * inv_k
         });
     }
     for _ in 0..squarings {

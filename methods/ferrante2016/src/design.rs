@@ -938,13 +938,7 @@ fn precision_limit(
     // `κ(P) = κ(R)²` from the singular values of the factor: the eigenvalues of `P` rounded
     // to doubles do not resolve its smallest one when `κ(P)` is near `1/u`.
     let condition = match factor {
-        Some(f) => {
-            let s = f.singular_values().ok()?;
-            let (lo, hi) = s.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), x| {
-                (lo.min(*x), hi.max(*x))
-            });
-            (hi / lo).powi(2)
-        }
+        Some(f) => crate::verify::spectral_condition(f.as_ref()).map_or(f64::INFINITY, |k| k * k),
         None => {
             let n = r.p.nrows();
             let s = r.p.self_adjoint_eigenvalues(faer::Side::Lower).ok()?;

@@ -208,12 +208,12 @@ impl Scaling {
         let llt = sym.llt(Side::Lower).ok()?;
         let rt = llt.L().transpose() * &self.state;
         let qr = rt.qr();
-        let q = qr.R();
+        let upper = qr.R();
         let r = Mat::from_fn(n, n, |i, j| {
             if i > j {
                 0.0
             } else {
-                q[(i, j)] * q[(i, i)].signum()
+                upper[(i, j)] * upper[(i, i)].signum()
             }
         });
         ((0..n).all(|i| r[(i, i)] > 0.0) && r.is_all_finite()).then_some(r)

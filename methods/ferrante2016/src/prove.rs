@@ -48,20 +48,6 @@ pub const PROOF_MARGIN_DEFINITION: &str = "min over v in [T1, T2] of −λmax(Δ
      diag(2^k_i) with 2^k_i ≈ P_ii^(-1/2) (an exact congruence; the value does not depend on the \
      units of the states)";
 
-/// The power-of-two congruence `Δ` with `Δ_ii ≈ P_ii^{-1/2}` (1 where `P_ii` is not positive).
-fn power_of_two_scaling(p: MatRef<'_, f64>) -> Vec<f64> {
-    (0..p.nrows())
-        .map(|i| {
-            let d = p[(i, i)];
-            if d > 0.0 && d.is_finite() {
-                2f64.powi((-0.5 * d.log2()).round().clamp(-500.0, 500.0) as i32)
-            } else {
-                1.0
-            }
-        })
-        .collect()
-}
-
 /// `Δ X Δ` in interval arithmetic (a rigorous product with the exact diagonal `Δ`).
 fn congruence(delta: &IntervalMatrix, x: &IntervalMatrix) -> Result<IntervalMatrix, IntervalError> {
     delta.checked_mul(x)?.checked_mul(delta)?.symmetrized()
@@ -98,7 +84,7 @@ pub fn prove_condition12(
         message: format!("the interval evaluation failed: {e}"),
         ..Proof::not_attempted(ProofStatus::Inconclusive, String::new())
     };
-    let delta_v = power_of_two_scaling(p);
+    let delta_v = crate::verify::power_of_two_scaling(p);
     let delta = Mat::from_fn(n, n, |i, j| if i == j { delta_v[i] } else { 0.0 });
     let (pi, di, ri) = match (
         IntervalMatrix::from_point(p),

@@ -83,19 +83,26 @@ impl Plant {
         Ok(check_finite(l, "L")?)
     }
 
-    /// Checks that `P` is a finite symmetric `n × n` matrix (relative asymmetry at most `1e-10`).
-    pub fn check_lyapunov_matrix(&self, p: MatRef<'_, f64>) -> Result<(), Error> {
-        if p.nrows() != p.ncols() {
+    /// Checks that `m` (named `what` in the error) is a finite `n × n` matrix.
+    fn check_state_matrix(&self, m: MatRef<'_, f64>, what: &str) -> Result<(), Error> {
+        if m.nrows() != m.ncols() {
             return Err(Error::Input(InputError::NotSquare {
-                what: "P".into(),
-                rows: p.nrows(),
-                cols: p.ncols(),
+                what: what.into(),
+                rows: m.nrows(),
+                cols: m.ncols(),
             }));
         }
-        if p.nrows() != self.n() {
-            return Err(InputError::mismatch("order of P vs n", self.n(), p.nrows()).into());
+        if m.nrows() != self.n() {
+            return Err(
+                InputError::mismatch(format!("order of {what} vs n"), self.n(), m.nrows()).into(),
+            );
         }
-        check_finite(p, "P")?;
+        Ok(check_finite(m, what)?)
+    }
+
+    /// Checks that `P` is a finite symmetric `n × n` matrix (relative asymmetry at most `1e-10`).
+    pub fn check_lyapunov_matrix(&self, p: MatRef<'_, f64>) -> Result<(), Error> {
+        self.check_state_matrix(p, "P")?;
         let scale = p.norm_max().max(f64::MIN_POSITIVE);
         for j in 0..p.ncols() {
             for i in 0..j {
@@ -114,17 +121,7 @@ impl Plant {
 
     /// Checks that `R` is a finite upper-triangular `n × n` matrix (the factor of `P = RᵀR`).
     pub fn check_lyapunov_factor(&self, r: MatRef<'_, f64>) -> Result<(), Error> {
-        if r.nrows() != r.ncols() {
-            return Err(Error::Input(InputError::NotSquare {
-                what: "R".into(),
-                rows: r.nrows(),
-                cols: r.ncols(),
-            }));
-        }
-        if r.nrows() != self.n() {
-            return Err(InputError::mismatch("order of R vs n", self.n(), r.nrows()).into());
-        }
-        check_finite(r, "R")?;
+        self.check_state_matrix(r, "R")?;
         for j in 0..r.ncols() {
             for i in j + 1..r.nrows() {
                 if r[(i, j)] != 0.0 {

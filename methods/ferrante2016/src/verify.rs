@@ -153,9 +153,7 @@ pub fn verify(
     // `P̂ = ΔPΔ` with `Δ` the powers of two nearest `diag(P)^(−½)` (exact scalings): `γ` is that
     // of `Ê = Δ⁻¹EΔ` in the norm of `P̂`, and its rounding is estimated there, so that neither
     // depends on the units of the state coordinates (a diagonal similarity).
-    let delta: Vec<f64> = (0..n)
-        .map(|i| nearest_power_of_two(p[(i, i)], -0.5))
-        .collect();
+    let delta = power_of_two_scaling(p);
     // `P̂ = Δ·sym(P)·Δ`: each entry the exact sum of two doubles (the scalings are powers of
     // two), kept as such for the residual of its factorisation below.
     let halves = |i: usize, j: usize| {
@@ -225,20 +223,14 @@ pub fn verify_factor(
         .collect();
     let r_hat = Mat::from_fn(n, n, |i, j| r[(i, j)] * delta[j]);
     let p = factor_product(r);
-    let sigma = r_hat.singular_values().ok();
-    let factored = match sigma {
-        Some(s) if (0..n).all(|i| r[(i, i)] > 0.0) && s.iter().all(|x| *x > 0.0) => {
-            let (lo, hi) = s.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), x| {
-                (lo.min(*x), hi.max(*x))
-            });
-            Some(Factored {
-                factorisation: 0.0,
-                kappa_r: hi / lo,
-                r_inv: r_hat.as_ref().partial_piv_lu().inverse(),
-                r: r_hat,
-                delta,
-            })
-        }
+    let factored = match spectral_condition(r_hat.as_ref()) {
+        Some(kappa_r) if (0..n).all(|i| r[(i, i)] > 0.0) => Some(Factored {
+            factorisation: 0.0,
+            kappa_r,
+            r_inv: r_hat.as_ref().partial_piv_lu().inverse(),
+            r: r_hat,
+            delta,
+        }),
         _ => None,
     };
     contraction_test(plant, window, l, p.as_ref(), (factored, true), options)
@@ -253,13 +245,30 @@ pub fn factor_product(r: MatRef<'_, f64>) -> Mat<f64> {
     })
 }
 
-/// The power of two nearest `x^e` (`1` for `x` not positive and finite): exact scalings.
+/// The power of two nearest `x^e` (`1` for `x` not positive and finite; exponent within ±500,
+/// so that every scaled entry stays finite): exact scalings.
 fn nearest_power_of_two(x: f64, e: f64) -> f64 {
     if x > 0.0 && x.is_finite() {
-        (e * x.log2()).round().exp2()
+        2f64.powi((e * x.log2()).round().clamp(-500.0, 500.0) as i32)
     } else {
         1.0
     }
+}
+
+/// The exact power-of-two congruence `Δ` with `Δ_ii ≈ P_ii^{−½}` (1 where `P_ii` is not
+/// positive): the units in which `P` has a diagonal near one, for this check and for the proof
+/// (`crate::prove`).
+pub(crate) fn power_of_two_scaling(p: MatRef<'_, f64>) -> Vec<f64> {
+    (0..p.nrows())
+        .map(|i| nearest_power_of_two(p[(i, i)], -0.5))
+        .collect()
+}
+
+/// `σmax(M)/σmin(M)` (`None` when the SVD fails or `M` is singular).
+pub(crate) fn spectral_condition(m: MatRef<'_, f64>) -> Option<f64> {
+    let s = m.singular_values().ok()?;
+    let (hi, lo) = (*s.first()?, *s.last()?);
+    (lo > 0.0).then(|| hi / lo)
 }
 
 /// `P̂ = ΔPΔ = RᵀR` in the units in which `P` has a diagonal near one (`Δ` exact powers of
@@ -362,7 +371,12 @@ fn contraction_test(
     // test `γ − 1 + rounding < −tolerance`: the stepper's `e` on its grid (when given), a
     // fresh exponential, double-double arithmetic; when none decides, the smallest value of
     // the test among them.
-    let evaluate = |v: f64, on_grid: Option<MatRef<'_, f64>>| -> Result<(f64, f64), Error> {
+    // `fresh` is `e^{Av}` computed afresh at `v` (`expm_far`), needed only when the stepper's
+    // `e` does not decide.
+    let evaluate = |v: f64,
+                    on_grid: Option<MatRef<'_, f64>>,
+                    fresh_e: &dyn Fn() -> Result<Mat<f64>, Error>|
+     -> Result<(f64, f64), Error> {
         let mut best = (f64::INFINITY, 0.0);
         let mut keep = |(rel, rounding): (f64, f64)| {
             if rel + rounding < best.0 + best.1 {
@@ -375,8 +389,7 @@ fn contraction_test(
         {
             return Ok(best);
         }
-        let e = crate::grid::expm_far(a, v)?;
-        if keep(contraction(e.as_ref(), fresh(v))?) {
+        if keep(contraction(fresh_e()?.as_ref(), fresh(v))?) {
             return Ok(best);
         }
         if let Some(x) = precise(v)? {
@@ -385,12 +398,12 @@ fn contraction_test(
         Ok(best)
     };
     let test = |v: f64, e: MatRef<'_, f64>| -> Result<f64, Error> {
-        let (rel, rounding) = evaluate(v, Some(e))?;
+        let (rel, rounding) = evaluate(v, Some(e), &|| crate::grid::expm_far(a, v))?;
         Ok(rel + rounding)
     };
     let worst = extremum(a, t1, t2, pts, Sense::Max, test)?;
     let e = crate::grid::expm_far(a, worst.at)?;
-    let (relative, rounding) = evaluate(worst.at, None)?;
+    let (relative, rounding) = evaluate(worst.at, None, &|| Ok(e.clone()))?;
     Ok(Verification {
         grid_points,
         max_eigenvalue: lhs_at(e.as_ref())?,
