@@ -469,11 +469,17 @@ pub(crate) fn design_cached(
         let k = forms.iter().position(|s| s.coordinates == c)?;
         Some((k, t))
     });
+    // The failure of the Gramian form (default options), for the verdict.
+    let mut gramian_failure: Option<Error> = None;
+    let gramian = |k: usize| forms[k].coordinates == normalise::Coordinates::Gramian;
     if let Some((k, t)) = preferred
         && let Some(o) = if t { taylor.as_ref() } else { Some(options) }
-        && let Ok(d) = attempt(plant, window, o, cache, &forms[k], context)
     {
-        return Ok(d);
+        match attempt(plant, window, o, cache, &forms[k], context) {
+            Ok(d) => return Ok(d),
+            Err(f) if !t && gramian(k) => gramian_failure = Some(f),
+            Err(_) => {}
+        }
     }
     let given = normalise::Scaling::given(plant);
     let mut result = attempt(plant, window, options, cache, &given, context);
@@ -485,13 +491,29 @@ pub(crate) fn design_cached(
             // Any failure of a normal form (even a numerical one that is no verdict) leaves
             // the verdict of the problem as given.
             Err(e) if e.reason().is_some() => {
-                attempt(plant, window, options, cache, scaling, context).map_err(|_| e)
+                attempt(plant, window, options, cache, scaling, context).map_err(|f| {
+                    if gramian(k) {
+                        gramian_failure = Some(f);
+                    }
+                    e
+                })
             }
             done => {
                 result = done;
                 break;
             }
         };
+    }
+    // When every form failed, the verdict is the Gramian form's whenever that form reached one:
+    // it is the same in every unit and coordinates, while the data as given are not (a
+    // two-wheeled robot refused at [0.002, 1.4] s as `infeasible_lmi` was `solver_inconclusive`
+    // at [2, 1400] ms, and a window search in milliseconds reported a margin threshold of 6.9
+    // for its failing probe, 3.4e-4 in seconds, beside certified margins of 1e-9).
+    if let (Err(e), Some(f)) = (&result, gramian_failure)
+        && e.reason().is_some()
+        && f.reason().is_some()
+    {
+        result = Err(in_gramian_form(f));
     }
     // Every form failed: those whose margin was undecided are solved once more in the
     // coordinates of their own certificates (`crate::certificate`), the Gramian form first,
@@ -553,6 +575,23 @@ pub(crate) fn design_cached(
         cache.preferred = Some((d.scaling.coordinates, by_taylor(d)));
     }
     result
+}
+
+/// `e` (a failure of LMI (41) in the Gramian normal form) with its message saying so: its
+/// margin and threshold are those of that form, not of the data as given.
+fn in_gramian_form(e: Error) -> Error {
+    const FORM: &str = "(LMI (41) in the Gramian normal form of the problem, the form that does \
+                        not depend on units or coordinates)";
+    match e {
+        Error::Infeasible { margin, reason } => Error::Infeasible {
+            margin,
+            reason: format!("{reason} {FORM}"),
+        },
+        Error::Inconclusive { reason } => Error::Inconclusive {
+            reason: format!("{reason} {FORM}"),
+        },
+        e => e,
+    }
 }
 
 /// Why the robust form of LMI (41) is infeasible without solving it (`None` when this is not

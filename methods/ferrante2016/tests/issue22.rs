@@ -645,6 +645,32 @@ fn a_jordan_block_plant_keeps_its_largest_window_in_other_coordinates() {
     }
 }
 
+/// The two-wheeled robot of the tests below, in seconds.
+fn robot_seconds() -> ModelPlant {
+    plant(
+        mat![
+            [0.0, 1.0, 0.0, 0.0],
+            [0.0, -8.3, 3.2, 0.05],
+            [0.0, 0.0, 0.0, 1.0],
+            [0.0, 21.0, 55.7, -0.4]
+        ],
+        mat![[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]],
+    )
+}
+
+/// The same robot in milliseconds, the wheel angle in mrad.
+fn robot_milliseconds() -> ModelPlant {
+    plant(
+        mat![
+            [0.0, 1.0, 0.0, 0.0],
+            [0.0, -0.0083, 0.0032, 5e-05],
+            [0.0, 0.0, 0.0, 0.001],
+            [0.0, 0.021, 0.0557, -0.0004]
+        ],
+        mat![[0.001, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]],
+    )
+}
+
 /// A two-wheeled balancing robot written for issue 22 (pitch and wheel angle measured, an
 /// unstable pitch mode), in seconds and in milliseconds with the wheel angle in mrad. Near the
 /// end of its largest window the certificate has `κ(P) ~ 10¹⁷`: the check of `P` rounded to
@@ -655,28 +681,42 @@ fn a_jordan_block_plant_keeps_its_largest_window_in_other_coordinates() {
 /// used, the Gramian form's first: both units end at the same `T2`.
 #[test]
 fn a_two_wheeled_robot_keeps_its_largest_window_in_milliseconds() {
-    let seconds = plant(
-        mat![
-            [0.0, 1.0, 0.0, 0.0],
-            [0.0, -8.3, 3.2, 0.05],
-            [0.0, 0.0, 0.0, 1.0],
-            [0.0, 21.0, 55.7, -0.4]
-        ],
-        mat![[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]],
-    );
-    let milliseconds = plant(
-        mat![
-            [0.0, 1.0, 0.0, 0.0],
-            [0.0, -0.0083, 0.0032, 5e-05],
-            [0.0, 0.0, 0.0, 0.001],
-            [0.0, 0.021, 0.0557, -0.0004]
-        ],
-        mat![[0.001, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]],
-    );
-    let s = largest(&seconds, 0.002, 10.0);
-    let ms = largest(&milliseconds, 2.0, 10000.0);
+    let s = largest(&robot_seconds(), 0.002, 10.0);
+    let ms = largest(&robot_milliseconds(), 2.0, 10000.0);
     assert!(s > 1.2 && ms > 1200.0, "{s} s, {ms} ms");
     assert!((1000.0 * s - ms).abs() <= 0.005 * ms, "{s} s, {ms} ms");
+}
+
+/// The robot of the test above: a window past its largest `T2` is refused in seconds and in
+/// milliseconds for the same reason, that of the Gramian normal form, with thresholds of the
+/// same size in its message (the thresholds of a polytopic embedding's remainder computed in
+/// two roundings of the same form: 3.58 and 3.38). The verdict was the data's as given:
+/// `infeasible_lmi` at [0.002, 1.4] s but `solver_inconclusive` at [2, 1400] ms, and the
+/// threshold of a search's failing probe 3.4e-4 in seconds, 6.9 in milliseconds.
+#[test]
+fn a_refused_window_gives_the_same_reason_in_every_unit() {
+    let threshold = |p: &ModelPlant, t1: f64, t2: f64| {
+        let r = design(p, t1, t2);
+        assert_eq!(r.status, Status::NotCertified);
+        let reason = r.reason.expect("a reason");
+        assert_eq!(reason.kind(), "infeasible_lmi", "{reason:?}");
+        let message = reason.message();
+        assert!(message.contains("Gramian normal form"), "{message}");
+        let value = message
+            .split("verification threshold ")
+            .nth(1)
+            .and_then(|rest| rest.split([',', ' ']).next())
+            .and_then(|v| v.parse::<f64>().ok());
+        value.unwrap_or_else(|| panic!("no threshold in: {message}"))
+    };
+    for t2 in [1.25, 1.4] {
+        let s = threshold(&robot_seconds(), 0.002, t2);
+        let ms = threshold(&robot_milliseconds(), 2.0, 1000.0 * t2);
+        assert!(
+            (s - ms).abs() <= 0.25 * s.max(ms),
+            "T2 = {t2} s: {s} (s) vs {ms} (ms)"
+        );
+    }
 }
 
 /// The corpus cart-pole as given and in coordinates `x = Tz` of a random `T` with `κ(T) < 10`
