@@ -641,19 +641,40 @@ fn remainder_too_large(plant: &Plant, embedding: &Embedding) -> Option<String> {
     })
 }
 
+/// Relative PBH margin ([`sporadic_linalg::pbh_detectability`]) at or below which a
+/// non-decaying eigenvalue of `e^{Av}` counts as unobservable to working precision, in the
+/// diagonal form (or the data as given when that form is the identity), whatever the other
+/// forms say: `10⁴ ε ≈ 2.2·10⁻¹²`. An exactly unobservable mode written in other coordinates
+/// `x = Tz` is observable only through the rounding of `TAT⁻¹` and `CT⁻¹`, with a margin of order
+/// `κ(T)·ε` (`1.5·10⁻¹⁶` for `diag(1, −1)`, `C = [0, 1]` under a random `T` with `κ(T) < 10`),
+/// and the passes of the Gramian form amplify that rounding into an observable direction.
+pub const ROUNDING_PBH_MARGIN: f64 = 1e4 * f64::EPSILON;
+
 /// The Remark 3 precheck in the first of the forms `forms` (the normal forms, and
 /// [`normalise::longer_unit_gramian`] when they hold no Gramian form), then the next, then the
 /// data as given, until one passes; when none does, the error of the form with the largest PBH
-/// margin. A pass in any coordinates is evidence enough: the rank test is a numerical decision on a quantity (the
-/// relative PBH margin) that changes with the coordinates, while detectability itself does
-/// not (see [`normalise::longer_unit_gramian`] for a plant whose diagonal form alone called
-/// the pair not detectable).
+/// margin. A pass in any coordinates is evidence enough: the rank test is a numerical decision
+/// on a quantity (the relative PBH margin) that changes with the coordinates, while
+/// detectability itself does not (see [`normalise::longer_unit_gramian`] for a plant whose
+/// diagonal form alone called the pair not detectable). Except for a pair that the diagonal
+/// form (exact power-of-two scalings, the same in every unit) finds unobservable to working
+/// precision ([`ROUNDING_PBH_MARGIN`], or the options' smaller rank tolerance): no other form
+/// is evidence against that.
 fn detectability_any<'a>(
-    forms: impl Iterator<Item = &'a normalise::Scaling>,
+    forms: impl Iterator<Item = &'a normalise::Scaling> + Clone,
     plant: &Plant,
     window: &SamplingWindow,
     options: &DetectabilityOptions,
 ) -> Result<DetectabilityReport, Error> {
+    let diagonal = forms
+        .clone()
+        .find(|s| s.coordinates == normalise::Coordinates::Diagonal);
+    if let Err(e @ Error::NotDetectable { margin, .. }) =
+        detectability_in(diagonal, plant, window, options)
+        && margin <= ROUNDING_PBH_MARGIN.min(options.pbh.rank_tol)
+    {
+        return Err(e);
+    }
     let mut refusal: Option<Error> = None;
     for form in forms.map(Some).chain([None]) {
         match detectability_in(form, plant, window, options) {

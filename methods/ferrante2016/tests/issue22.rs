@@ -719,6 +719,34 @@ fn a_refused_window_gives_the_same_reason_in_every_unit() {
     }
 }
 
+/// `tests/corpus/undetectable-unstable.toml` (`A = diag(1, −1)`, `C = [0, 1]`: the unstable
+/// mode is not seen) in coordinates `x = Tz` of a random `T` with `κ(T) < 10`, written to 16
+/// digits: the output sees the unstable mode only through rounding (relative PBH margin
+/// `1.5e-16`). As given the pair is refused as not detectable; in these coordinates it was
+/// refused as `infeasible_lmi` (the Gramian form, built in passes that amplify the rounding,
+/// passed the precheck), or, with the Gramian form's verdict, as `verification_failed` with a
+/// spectral radius of `3e8`. The diagonal form's unobservability to working precision now
+/// decides.
+#[test]
+fn an_undetectable_plant_is_undetectable_in_other_coordinates() {
+    let given = plant(mat![[1.0, 0.0], [0.0, -1.0]], mat![[0.0, 1.0]]);
+    let other = plant(
+        mat![
+            [0.797909770873332, -0.4242032166638137],
+            [-0.8565234379936784, -0.797909770873332]
+        ],
+        mat![[0.6159207827061446, 1.2928659557819373]],
+    );
+    for p in [&given, &other] {
+        let r = design(p, 0.1, 0.5);
+        assert!(
+            matches!(r.reason, Some(Reason::Undetectable { .. })),
+            "{:?}",
+            r.reason
+        );
+    }
+}
+
 /// The corpus cart-pole as given and in coordinates `x = Tz` of a random `T` with `κ(T) < 10`
 /// (`A`, `C` below as they were generated). The largest certified `T2` from `T1 = 0.02` was
 /// 0.766 and 0.707, both ending at the precision limit of the check of `P`; with the check of
