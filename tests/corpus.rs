@@ -1,4 +1,4 @@
-//! `sporadic compare` on every plant of our corpus (`tests/corpus/*.toml`: 39 plants of order
+//! `sporadic compare` on every plant of our corpus (`tests/corpus/*.toml`: 43 plants of order
 //! 1–8 that nobody tuned for — oscillators around their aliasing intervals, integrator chains,
 //! unstable linearisations, lightly damped structures, stiff and badly scaled plants,
 //! multi-output and round-robin plants, undetectable, Lipschitz and bounded-disturbance ones):
