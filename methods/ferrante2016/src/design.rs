@@ -462,8 +462,9 @@ pub(crate) fn design_cached(
     let context = (start, &detectability);
     // In a window search the normal form that certified the previous probe is tried first: a
     // nearby window is most often certified by the same form, and the others are then not
-    // solved. Its failure is no verdict (the verdict and the reason reported are those of the
-    // loop below, which skips it).
+    // solved. Its failure is no verdict by itself (the verdict and the reason reported are
+    // those of the loop below, which skips it; the Gramian form's infeasibility is kept for
+    // that verdict).
     let taylor = taylor_fallback(plant, window, &forms, options);
     let preferred = cache.preferred.and_then(|(c, t)| {
         let k = forms.iter().position(|s| s.coordinates == c)?;
@@ -489,7 +490,8 @@ pub(crate) fn design_cached(
         }
         result = match result {
             // Any failure of a normal form (even a numerical one that is no verdict) leaves
-            // the verdict of the problem as given.
+            // the verdict of the problem as given, but for the Gramian form's infeasibility
+            // (below).
             Err(e) if e.reason().is_some() => {
                 attempt(plant, window, options, cache, scaling, context).map_err(|f| {
                     if gramian(k) {
@@ -504,14 +506,18 @@ pub(crate) fn design_cached(
             }
         };
     }
-    // When every form failed, the verdict is the Gramian form's whenever that form reached one:
-    // it is the same in every unit and coordinates, while the data as given are not (a
+    // When every form failed, the verdict is the Gramian form's infeasibility: it is the same
+    // in every unit and coordinates, while the data as given are not (a
     // two-wheeled robot refused at [0.002, 1.4] s as `infeasible_lmi` was `solver_inconclusive`
     // at [2, 1400] ms, and a window search in milliseconds reported a margin threshold of 6.9
     // for its failing probe, 3.4e-4 in seconds, beside certified margins of 1e-9).
-    if let (Err(e), Some(f)) = (&result, gramian_failure)
-        && e.reason().is_some()
-        && f.reason().is_some()
+    // Only an infeasibility of the Gramian form replaces an infeasible or inconclusive solve of
+    // the data as given (a precision-limit or verification verdict of the data is kept, and so
+    // is every verdict when the time budget ran out, whose failures say nothing of the form);
+    // the refinement (`crate::refine`) then runs exactly where it ran before.
+    if let (Err(e), Some(f @ Error::Infeasible { .. })) = (&result, gramian_failure)
+        && matches!(e, Error::Infeasible { .. } | Error::Inconclusive { .. })
+        && !sporadic_sdp::budget::exhausted()
     {
         result = Err(in_gramian_form(f));
     }
@@ -577,18 +583,16 @@ pub(crate) fn design_cached(
     result
 }
 
-/// `e` (a failure of LMI (41) in the Gramian normal form) with its message saying so: its
-/// margin and threshold are those of that form, not of the data as given.
+/// `e` (an infeasibility of LMI (41) in the Gramian normal form) with its message saying so:
+/// its margin and threshold are those of that form, not of the data as given.
 fn in_gramian_form(e: Error) -> Error {
-    const FORM: &str = "(LMI (41) in the Gramian normal form of the problem, the form that does \
-                        not depend on units or coordinates)";
     match e {
         Error::Infeasible { margin, reason } => Error::Infeasible {
             margin,
-            reason: format!("{reason} {FORM}"),
-        },
-        Error::Inconclusive { reason } => Error::Inconclusive {
-            reason: format!("{reason} {FORM}"),
+            reason: format!(
+                "{reason} (LMI (41) in the Gramian normal form of the problem, the form that \
+                 does not depend on units or coordinates)"
+            ),
         },
         e => e,
     }
@@ -641,13 +645,12 @@ fn remainder_too_large(plant: &Plant, embedding: &Embedding) -> Option<String> {
     })
 }
 
-/// Relative PBH margin ([`sporadic_linalg::pbh_detectability`]) at or below which a
-/// non-decaying eigenvalue of `e^{Av}` counts as unobservable to working precision, in the
-/// diagonal form (or the data as given when that form is the identity), whatever the other
-/// forms say: `10⁴ ε ≈ 2.2·10⁻¹²`. An exactly unobservable mode written in other coordinates
-/// `x = Tz` is observable only through the rounding of `TAT⁻¹` and `CT⁻¹`, with a margin of order
-/// `κ(T)·ε` (`1.5·10⁻¹⁶` for `diag(1, −1)`, `C = [0, 1]` under a random `T` with `κ(T) < 10`),
-/// and the passes of the Gramian form amplify that rounding into an observable direction.
+/// Relative PBH margin ([`sporadic_linalg::pbh_detectability`]) at or below which the pair is
+/// unobservable to working precision in the test of [`detectability_any`]: `10⁴ ε ≈ 2.2·10⁻¹²`.
+/// An exactly unobservable mode written in other coordinates `x = Tz` is observable only
+/// through the rounding of `TAT⁻¹` and `CT⁻¹`, with a margin of order `κ(T)·ε` (`1.5·10⁻¹⁶` for
+/// `diag(1, −1)`, `C = [0, 1]` under a random `T` with `κ(T) < 10`), and the passes of the
+/// Gramian form amplify that rounding into an observable direction.
 pub const ROUNDING_PBH_MARGIN: f64 = 1e4 * f64::EPSILON;
 
 /// The Remark 3 precheck in the first of the forms `forms` (the normal forms, and
@@ -656,10 +659,18 @@ pub const ROUNDING_PBH_MARGIN: f64 = 1e4 * f64::EPSILON;
 /// margin. A pass in any coordinates is evidence enough: the rank test is a numerical decision
 /// on a quantity (the relative PBH margin) that changes with the coordinates, while
 /// detectability itself does not (see [`normalise::longer_unit_gramian`] for a plant whose
-/// diagonal form alone called the pair not detectable). Except for a pair that the diagonal
-/// form (exact power-of-two scalings, the same in every unit) finds unobservable to working
-/// precision ([`ROUNDING_PBH_MARGIN`], or the options' smaller rank tolerance): no other form
-/// is evidence against that.
+/// diagonal form alone called the pair not detectable).
+///
+/// Except for a pair whose *continuous* part is unobservable to working precision: first, the
+/// PBH test runs in the diagonal form (exact power-of-two scalings, the same in every unit; the
+/// data as given when that form is the identity) at the single interval `v* = k/(2‖A₁‖₂)`
+/// (`A₁ = kDAD⁻¹` that form's matrix), where no two eigenvalues of `A₁v*/k` differ by `2πi`, so
+/// that `e^{Av*}` aliases no pair of modes: a non-decaying eigenvalue unobservable there is an
+/// eigenvalue of `A` that `C` does not see, and `(e^{Av}, C)` is not detectable for any `v`. A
+/// margin at most [`ROUNDING_PBH_MARGIN`] (or the options' smaller rank tolerance) there
+/// refuses the window whatever the other forms say (with the error of the whole window in that
+/// form, or at `v*` when that one passes). A weakly observable pair (a near-triple eigenvalue at
+/// zero whose margin on a short `[T1, T1]` is `6·10⁻⁹`) has an `O(1)`-scaled margin at `v*`.
 fn detectability_any<'a>(
     forms: impl Iterator<Item = &'a normalise::Scaling> + Clone,
     plant: &Plant,
@@ -669,11 +680,22 @@ fn detectability_any<'a>(
     let diagonal = forms
         .clone()
         .find(|s| s.coordinates == normalise::Coordinates::Diagonal);
-    if let Err(e @ Error::NotDetectable { margin, .. }) =
-        detectability_in(diagonal, plant, window, options)
+    let v_star = match diagonal {
+        Some(d) => d
+            .plant(plant)
+            .map(|p| d.time / (2.0 * p.a().norm_l2()))
+            .unwrap_or(f64::NAN),
+        None => 1.0 / (2.0 * plant.a().norm_l2()),
+    };
+    if let Ok(at) = SamplingWindow::new(v_star, v_star)
+        && let Err(e @ Error::NotDetectable { margin, .. }) =
+            detectability_in(diagonal, plant, &at, options)
         && margin <= ROUNDING_PBH_MARGIN.min(options.pbh.rank_tol)
     {
-        return Err(e);
+        return match detectability_in(diagonal, plant, window, options) {
+            Err(whole @ Error::NotDetectable { .. }) => Err(whole),
+            _ => Err(e),
+        };
     }
     let mut refusal: Option<Error> = None;
     for form in forms.map(Some).chain([None]) {
