@@ -514,7 +514,8 @@ fn one_piece() -> EnclosureOptions {
 /// matches, else the sensor, `τ`, the given gain and the relative deviation of the worst one.
 ///
 /// # Errors
-/// A missing or misshapen gain ([`Error::Input`]), or a failing kernel.
+/// A missing or misshapen gain, or one listed outside the window that is not (45) of `p`
+/// ([`Error::Input`]); a failing kernel.
 pub(crate) fn gain_mismatch(
     plant: &RoundRobinPlant,
     p: &[Mat<f64>],
@@ -545,15 +546,19 @@ pub(crate) fn gain_mismatch(
             }
             None => vec![(sensor.window().t2(), g.to_mat())],
         };
+        // A schedule listed beyond the window (a design of a larger window checked on a
+        // sub-window) is checked at every listed τ: the listing must be (45) of the
+        // certificate. A mismatch inside the window is the verdict's (a jump there); one
+        // outside it is bad input (no jump happens there).
+        let w = sensor.window();
         for (tau, k) in listed {
-            // (45) is defined at every τ ≥ 0: a schedule listed beyond the window (a design of
-            // a larger window checked on a sub-window) is checked where it is listed.
             if !(tau.is_finite() && tau >= 0.0) {
                 return Err(Error::invalid(format!(
                     "gain {name} is listed at τ = {}, not a finite τ ≥ 0",
                     sig4(tau)
                 )));
             }
+            let inside = tau >= w.t1() && tau <= w.t2();
             if (k.nrows(), k.ncols()) != (plant.n(), sensor.outputs()) {
                 return Err(Error::invalid(format!(
                     "gain {name} is {} × {}, expected {} × {}",
@@ -566,6 +571,14 @@ pub(crate) fn gain_mismatch(
             let law = schedule.gain(s, tau)?;
             let dev = (&k - &law).norm_max() / law.norm_max().max(f64::MIN_POSITIVE);
             let dev = if dev.is_nan() { f64::INFINITY } else { dev };
+            if dev > GAIN_TOLERANCE && !inside {
+                return Err(Error::invalid(format!(
+                    "gain {name} listed at τ = {} (outside the window {w}) is not (45) of the \
+                     certificate (relative deviation {})",
+                    sig4(tau),
+                    sig4(dev)
+                )));
+            }
             if dev > GAIN_TOLERANCE && worst.as_ref().is_none_or(|w| dev > w.3) {
                 worst = Some((s, tau, k, dev));
             }
