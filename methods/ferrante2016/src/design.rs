@@ -646,7 +646,9 @@ fn remainder_too_large(plant: &Plant, embedding: &Embedding) -> Option<String> {
 }
 
 /// Relative PBH margin ([`sporadic_linalg::pbh_detectability`]) at or below which the pair is
-/// unobservable to working precision in the test of [`detectability_any`]: `10⁴ ε ≈ 2.2·10⁻¹²`.
+/// unobservable to working precision in the Remark 3 precheck of [`design()`], where it is
+/// tested in the diagonal normal form at an interval too short to alias any modes (`v* =
+/// k/(2‖A₁‖₂)`): a window is then refused whatever the other forms say. `10⁴ ε ≈ 2.2·10⁻¹²`.
 /// An exactly unobservable mode written in other coordinates `x = Tz` is observable only
 /// through the rounding of `TAT⁻¹` and `CT⁻¹`, with a margin of order `κ(T)·ε` (`1.5·10⁻¹⁶` for
 /// `diag(1, −1)`, `C = [0, 1]` under a random `T` with `κ(T) < 10`), and the passes of the
