@@ -140,7 +140,7 @@ impl DdMatrix {
 
     /// The identity of order `n`.
     pub fn identity(n: usize) -> Self {
-        Self::from_fn(n, n, |i, j| DoubleDouble::from(f64::from(u8::from(i == j))))
+        Self::from_fn(n, n, kronecker)
     }
 
     /// Number of rows.
@@ -187,6 +187,11 @@ impl DdMatrix {
     }
 }
 
+/// The entry `(i, j)` of the identity: one on the diagonal, zero elsewhere.
+fn kronecker(i: usize, j: usize) -> DoubleDouble {
+    DoubleDouble::from(f64::from(u8::from(i == j)))
+}
+
 /// The inverse of an upper-triangular matrix of doubles by back substitution in double-double
 /// arithmetic (`None` when a diagonal entry is zero or a result is not finite). Entries below
 /// the diagonal are ignored.
@@ -198,7 +203,7 @@ pub fn upper_triangular_inverse(r: MatRef<'_, f64>) -> Option<DdMatrix> {
     let mut x = DdMatrix::from_fn(n, n, |_, _| DoubleDouble::ZERO);
     for j in 0..n {
         for i in (0..=j).rev() {
-            let rhs = DoubleDouble::from(f64::from(u8::from(i == j)));
+            let rhs = kronecker(i, j);
             let sum = (i + 1..=j).fold(rhs, |s, k| s - x.get(k, j) * r[(i, k)].into());
             x.data[i + j * n] = sum / r[(i, i)].into();
         }
@@ -238,9 +243,7 @@ pub fn expm(a: MatRef<'_, f64>, v: f64) -> Option<DdMatrix> {
     for k in (1..=TAYLOR_DEGREE).rev() {
         let xt = x.mul(&t);
         let inv_k = DoubleDouble::ONE / f64::from(k).into();
-        t = DdMatrix::from_fn(n, n, |i, j| {
-            DoubleDouble::from(f64::from(u8::from(i == j))) + xt.get(i, j) * inv_k
-        });
+        t = DdMatrix::from_fn(n, n, |i, j| kronecker(i, j) + xt.get(i, j) * inv_k);
     }
     for _ in 0..squarings {
         t = t.mul(&t);
