@@ -2,6 +2,7 @@
 //! produced by tests/data/gen_expm_refs.py with mpmath), property tests against closed forms and
 //! the floating-point expm, structure of the pieces.
 
+use faer::linalg::solvers::DenseSolveCore;
 use faer::{Mat, mat};
 use proptest::prelude::*;
 use sporadic_interval::{
@@ -262,5 +263,76 @@ proptest! {
         let e = expm_interval(&x).unwrap();
         let member = Mat::from_fn(2, 2, |i, j| if i == j { (d[i] + f[i] * r).exp() } else { 0.0 });
         prop_assert!(near(&e, &member, 1e-14));
+    }
+}
+
+/// `e^{Aτ}` to about 30 digits ([`sporadic_interval::double_double::expm`]), rounded to f64.
+fn expm_dd(a: &Mat<f64>, tau: f64) -> Mat<f64> {
+    sporadic_interval::double_double::expm(a.as_ref(), tau)
+        .expect("finite")
+        .to_f64()
+}
+
+#[test]
+fn a_non_normal_matrix_is_enclosed_in_its_eigenbasis() {
+    // A mass-spring-damper (eigenvalues −0.2 ± 1.99i) in millimetres and km/s, then in the
+    // coordinates x = Tz of a random T with κ(T) < 10 (the corpus plant `badly-scaled-units`
+    // as a user could write it): ‖A‖_∞ ≈ 6.7e5. Squaring the Taylor polynomial of e^{A/2^17}
+    // gave an enclosure of e^{0.05A} with midpoint 1e21 and radius 6e37.
+    let a = mat![
+        [-132111.39560073803, 534641.4499382566],
+        [-32644.99602309561, 132110.99560073798]
+    ];
+    for (t0, t1) in [(0.05, 0.05), (0.05, 0.06), (1.0, 1.0), (0.5, 1.5)] {
+        let r = expm_enclosure(a.as_ref(), t0, t1, &EnclosureOptions::default()).unwrap();
+        for k in 0..=10 {
+            let t = t0 + (t1 - t0) * f64::from(k) / 10.0;
+            let e = expm_dd(&a, t);
+            assert!(
+                r.enclosure.contains_point(e.as_ref()),
+                "[{t0}, {t1}] misses e^(A·{t})"
+            );
+        }
+        if t0 == t1 {
+            assert!(r.rel_width < 1e-3, "[{t0}, {t1}]: {}", r.rel_width);
+        }
+    }
+}
+
+/// A real matrix with the eigenvalues `re ± i·im` and `real` in the coordinates
+/// `x = D T z` (`T` mixes the states, `D = diag(1, 10^k, 10^{−k})`): non-normal, with entries
+/// up to about `10^{2k}` times its eigenvalues.
+fn non_normal(re: f64, im: f64, real: f64, mix: &[f64], k: i32) -> Mat<f64> {
+    let blocks = mat![[re, im, 0.0], [-im, re, 0.0], [0.0, 0.0, real]];
+    let t = Mat::from_fn(3, 3, |i, j| mix[3 * i + j] + if i == j { 2.0 } else { 0.0 });
+    let d = Mat::from_fn(3, 3, |i, j| match (i, j) {
+        (0, 0) => 1.0,
+        (1, 1) => 10f64.powi(k),
+        (2, 2) => 10f64.powi(-k),
+        _ => 0.0,
+    });
+    let s = &d * &t;
+    let s_inv = s.partial_piv_lu().inverse();
+    &s * blocks * s_inv
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    /// Strongly non-normal matrices of order 3 (entries up to 1e8 times the eigenvalues):
+    /// the enclosure of a point τ contains the double-double exponential and is thin.
+    #[test]
+    fn non_normal_matrices_are_enclosed_thinly(
+        re in -1.0f64..0.3,
+        im in 0.5f64..3.0,
+        real in -2.0f64..0.5,
+        mix in prop::collection::vec(-0.5f64..0.5, 9),
+        k in 2i32..5,
+        tau in 0.01f64..2.0,
+    ) {
+        let a = non_normal(re, im, real, &mix, k);
+        let r = expm_enclosure(a.as_ref(), tau, tau, &EnclosureOptions::default()).unwrap();
+        prop_assert!(r.enclosure.contains_point(expm_dd(&a, tau).as_ref()));
+        prop_assert!(r.rel_width < 1e-3, "rel width {}", r.rel_width);
     }
 }
