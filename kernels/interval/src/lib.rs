@@ -85,7 +85,10 @@ pub use definite::{
     Verdict, is_verified_negative_definite, is_verified_positive_definite, lambda_max_enclosure,
 };
 pub use error::IntervalError;
-pub use expm::{EnclosureOptions, EnclosurePiece, ExpmEnclosure, expm_enclosure, expm_interval};
+pub use expm::{
+    EnclosureOptions, EnclosurePiece, ExpmEnclosure, MAX_BASIS_CONDITION, expm_enclosure,
+    expm_interval,
+};
 pub use matrix::IntervalMatrix;
 pub use scalar::Interval;
 
