@@ -212,7 +212,7 @@ fn piece_enclosure(
 
 /// Largest bound `‖S‖_∞‖S⁻¹‖_∞` on the condition number of the eigenbasis `S` with which
 /// [`expm_enclosure`] works on `S⁻¹AS` instead of `A`: the enclosure mapped back,
-/// `S·[e^{Bτ}]·[S⁻¹]`, is wider than that of `e^{Bτ}` by up to this factor.
+/// `S·[e^{Bτ}]·[S⁻¹]`, is wider than that of `e^{Bτ}` by roughly this factor.
 pub const MAX_BASIS_CONDITION: f64 = 1e8;
 
 /// A real eigenbasis `S` of `A` (the eigenvectors of its real eigenvalues, and `Re u, Im u` for
@@ -225,9 +225,11 @@ pub const MAX_BASIS_CONDITION: f64 = 1e8;
 /// the enclosure by about `‖|E|‖/‖E‖` of the matrix `E` squared, which for a non-normal `A`
 /// (entries far larger than its eigenvalues) is huge. A mass-spring-damper with eigenvalues
 /// `−0.2 ± 2i` written in millimetres and km/s and then in coordinates `x = Tz` (random `T`,
-/// `κ(T) < 10`) has `‖A‖_∞ ≈ 6.7·10⁵`; the direct enclosure of `e^{0.05A}` had entries as wide as
-/// `10⁷¹`, while `‖S⁻¹AS‖_∞ ≈ 2` needs no squaring and `S` has `κ ≈ 10⁶`. `S⁻¹AS` has the same
-/// spectrum in every coordinates of `A`, so the work no longer depends on them.
+/// `κ(T) < 10`) has `‖A‖_∞ ≈ 6.7·10⁵`; the direct enclosure of `e^{0.05A}` had a midpoint of
+/// `10²¹` and radii of `10³⁷` (true entries about `3·10⁴`), while `‖S⁻¹AS‖_∞ ≈ 2` needs no
+/// squaring and `S` has `κ ≈ 10⁶`. `S⁻¹AS` has the same spectrum in every coordinates of `A`, so
+/// the work no longer depends on them; the radius of `B` does, about `κ(S)‖A‖_∞u` from forming
+/// the products in double precision (`10⁻⁴` there).
 #[derive(Clone)]
 struct Eigenbasis {
     s: IntervalMatrix,
@@ -238,9 +240,11 @@ struct Eigenbasis {
 
 impl Eigenbasis {
     /// The eigenbasis of `a` (`‖a‖_∞ ≤ a_norm`) when it pays: `S⁻¹` is proven to exist,
-    /// `‖S‖_∞‖X‖_∞ ≤` [`MAX_BASIS_CONDITION`] and `‖B‖_∞ ≤ ‖A‖_∞/4` (at least two squarings fewer
-    /// at every `τ`); `None` otherwise (a defective or nearly defective `A`, a normal one), and
-    /// then [`expm_enclosure`] works on `A` itself.
+    /// `‖S‖_∞‖X‖_∞ ≤` [`MAX_BASIS_CONDITION`] and `‖B‖_∞ ≤ ‖A‖_∞/4` (two squarings fewer at
+    /// every `τ` with `‖Aτ‖_∞ > 4`); `None` otherwise (a defective or nearly defective `A`; a
+    /// normal one of order below 16, whose `‖A‖_∞ ≤ √n ρ(A) ≤ √n ‖B‖_∞`; a basis whose
+    /// inverse is not proven, e.g. a non-finite one), and then [`expm_enclosure`] works on `A`
+    /// itself.
     fn of(a: MatRef<'_, f64>, a_norm: f64) -> Result<Option<Self>, IntervalError> {
         let n = a.nrows();
         let Ok(eigen) = a.eigen() else {
@@ -271,7 +275,7 @@ impl Eigenbasis {
             return Ok(None);
         }
         let s = IntervalMatrix::from_point(Mat::from_fn(n, n, |i, j| columns[j][i]).as_ref())?;
-        let Some(s_inv) = s.verified_inverse()? else {
+        let Ok(Some(s_inv)) = s.verified_inverse() else {
             return Ok(None);
         };
         if !(mul_up(s.norm_inf_up(), s_inv.norm_inf_up()) <= MAX_BASIS_CONDITION) {

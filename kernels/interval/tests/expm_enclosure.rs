@@ -285,7 +285,8 @@ fn a_non_normal_matrix_is_enclosed_in_its_eigenbasis() {
     ];
     for (t0, t1) in [(0.05, 0.05), (0.05, 0.06), (1.0, 1.0), (0.5, 1.5)] {
         let r = expm_enclosure(a.as_ref(), t0, t1, &EnclosureOptions::default()).unwrap();
-        for k in 0..=10 {
+        let points = if t0 == t1 { 0 } else { 10 };
+        for k in 0..=points {
             let t = t0 + (t1 - t0) * f64::from(k) / 10.0;
             let e = expm_dd(&a, t);
             assert!(
@@ -293,8 +294,16 @@ fn a_non_normal_matrix_is_enclosed_in_its_eigenbasis() {
                 "[{t0}, {t1}] misses e^(A·{t})"
             );
         }
+        // Point windows: measured 2.7e-5 and 1.1e-4; the pieces of [0.05, 0.06] and
+        // [0.5, 1.5] (64 at most): 3.1e-3 and 4.9e-2.
         if t0 == t1 {
             assert!(r.rel_width < 1e-3, "[{t0}, {t1}]: {}", r.rel_width);
+        } else {
+            assert!(
+                r.max_piece_rel_width < 0.1,
+                "[{t0}, {t1}]: {}",
+                r.max_piece_rel_width
+            );
         }
     }
 }
@@ -319,7 +328,8 @@ fn non_normal(re: f64, im: f64, real: f64, mix: &[f64], k: i32) -> Mat<f64> {
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(48))]
 
-    /// Strongly non-normal matrices of order 3 (entries up to 1e8 times the eigenvalues):
+    /// Strongly non-normal matrices of order 3 (entries up to 1e6 times the eigenvalues; at 1e8
+    /// the basis's condition number reaches `MAX_BASIS_CONDITION`):
     /// the enclosure of a point τ contains the double-double exponential and is thin.
     #[test]
     fn non_normal_matrices_are_enclosed_thinly(
@@ -327,7 +337,7 @@ proptest! {
         im in 0.5f64..3.0,
         real in -2.0f64..0.5,
         mix in prop::collection::vec(-0.5f64..0.5, 9),
-        k in 2i32..5,
+        k in 2i32..4,
         tau in 0.01f64..2.0,
     ) {
         let a = non_normal(re, im, real, &mix, k);

@@ -738,11 +738,11 @@ fn a_long_window_is_certified_in_any_unit_of_time() {
 /// "invalid input: grid spacing must be positive and finite (got 0)" (exit status 2) on a valid
 /// plant file. A grid that would need infinitely many points is now above the cap like any
 /// other, and the report gives the verdict of the proof tried in its place. That proof
-/// encloses `e^{−Aτ}` in the eigenbasis of `A` (`sporadic_interval::expm_enclosure`): with
-/// squarings of `A` itself its enclosure at `τ = 0.05` was `[−0.99, 1.3·10⁷¹]` and nothing was
-/// certified, now `[0.05, 1]` is (the same plant in its own units certifies up to the search
-/// limit; here the rounding of `A`'s entries, `‖A‖u ≈ 10⁻¹⁰`, moves its eigenvalues by about
-/// `κ(S)‖A‖u ≈ 10⁻⁴`, and the proof stops narrowing near `T2 = 1.58`).
+/// encloses `e^{−Aτ}` in the eigenbasis `S` of `A` (`sporadic_interval::expm_enclosure`): with
+/// squarings of `A` itself the decisive eigenvalue of (48) at `τ = 0.05` was enclosed in
+/// `[−0.99, 1.3·10⁷¹]` and nothing was certified, now `[0.05, 1]` is (the same plant in its own
+/// units certifies up to the search limit; here `S⁻¹AS` formed in double precision is enclosed
+/// only to about `κ(S)‖A‖u ≈ 10⁻⁴`, and the proof stops narrowing near `T2 = 1.58`).
 #[test]
 fn an_underflowing_grid_spacing_is_no_input_error() {
     let a = mat![
