@@ -239,13 +239,18 @@ struct Eigenbasis {
 }
 
 impl Eigenbasis {
-    /// The eigenbasis of `a` (`‖a‖_∞ ≤ a_norm`) when it pays: `S⁻¹` is proven to exist,
+    /// The eigenbasis of `a` (`ai` the same matrix as an interval one, `‖a‖_∞ ≤ a_norm`) when it
+    /// pays: `S⁻¹` is proven to exist,
     /// `‖S‖_∞‖X‖_∞ ≤` [`MAX_BASIS_CONDITION`] and `‖B‖_∞ ≤ ‖A‖_∞/4` (two squarings fewer at
     /// every `τ` with `‖Aτ‖_∞ > 4`); `None` otherwise (a defective or nearly defective `A`; a
     /// normal one of order below 16, whose `‖A‖_∞ ≤ √n ρ(A) ≤ √n ‖B‖_∞`; a basis whose
     /// inverse is not proven, e.g. a non-finite one), and then [`expm_enclosure`] works on `A`
     /// itself.
-    fn of(a: MatRef<'_, f64>, a_norm: f64) -> Result<Option<Self>, IntervalError> {
+    fn of(
+        a: MatRef<'_, f64>,
+        ai: &IntervalMatrix,
+        a_norm: f64,
+    ) -> Result<Option<Self>, IntervalError> {
         let n = a.nrows();
         let Ok(eigen) = a.eigen() else {
             return Ok(None);
@@ -281,7 +286,7 @@ impl Eigenbasis {
         if !(mul_up(s.norm_inf_up(), s_inv.norm_inf_up()) <= MAX_BASIS_CONDITION) {
             return Ok(None);
         }
-        let b = s_inv.checked_mul(&IntervalMatrix::from_point(a)?.checked_mul(&s)?)?;
+        let b = s_inv.checked_mul(&ai.checked_mul(&s)?)?;
         let b_norm = b.norm_inf_up();
         Ok((b_norm <= 0.25 * a_norm).then_some(Self {
             s,
@@ -293,7 +298,11 @@ impl Eigenbasis {
 
     /// [`Eigenbasis::of`], remembered for the last matrix of the thread: a proof calls
     /// [`expm_enclosure`] with the same `A` at hundreds of `τ`.
-    fn cached(a: MatRef<'_, f64>, a_norm: f64) -> Result<Option<Self>, IntervalError> {
+    fn cached(
+        a: MatRef<'_, f64>,
+        ai: &IntervalMatrix,
+        a_norm: f64,
+    ) -> Result<Option<Self>, IntervalError> {
         thread_local! {
             static LAST: std::cell::RefCell<Option<(Vec<u64>, Option<Eigenbasis>)>> =
                 const { std::cell::RefCell::new(None) };
@@ -309,7 +318,7 @@ impl Eigenbasis {
         }) {
             return Ok(hit);
         }
-        let basis = Self::of(a, a_norm)?;
+        let basis = Self::of(a, ai, a_norm)?;
         LAST.set(Some((key, basis.clone())));
         Ok(basis)
     }
@@ -422,7 +431,7 @@ pub fn expm_enclosure(
     if !a_norm.is_finite() || !mul_up(a_norm, tau1).is_finite() {
         return Err(IntervalError::Overflow("‖A‖·τ1 overflows"));
     }
-    let basis = Eigenbasis::cached(a, a_norm)?;
+    let basis = Eigenbasis::cached(a, &ai, a_norm)?;
     let (ai, a_norm) = match &basis {
         Some(e) => (e.b.clone(), e.b_norm),
         None => (ai, a_norm),
