@@ -18,6 +18,7 @@ mod check;
 mod detectability;
 mod error;
 mod expm;
+pub mod gramian_form;
 pub mod input;
 mod kronecker;
 mod lyapunov;

@@ -125,7 +125,7 @@ impl CertificateCoordinates {
             return None;
         }
         let scaled: Vec<f64> = lambda.iter().map(|l| l / hi).collect();
-        let (r, r_inv) = crate::normalise::root_coordinates(e.U(), &scaled);
+        let (r, r_inv) = sporadic_linalg::gramian_form::root_coordinates(e.U(), &scaled);
         Some(Self { r, r_inv })
     }
 

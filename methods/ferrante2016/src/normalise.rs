@@ -58,7 +58,7 @@
 //! `J = TᵀJ'S`. Condition (12) is re-verified on the user's data.
 
 use faer::{Mat, MatRef, Side};
-use sporadic_linalg::gramian_integral;
+use sporadic_linalg::gramian_form::gramian_form;
 
 use crate::system::Plant;
 use sporadic_model::SamplingWindow;
@@ -67,24 +67,9 @@ use sporadic_model::SamplingWindow;
 /// balancing is applied.
 pub const BALANCE_DEAD_ZONE: i32 = 2;
 
-/// Largest condition number `λmax(W)/λmin(W)` of the observability Gramian for which the Gramian
-/// coordinates are used (the change of coordinates then has a condition number up to `10⁵`; the
-/// certificate mapped back keeps (12) verifiable in the user's coordinates).
-pub const MAX_GRAMIAN_CONDITION: f64 = 1e10;
-
-/// Largest number of passes of the Gramian normalisation (each recomputes the Gramian in the
-/// coordinates of the previous one).
-pub const GRAMIAN_PASSES: usize = 4;
-
-/// Relative deviation from the identity (eigenvalues, output weights) at which the Gramian
-/// passes stop.
-pub const GRAMIAN_PASS_TOLERANCE: f64 = 1e-6;
-
-/// Largest number of iterations of the output-share balancing.
-const OUTPUT_BALANCE_ITERATIONS: usize = 60;
-
-/// Relative deviation of every output share from `n/q` at which the output balancing stops.
-const OUTPUT_BALANCE_TOLERANCE: f64 = 1e-6;
+pub use sporadic_linalg::gramian_form::{
+    GRAMIAN_PASS_TOLERANCE, GRAMIAN_PASSES, MAX_GRAMIAN_CONDITION,
+};
 
 /// Largest exponent magnitude of a balancing factor (keeps every scaled entry finite).
 const MAX_EXPONENT: f64 = 400.0;
@@ -275,136 +260,18 @@ pub fn longer_unit_gramian(plant: &Plant, window: &SamplingWindow) -> Option<Sca
         .find_map(|u| gramian_on(plant, u))
 }
 
-/// The coordinates `x' = Gx` in which the symmetric positive definite matrix `VΛVᵀ` is the
-/// identity: `G = Λ^½Vᵀ` and `G⁻¹ = VΛ^{−½}` (as computed), for `V` orthogonal and every
-/// `λ_i > 0`. The Gramian form takes them for the observability Gramian, the certificate
-/// coordinates of `crate::design` for a Lyapunov matrix of LMI (41).
-pub(crate) fn root_coordinates(v: MatRef<'_, f64>, lambda: &[f64]) -> (Mat<f64>, Mat<f64>) {
-    let n = lambda.len();
-    let root: Vec<f64> = lambda.iter().map(|l| l.sqrt()).collect();
-    (
-        Mat::from_fn(n, n, |i, j| root[i] * v[(j, i)]),
-        Mat::from_fn(n, n, |i, j| v[(i, j)] / root[j]),
-    )
-}
-
-/// Eigenvalues (ascending) and eigenvectors of a symmetric matrix.
-fn eigen(w: &Mat<f64>) -> Option<(Vec<f64>, Mat<f64>)> {
-    let e = w.self_adjoint_eigen(Side::Lower).ok()?;
-    let s = e.S().column_vector();
-    let lambda: Vec<f64> = (0..w.nrows()).map(|i| s[i]).collect();
-    lambda
-        .iter()
-        .all(|x| x.is_finite())
-        .then(|| (lambda, e.U().to_owned()))
-}
-
-/// `tr(W_k V Λ⁻¹ Vᵀ)` for every `W_k`.
-fn shares(parts: &[Mat<f64>], v: MatRef<'_, f64>, lambda: &[f64]) -> Vec<f64> {
-    parts
-        .iter()
-        .map(|w| {
-            let m = v.transpose() * w * v;
-            (0..lambda.len()).map(|i| m[(i, i)] / lambda[i]).sum()
-        })
-        .collect()
-}
-
-/// Output weights `s` with equal shares `tr(s_k²W_k W⁻¹) = n/q` of `W = Σ s_k²W_k`, by a
-/// multiplicative fixed-point iteration from `s` with a budget (one output needs none); the
-/// eigenvalues and eigenvectors of the weighted Gramian.
-fn balance_outputs(parts: &[Mat<f64>], s: &mut [f64]) -> Option<(Vec<f64>, Mat<f64>)> {
-    let n = parts[0].nrows();
-    let total = |s: &[f64]| {
-        let mut w = Mat::<f64>::zeros(n, n);
-        for (p, sk) in parts.iter().zip(s) {
-            w += p * faer::Scale(sk * sk);
-        }
-        w
-    };
-    let target = n as f64 / s.len() as f64;
-    let (mut lambda, mut v) = eigen(&total(s))?;
-    for _ in 0..OUTPUT_BALANCE_ITERATIONS {
-        if s.len() == 1 || lambda[0] <= 0.0 {
-            break;
-        }
-        let share: Vec<f64> = shares(parts, v.as_ref(), &lambda)
-            .iter()
-            .zip(s.iter())
-            .map(|(t, sk)| t * sk * sk)
-            .collect();
-        if share
-            .iter()
-            .all(|x| (x / target - 1.0).abs() <= OUTPUT_BALANCE_TOLERANCE || *x <= 0.0)
-        {
-            break;
-        }
-        for (sk, x) in s.iter_mut().zip(&share) {
-            if *x > 0.0 && x.is_finite() {
-                *sk *= (target / x).sqrt().clamp(1e-3, 1e3);
-            }
-        }
-        (lambda, v) = eigen(&total(s))?;
-    }
-    Some((lambda, v))
-}
-
-/// The Gramian normal form with time unit `unit` (`None` when the Gramian is not usable).
-///
-/// The Gramian computed in badly scaled coordinates has rounding errors relative to its largest
-/// eigenvalue, so it is computed again in the coordinates it gives (its small eigenvalues
-/// floored at `λmax/MAX_GRAMIAN_CONDITION`) until it is the identity to within
-/// [`GRAMIAN_PASS_TOLERANCE`], at most [`GRAMIAN_PASSES`] times: the result is the same up to an
-/// orthogonal matrix whatever coordinates the user's data is in.
+/// The Gramian normal form with time unit `unit` (`None` when the Gramian is not usable;
+/// [`sporadic_linalg::gramian_form::gramian_form`]).
 fn gramian_on(plant: &Plant, unit: f64) -> Option<Scaling> {
-    let (n, q) = (plant.n(), plant.q());
-    let mut scaling = Scaling {
+    let form = gramian_form(plant.a(), plant.c(), unit)?;
+    Some(Scaling {
         coordinates: Coordinates::Gramian,
         time: unit,
-        ..Scaling::identity(n, q)
-    };
-    for pass in 0..GRAMIAN_PASSES {
-        let current = scaling.plant(plant)?;
-        let c = current.c();
-        let parts = (0..q)
-            .map(|k| {
-                let ck = c.row(k);
-                let qk = Mat::from_fn(n, n, |i, j| ck[i] * ck[j]);
-                gramian_integral(current.a(), qk.as_ref(), 1.0).ok()
-            })
-            .collect::<Option<Vec<_>>>()?;
-        let mut weights = vec![1.0; q];
-        let (lambda, v) = balance_outputs(&parts, &mut weights)?;
-        let (lo, hi) = (lambda[0], lambda[n - 1]);
-        if !(hi > 0.0 && hi.is_finite()) {
-            return None;
-        }
-        let identity = lambda
-            .iter()
-            .all(|l| (l / hi - 1.0).abs() <= GRAMIAN_PASS_TOLERANCE)
-            && weights
-                .iter()
-                .all(|w| (w / weights[0] - 1.0).abs() <= GRAMIAN_PASS_TOLERANCE);
-        if identity {
-            return Some(scaling);
-        }
-        if pass + 1 == GRAMIAN_PASSES && !(lo > 0.0 && hi <= MAX_GRAMIAN_CONDITION * lo) {
-            return None;
-        }
-        let floor = hi / MAX_GRAMIAN_CONDITION;
-        let floored: Vec<f64> = lambda.iter().map(|l| l.max(floor)).collect();
-        let (g, gi) = root_coordinates(v.as_ref(), &floored);
-        scaling = Scaling {
-            output: scaling
-                .output
-                .iter()
-                .zip(&weights)
-                .map(|(s, w)| s * w)
-                .collect(),
-            ..scaling.then_state(&g, &gi)
-        };
-    }
-    Some(scaling)
+        state: form.state,
+        state_inverse: form.state_inverse,
+        output: form.output,
+        certificate: false,
+    })
 }
 
 /// The output scaling `S` that gives every row of `S C D⁻¹` (`D = diag(state)`) the largest

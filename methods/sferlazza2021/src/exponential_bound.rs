@@ -20,6 +20,7 @@
 
 use faer::{Mat, Side};
 use sporadic_linalg::{golden_section, min_eigenvalue};
+use sporadic_sdp::Status;
 use sporadic_sdp::lmi::{Compiled, Model, Param, SolveOptions, Var};
 
 use crate::error::{Error, check_at_least, check_positive};
@@ -134,6 +135,11 @@ impl Problem {
         self.solves += 1;
         let sol = self.compiled.solve()?;
         if !sol.is_feasible() {
+            if sol.sdp.status == Status::Interrupted {
+                return Err(Error::Interrupted {
+                    during: "the exponential bound of Step 1",
+                });
+            }
             return Ok(None);
         }
         let pi = sol.value(&self.pi)?;
@@ -155,7 +161,9 @@ impl Problem {
 /// Finds β, γ minimising `γ e^{β·horizon}` (use `horizon = T_M`), as described in the module docs.
 ///
 /// # Errors
-/// Non-finite/empty `A`, a non-positive horizon, or no β of the search admitting a certificate.
+/// Non-finite/empty `A`, a non-positive horizon, no β of the search admitting a certificate, or
+/// [`Error::Interrupted`] when the time budget runs out (an interrupted solve is no evidence of
+/// infeasibility).
 pub fn exponential_bound(
     a: &Mat<f64>,
     horizon: f64,

@@ -26,19 +26,21 @@ use sporadic_model::{
     SamplingScenario, SamplingWindow, Scenario, SimulationReport, Trajectory, check_simulatable,
     largest_window_with, power_of_two,
 };
+use sporadic_sdp::budget::{self, Budget};
 
 use crate::design::{Design, DesignOptions, design_screened};
+use crate::detectability::require_detectable;
 use crate::error::{Error, check_at_least, sig4, sig4_list};
 use crate::exponential_bound::exponential_bound;
 use crate::gain::GainSchedule;
 use crate::gain::check_sym;
-use crate::normalise::balanced_plant;
+use crate::normalise::{Coordinates, balanced_plant};
 use crate::plant::{RoundRobinPlant, window_grid};
 use crate::prove::{GAIN_TOLERANCE, XiDecisive, gain_mismatch, prove_design};
 use crate::simulation::{SimulationOptions, simulate_error};
-use crate::validation::{GridPolicy, XiFamily};
+use crate::validation::{GridPolicy, XiFamily, spectral_norm};
 use crate::validation::{WindowGrid, grid_spacing, validate_window};
-use sporadic_linalg::balance::{balance_form, balancing_scales, unbalance_form, unbalance_gain};
+use sporadic_linalg::balance::{balance_form, balancing_scales};
 
 const ID: &str = "sferlazza2021";
 
@@ -509,14 +511,24 @@ impl Sferlazza2021 {
             r.seconds = start.elapsed().as_secs_f64();
             return Ok(r);
         }
-        // Design in balanced coordinates (crate::normalise): exact, and the identity for a plant
-        // that is already balanced.
-        let scales = balancing_scales(rr.a());
-        let balanced = if scales.iter().all(|&d| d == 1.0) {
-            rr.clone()
-        } else {
-            balanced_plant(&rr, &scales).map_err(invalid_input)?
-        };
+        // Two coordinates to design in (crate::normalise): the balanced ones of the plant as
+        // given (exact, the identity for a plant that is already balanced) and the Gramian
+        // normal form (the same for every equivalent plant up to an orthogonal change of
+        // coordinates). The one whose A is nearer to normal (smaller ‖A‖_F, whose infimum over
+        // all coordinates is (Σ|λ_i|²)^½ for a diagonalisable A) is tried first, within half
+        // the remaining budget; the other where it does not certify.
+        let mut forms: Vec<(f64, Coordinates, RoundRobinPlant)> = Vec::with_capacity(2);
+        let balanced = Coordinates::balanced(&rr);
+        let in_balanced = balanced.plant(&rr).map_err(invalid_input)?;
+        forms.push((in_balanced.a().norm_l2(), balanced, in_balanced));
+        // A Gramian form that overflows or loses the rank of a C_σ is not usable.
+        if let Some(gramian) = Coordinates::gramian(&rr)
+            && let Ok(in_gramian) = gramian.plant(&rr)
+        {
+            let norm = in_gramian.a().norm_l2();
+            let at = usize::from(norm >= forms[0].0);
+            forms.insert(at, (norm, gramian, in_gramian));
+        }
         // In the window search, the Proposition 1 screen (a necessary condition, never what
         // certifies) runs on at most SEARCH_DETECTABILITY_TUPLES grid tuples plus its aliasing
         // tuples: 26 points per axis are 26^N tuples per probe (4.6·10⁵ for N = 4, seconds).
@@ -525,7 +537,7 @@ impl Sferlazza2021 {
             && let Some(det) = &mut options.detectability
         {
             let per_axis = (SEARCH_DETECTABILITY_TUPLES as f64)
-                .powf(1.0 / balanced.num_sensors() as f64)
+                .powf(1.0 / rr.num_sensors() as f64)
                 .floor() as usize;
             det.points_per_axis = det.points_per_axis.min(per_axis.max(2));
         }
@@ -537,21 +549,91 @@ impl Sferlazza2021 {
         // grid is above its cap or too large to run after a refutation (validate_window): the
         // refuted point then stands in for the grid's worst point (50).
         options.proof_pieces.get_or_insert(SEARCH_PROOF_PIECES);
-        let d = match design_screened(&balanced, &options, screen) {
-            Ok(d) => d,
-            Err(e) => {
-                let mut r =
-                    DesignReport::without_design(self, plant.name(), Some(sampling), verdict(e)?);
-                r.seconds = start.elapsed().as_secs_f64();
-                return Ok(r);
+        // Proposition 1 in the balanced coordinates decides, also when the Gramian form goes
+        // first (screened here) or certifies after it: a non-decaying mode that the output sees only through rounding (the corpus
+        // plant `undetectable-unstable` in coordinates x = Tz, relative PBH margin 1.5e-16)
+        // looks observable in the Gramian form, whose passes amplify that rounding, and the
+        // plant was certified there.
+        if forms[0].1.is_gramian()
+            && let Some(det) = &options.detectability
+            && let Some((_, _, in_balanced)) = forms.iter().find(|f| !f.1.is_gramian())
+            && let Err(e @ Error::NotDetectable { .. }) = require_detectable(in_balanced, det)
+        {
+            let mut r =
+                DesignReport::without_design(self, plant.name(), Some(sampling), verdict(e)?);
+            r.seconds = start.elapsed().as_secs_f64();
+            return Ok(r);
+        }
+        let mut refusals: Vec<(bool, Reason)> = Vec::new();
+        for (k, (_, coordinates, in_form)) in forms.iter().enumerate() {
+            let gramian = coordinates.is_gramian();
+            let attempt =
+                || self.design_in(plant, sampling, in_form, coordinates, &options, screen);
+            let deadline = budget::current().deadline();
+            let res = match deadline {
+                Some(d) if k + 1 < forms.len() => {
+                    let now = Instant::now();
+                    budget::within(
+                        Budget::until(now + d.saturating_duration_since(now) / 2),
+                        attempt,
+                    )
+                }
+                _ => attempt(),
+            };
+            match res {
+                Ok(report) => {
+                    let mut report = report;
+                    report.seconds = start.elapsed().as_secs_f64();
+                    return Ok(report);
+                }
+                Err(e) => match verdict(e) {
+                    // Proposition 1 failing in the balanced coordinates is final (see above).
+                    Ok(r @ Reason::Undetectable { .. }) if !gramian => {
+                        let mut out =
+                            DesignReport::without_design(self, plant.name(), Some(sampling), r);
+                        out.seconds = start.elapsed().as_secs_f64();
+                        return Ok(out);
+                    }
+                    Ok(r) => refusals.push((gramian, r)),
+                    Err(e) if !gramian => return Err(e),
+                    Err(_) => {}
+                },
             }
+        }
+        // Neither form certified: a refusal of the Gramian form that does not depend on the
+        // coordinates ((47) infeasible, which certifies (44) infeasible; Proposition 1) is
+        // reported, else that of the plant as given.
+        let invariant = |r: &Reason| {
+            matches!(
+                r,
+                Reason::InfeasibleLmi { .. } | Reason::Undetectable { .. }
+            )
         };
-        let mut report = match self.report(plant, sampling, &d, &scales) {
-            Ok(r) => r,
-            Err(e) => DesignReport::without_design(self, plant.name(), Some(sampling), verdict(e)?),
+        let reason = match refusals.iter().position(|(g, r)| *g && invariant(r)) {
+            Some(k) => refusals.swap_remove(k).1,
+            None => refusals
+                .pop()
+                .map(|(_, r)| r)
+                .ok_or_else(|| invalid_input(Error::invalid("no coordinates to design in")))?,
         };
-        report.seconds = start.elapsed().as_secs_f64();
-        Ok(report)
+        let mut r = DesignReport::without_design(self, plant.name(), Some(sampling), reason);
+        r.seconds = start.elapsed().as_secs_f64();
+        Ok(r)
+    }
+
+    /// The §5.3 loop on `in_form`, the plant in `coordinates`, and the certified report of its
+    /// design in the plant's coordinates.
+    fn design_in(
+        &self,
+        plant: &Plant,
+        sampling: &Sampling,
+        in_form: &RoundRobinPlant,
+        coordinates: &Coordinates,
+        options: &DesignOptions,
+        screen: Option<usize>,
+    ) -> Result<DesignReport, Error> {
+        let d = design_screened(in_form, options, screen)?;
+        self.report(plant, sampling, &d, coordinates)
     }
 
     /// [`ObserverMethod::simulate`].
@@ -922,18 +1004,17 @@ impl Sferlazza2021 {
 
     /// The certified report of a successful design `d`.
     ///
-    /// `d` was designed in the balanced coordinates `x_b = D⁻¹x`, `D = diag(scales)` (powers of 2,
-    /// [`crate::normalise`]); the gains and Lyapunov matrices are reported in the user's
-    /// coordinates (`K = DK_b`, `P = D⁻¹P_bD⁻¹`, exact up to one rounding), the checks are made in
-    /// the balanced ones (positive definiteness of `Ξ_σ(τ)` is invariant under the congruence).
+    /// `d` was designed in `coordinates` ([`crate::normalise`]); the gains and Lyapunov
+    /// matrices are reported in the user's coordinates (`K = DK_b`, `P = D⁻¹P_bD⁻¹`, exact up to
+    /// one rounding; or `K = G⁻¹K'`, `P = GᵀP'G`), the checks are made in the coordinates of the
+    /// design (positive definiteness of `Ξ_σ(τ)` is invariant under the congruence).
     fn report(
         &self,
         plant: &Plant,
         sampling: &Sampling,
         d: &Design,
-        scales: &[f64],
+        coordinates: &Coordinates,
     ) -> Result<DesignReport, Error> {
-        let balanced = scales.iter().any(|&x| x != 1.0);
         let rr = d.plant();
         let mu = d.mu;
         let mut report = DesignReport::certified(self, plant.name(), sampling);
@@ -946,7 +1027,7 @@ impl Sferlazza2021 {
                 .map(|&t| {
                     d.gains()
                         .gain(s, t)
-                        .map(|k| unbalance_gain(k.as_ref(), scales))
+                        .map(|k| coordinates.gain_back(k.as_ref()))
                 })
                 .collect::<Result<Vec<_>, _>>()?;
             let fam = XiFamily::new(rr, &d.p, s)?;
@@ -986,22 +1067,24 @@ impl Sferlazza2021 {
                 move |_| ks.next().unwrap_or_else(|| Mat::zeros(0, 0)),
             ));
         }
+        let designed_in = match coordinates {
+            _ if coordinates.is_identity() => String::new(),
+            Coordinates::Balanced(scales) => format!(
+                " in the balanced coordinates x_b = D⁻¹x, D = diag{}, mapped back as \
+                 P_σ = D⁻¹P_bD⁻¹",
+                powers_of_two(scales)
+            ),
+            Coordinates::Gramian { .. } => " in the Gramian normal form x' = Gx, mapped back as \
+                 P_σ = GᵀP'G"
+                .to_string(),
+        };
         for (s, p) in d.p.iter().enumerate() {
-            let coordinates = if balanced {
-                format!(
-                    " in the balanced coordinates x_b = D⁻¹x, D = diag{}, mapped back as \
-                     P_σ = D⁻¹P_bD⁻¹",
-                    powers_of_two(scales)
-                )
-            } else {
-                String::new()
-            };
             report.certificate.push(NamedMatrix::new(
                 format!("P_{}", s + 1),
-                unbalance_form(p.as_ref(), scales).as_ref(),
+                coordinates.form_back(p.as_ref()).as_ref(),
                 format!(
                     "Lyapunov matrix of sensor {} in (44), solution of (47): I ⪯ P_σ ⪯ p*·I with \
-                     p* = {}{coordinates}; V = e^(−ρτ) x̃ᵀ e^(−Aᵀτ) P_σ e^(−Aτ) x̃ is (30)",
+                     p* = {}{designed_in}; V = e^(−ρτ) x̃ᵀ e^(−Aᵀτ) P_σ e^(−Aτ) x̃ is (30)",
                     s + 1,
                     sig4(d.p_star)
                 ),
@@ -1167,14 +1250,29 @@ impl Sferlazza2021 {
             },
             sig4(d.p_star)
         ));
-        if balanced {
-            report.notes.push(format!(
+        match coordinates {
+            _ if coordinates.is_identity() => {}
+            Coordinates::Balanced(scales) => report.notes.push(format!(
                 "designed in the balanced coordinates x_b = D⁻¹x with D = diag{} (powers of \
                  2, LAPACK gebal scaling of A; exact): the margin and the checks are those of the \
                  balanced plant, the gains K_σ = D·K_bσ and certificates P_σ = D⁻¹P_bσD⁻¹ are in \
                  the plant's coordinates",
                 powers_of_two(scales)
-            ));
+            )),
+            Coordinates::Gramian {
+                state,
+                state_inverse,
+                unit,
+            } => report.notes.push(format!(
+                "designed in the Gramian normal form x' = Gx, in which the observability Gramian \
+                 of (A, [C_1; …; C_N]) on [0, {}] is the identity (the same form for the plant in \
+                 any coordinates, up to an orthogonal change of them; ‖G‖₂‖G⁻¹‖₂ = {}): the \
+                 margin and the checks are those of the floating-point plant (GAG⁻¹, C_σG⁻¹) \
+                 there, the gains K_σ = G⁻¹K'_σ and certificates P_σ = GᵀP'_σG are in the \
+                 plant's coordinates",
+                sig4(*unit),
+                sig4(spectral_norm(state.as_ref())? * spectral_norm(state_inverse.as_ref())?)
+            )),
         }
         report.notes.push(format!(
             "the gain K_σ(τ) of (45) depends on the time τ since the previous sample; each schedule \
