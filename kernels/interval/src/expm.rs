@@ -239,18 +239,15 @@ struct Eigenbasis {
 }
 
 impl Eigenbasis {
-    /// The eigenbasis of `a` (`ai` the same matrix as an interval one, `‖a‖_∞ ≤ a_norm`) when it
-    /// pays: `S⁻¹` is proven to exist,
+    /// The eigenbasis of the midpoint of `ai` (`‖A‖_∞ ≤ a_norm` for every member `A`), valid for
+    /// every member (`B = X·ai·S`), when it pays: `S⁻¹` is proven to exist,
     /// `‖S‖_∞‖X‖_∞ ≤` [`MAX_BASIS_CONDITION`] and `‖B‖_∞ ≤ ‖A‖_∞/4` (two squarings fewer at
     /// every `τ` with `‖Aτ‖_∞ > 4`); `None` otherwise (a defective or nearly defective `A`; a
     /// normal one of order below 16, whose `‖A‖_∞ ≤ √n ρ(A) ≤ √n ‖B‖_∞`; a basis whose
     /// inverse is not proven, e.g. a non-finite one), and then [`expm_enclosure`] works on `A`
     /// itself.
-    fn of(
-        a: MatRef<'_, f64>,
-        ai: &IntervalMatrix,
-        a_norm: f64,
-    ) -> Result<Option<Self>, IntervalError> {
+    fn of(ai: &IntervalMatrix, a_norm: f64) -> Result<Option<Self>, IntervalError> {
+        let a = ai.mid();
         let n = a.nrows();
         let Ok(eigen) = a.eigen() else {
             return Ok(None);
@@ -296,20 +293,18 @@ impl Eigenbasis {
         }))
     }
 
-    /// [`Eigenbasis::of`], remembered for the last matrix of the thread: a proof calls
-    /// [`expm_enclosure`] with the same `A` at hundreds of `τ`.
-    fn cached(
-        a: MatRef<'_, f64>,
-        ai: &IntervalMatrix,
-        a_norm: f64,
-    ) -> Result<Option<Self>, IntervalError> {
+    /// [`Eigenbasis::of`], remembered for the last (interval) matrix of the thread: a proof
+    /// calls [`expm_enclosure`] with the same `A` at hundreds of `τ`.
+    fn cached(ai: &IntervalMatrix, a_norm: f64) -> Result<Option<Self>, IntervalError> {
         thread_local! {
             static LAST: std::cell::RefCell<Option<(Vec<u64>, Option<Eigenbasis>)>> =
                 const { std::cell::RefCell::new(None) };
         }
-        let key: Vec<u64> = (0..a.ncols())
-            .flat_map(|j| (0..a.nrows()).map(move |i| a[(i, j)].to_bits()))
-            .chain([a.nrows() as u64])
+        let (mid, rad) = (ai.mid(), ai.rad());
+        let key: Vec<u64> = (0..mid.ncols())
+            .flat_map(|j| (0..mid.nrows()).flat_map(move |i| [mid[(i, j)], rad[(i, j)]]))
+            .map(f64::to_bits)
+            .chain([mid.nrows() as u64])
             .collect();
         if let Some(hit) = LAST.with_borrow(|last| {
             last.as_ref()
@@ -318,7 +313,7 @@ impl Eigenbasis {
         }) {
             return Ok(hit);
         }
-        let basis = Self::of(a, ai, a_norm)?;
+        let basis = Self::of(ai, a_norm)?;
         LAST.set(Some((key, basis.clone())));
         Ok(basis)
     }
@@ -417,6 +412,34 @@ pub fn expm_enclosure(
     options: &EnclosureOptions,
 ) -> Result<ExpmEnclosure, IntervalError> {
     validate(a, tau0, tau1)?;
+    enclose(&IntervalMatrix::from_point(a)?, tau0, tau1, options)
+}
+
+/// [`expm_enclosure`] for an interval matrix `A`: the result contains `e^{Aτ}` for every member
+/// `A` and every `τ` in `[τ0, τ1]` (each step of [`expm_enclosure`] holds for every member of an
+/// interval matrix with the norm bound it is given). For a plant known only up to an enclosure,
+/// e.g. `G·A·[G⁻¹]` in other coordinates.
+///
+/// # Errors
+/// As [`expm_enclosure`]; [`IntervalError::NonFinite`] for an unbounded entry.
+pub fn expm_enclosure_interval(
+    a: &IntervalMatrix,
+    tau0: f64,
+    tau1: f64,
+    options: &EnclosureOptions,
+) -> Result<ExpmEnclosure, IntervalError> {
+    validate(a.mid(), tau0, tau1)?;
+    validate(a.rad(), tau0, tau1)?;
+    enclose(a, tau0, tau1, options)
+}
+
+/// The enclosure of [`expm_enclosure`] for a validated interval matrix `ai`.
+fn enclose(
+    ai: &IntervalMatrix,
+    tau0: f64,
+    tau1: f64,
+    options: &EnclosureOptions,
+) -> Result<ExpmEnclosure, IntervalError> {
     if !(options.max_step_norm > 0.0) {
         return Err(IntervalError::InvalidOption("max_step_norm must be > 0"));
     }
@@ -426,15 +449,14 @@ pub fn expm_enclosure(
     if options.max_pieces == 0 {
         return Err(IntervalError::InvalidOption("max_pieces must be ≥ 1"));
     }
-    let ai = IntervalMatrix::from_point(a)?;
     let a_norm = ai.norm_inf_up();
     if !a_norm.is_finite() || !mul_up(a_norm, tau1).is_finite() {
         return Err(IntervalError::Overflow("‖A‖·τ1 overflows"));
     }
-    let basis = Eigenbasis::cached(a, &ai, a_norm)?;
+    let basis = Eigenbasis::cached(ai, a_norm)?;
     let (ai, a_norm) = match &basis {
         Some(e) => (e.b.clone(), e.b_norm),
-        None => (ai, a_norm),
+        None => (ai.clone(), a_norm),
     };
     let piece_enclosure = |t0: f64, t1: f64| -> Result<IntervalMatrix, IntervalError> {
         let e = piece_enclosure(&ai, a_norm, t0, t1)?;

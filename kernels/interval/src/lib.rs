@@ -87,7 +87,7 @@ pub use definite::{
 pub use error::IntervalError;
 pub use expm::{
     EnclosureOptions, EnclosurePiece, ExpmEnclosure, MAX_BASIS_CONDITION, expm_enclosure,
-    expm_interval,
+    expm_enclosure_interval, expm_interval,
 };
 pub use matrix::IntervalMatrix;
 pub use scalar::Interval;

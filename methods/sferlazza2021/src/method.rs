@@ -23,8 +23,8 @@ use sporadic_linalg::{InputError, LinalgError};
 use sporadic_model::{
     Check, DesignReport, Gain, Margin, MaxIntervalReport, MethodError, MethodOptions, NamedMatrix,
     NotApplicable, ObserverMethod, Outputs, Plant, Probe, Proof, ProofOptions, Reason, Sampling,
-    SamplingScenario, SamplingWindow, Scenario, SimulationReport, Trajectory, check_simulatable,
-    largest_window_with, power_of_two,
+    SamplingScenario, SamplingWindow, Scenario, SimulationReport, Status, Trajectory,
+    check_simulatable, largest_window_with, power_of_two,
 };
 use sporadic_sdp::budget::{self, Budget};
 
@@ -34,13 +34,12 @@ use crate::error::{Error, check_at_least, sig4, sig4_list};
 use crate::exponential_bound::exponential_bound;
 use crate::gain::GainSchedule;
 use crate::gain::check_sym;
-use crate::normalise::{Coordinates, balanced_plant};
+use crate::normalise::Coordinates;
 use crate::plant::{RoundRobinPlant, window_grid};
 use crate::prove::{GAIN_TOLERANCE, XiDecisive, gain_mismatch, prove_design};
 use crate::simulation::{SimulationOptions, simulate_error};
 use crate::validation::{GridPolicy, XiFamily, spectral_norm};
 use crate::validation::{WindowGrid, grid_spacing, validate_window};
-use sporadic_linalg::balance::{balance_form, balancing_scales};
 
 const ID: &str = "sferlazza2021";
 
@@ -765,7 +764,6 @@ impl Sferlazza2021 {
         ps: &[Mat<f64>],
         gains: &[Gain],
     ) -> Result<DesignReport, Error> {
-        let mu = self.design.mu;
         let failed = |tau: Option<f64>, message: String| {
             DesignReport::without_design(
                 self,
@@ -803,18 +801,42 @@ impl Sferlazza2021 {
         // (48) is checked in the balanced coordinates x_b = D⁻¹x of the design (exact powers of
         // 2, the identity for a balanced plant): Ξ_σ(τ) ≻ 0 does not depend on the coordinates,
         // while its grid, proof and margin are those of the well-scaled plant, as in the design.
-        let scales = balancing_scales(rr.a());
-        let balanced = scales.iter().any(|&d| d != 1.0);
-        let (rr_b, ps_b) = if balanced {
-            (
-                balanced_plant(rr, &scales)?,
-                ps.iter()
-                    .map(|p| balance_form(p.as_ref(), &scales))
-                    .collect::<Vec<_>>(),
+        // A certificate that is ill-conditioned there (one designed in the Gramian normal form
+        // and mapped back to coordinates x = Tz) is checked again in its own coordinates.
+        let first = self.verify_in(plant, sampling, rr, ps, gains, &Coordinates::balanced(rr));
+        if first.as_ref().is_ok_and(|r| r.status == Status::Certified) {
+            return first;
+        }
+        if let Some(own) = Coordinates::of_certificate(ps)
+            && let Ok(second) = self.verify_in(plant, sampling, rr, ps, gains, &own)
+            && second.status == Status::Certified
+        {
+            return Ok(second);
+        }
+        first
+    }
+
+    /// The check (48) of [`Self::verify_certificate`] in `coordinates`.
+    fn verify_in(
+        &self,
+        plant: &Plant,
+        sampling: &Sampling,
+        rr: &RoundRobinPlant,
+        ps: &[Mat<f64>],
+        gains: &[Gain],
+        coordinates: &Coordinates,
+    ) -> Result<DesignReport, Error> {
+        let mu = self.design.mu;
+        let failed = |tau: Option<f64>, message: String| {
+            DesignReport::without_design(
+                self,
+                plant.name(),
+                Some(sampling),
+                Reason::VerificationFailed { tau, message },
             )
-        } else {
-            (rr.clone(), ps.to_vec())
         };
+        let rr_b = coordinates.plant(rr)?;
+        let ps_b: Vec<Mat<f64>> = ps.iter().map(|p| coordinates.form_to(p.as_ref())).collect();
         let rr = &rr_b;
         // Scale to I ⪯ P_σ ⪯ p*I, the normalisation of (47) under which μ and (49) apply.
         let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
@@ -822,13 +844,19 @@ impl Sferlazza2021 {
             lo = lo.min(sporadic_linalg::min_eigenvalue(p.as_ref())?);
             hi = hi.max(sporadic_linalg::max_eigenvalue(p.as_ref())?);
         }
-        let coordinates = if balanced {
-            format!(
+        let coordinates = match coordinates {
+            _ if coordinates.is_identity() => String::new(),
+            Coordinates::Balanced(scales) => format!(
                 " (in the balanced coordinates x_b = D⁻¹x, D = {}, P_bσ = DP_σD)",
-                powers_of_two(&scales)
-            )
-        } else {
-            String::new()
+                powers_of_two(scales)
+            ),
+            Coordinates::Gramian { .. } => " (in the Gramian normal form x' = Gx)".to_string(),
+            Coordinates::Certificate { .. } => {
+                " (in the coordinates x' = Rx of the certificate, RᵀR = Σ_σ P_σ/‖P_σ‖_max, \
+                 P'_σ = R⁻ᵀP_σR⁻¹, A' = RAR⁻¹ in floating point: in the balanced coordinates of \
+                 the plant the check failed)"
+                    .to_string()
+            }
         };
         let normalised: Vec<Mat<f64>> = ps_b.iter().map(|p| p * (1.0 / lo)).collect();
         let p_star = hi / lo;
@@ -1074,9 +1102,9 @@ impl Sferlazza2021 {
                  P_σ = D⁻¹P_bD⁻¹",
                 powers_of_two(scales)
             ),
-            Coordinates::Gramian { .. } => " in the Gramian normal form x' = Gx, mapped back as \
-                 P_σ = GᵀP'G"
-                .to_string(),
+            Coordinates::Gramian { .. } | Coordinates::Certificate { .. } => {
+                " in the Gramian normal form x' = Gx, mapped back as P_σ = GᵀP'G".to_string()
+            }
         };
         for (s, p) in d.p.iter().enumerate() {
             report.certificate.push(NamedMatrix::new(
@@ -1273,6 +1301,8 @@ impl Sferlazza2021 {
                 sig4(*unit),
                 sig4(spectral_norm(state.as_ref())? * spectral_norm(state_inverse.as_ref())?)
             )),
+            // A design is never made in a certificate's coordinates (only `verify` checks there).
+            Coordinates::Certificate { .. } => {}
         }
         report.notes.push(format!(
             "the gain K_σ(τ) of (45) depends on the time τ since the previous sample; each schedule \

@@ -34,8 +34,9 @@ use faer::{Mat, MatRef};
 
 use crate::error::Error;
 use crate::plant::{RoundRobinPlant, Sensor};
+use faer::linalg::solvers::DenseSolveCore;
 use sporadic_linalg::balance::{
-    balance_a, balance_c, balancing_scales, unbalance_form, unbalance_gain,
+    balance_a, balance_c, balance_form, balancing_scales, unbalance_form, unbalance_gain,
 };
 use sporadic_linalg::gramian_form::gramian_form;
 
@@ -84,6 +85,14 @@ pub enum Coordinates {
         /// The time unit of the Gramian.
         unit: f64,
     },
+    /// `x' = Rx` with `RᵀR = Σ_σ P_σ/‖P_σ‖_max` for a given certificate (its own coordinates,
+    /// in which `verify` checks a certificate that is ill-conditioned in the balanced ones).
+    Certificate {
+        /// `R`.
+        state: Mat<f64>,
+        /// `R⁻¹` as computed.
+        state_inverse: Mat<f64>,
+    },
 }
 
 impl Coordinates {
@@ -122,6 +131,17 @@ impl Coordinates {
         })
     }
 
+    /// The coordinates of the certificate `p` (`None` when `Σ_σ P_σ/‖P_σ‖_max` is not
+    /// numerically positive definite).
+    pub fn of_certificate(p: &[Mat<f64>]) -> Option<Self> {
+        let r = crate::prove::certificate_root(p)?;
+        let r_inv = r.partial_piv_lu().inverse();
+        r_inv.is_all_finite().then_some(Self::Certificate {
+            state: r,
+            state_inverse: r_inv,
+        })
+    }
+
     /// Whether this is the Gramian normal form.
     pub fn is_gramian(&self) -> bool {
         matches!(self, Self::Gramian { .. })
@@ -144,6 +164,10 @@ impl Coordinates {
                 state,
                 state_inverse,
                 ..
+            }
+            | Self::Certificate {
+                state,
+                state_inverse,
             } => {
                 let a = state * plant.a() * state_inverse;
                 let cs: Vec<Mat<f64>> = plant
@@ -166,8 +190,20 @@ impl Coordinates {
     pub fn form_back(&self, p: MatRef<'_, f64>) -> Mat<f64> {
         match self {
             Self::Balanced(d) => unbalance_form(p, d),
-            Self::Gramian { state, .. } => {
+            Self::Gramian { state, .. } | Self::Certificate { state, .. } => {
                 let x = state.transpose() * p * state;
+                Mat::from_fn(x.nrows(), x.ncols(), |i, j| 0.5 * (x[(i, j)] + x[(j, i)]))
+            }
+        }
+    }
+
+    /// A Lyapunov matrix given in the plant's coordinates, in these: `P_b = DPD` or
+    /// `P' = G⁻ᵀPG⁻¹` (symmetrised).
+    pub fn form_to(&self, p: MatRef<'_, f64>) -> Mat<f64> {
+        match self {
+            Self::Balanced(d) => balance_form(p, d),
+            Self::Gramian { state_inverse, .. } | Self::Certificate { state_inverse, .. } => {
+                let x = state_inverse.transpose() * p * state_inverse;
                 Mat::from_fn(x.nrows(), x.ncols(), |i, j| 0.5 * (x[(i, j)] + x[(j, i)]))
             }
         }
@@ -177,7 +213,9 @@ impl Coordinates {
     pub fn gain_back(&self, k: MatRef<'_, f64>) -> Mat<f64> {
         match self {
             Self::Balanced(d) => unbalance_gain(k, d),
-            Self::Gramian { state_inverse, .. } => state_inverse * k,
+            Self::Gramian { state_inverse, .. } | Self::Certificate { state_inverse, .. } => {
+                state_inverse * k
+            }
         }
     }
 }

@@ -64,7 +64,7 @@ use faer::linalg::triangular_solve::solve_upper_triangular_in_place;
 use faer::{Mat, Par};
 use sporadic_interval::{
     EnclosureOptions, Interval, IntervalError, IntervalMatrix, Verdict, expm_enclosure,
-    is_verified_positive_definite, lambda_max_enclosure,
+    expm_enclosure_interval, is_verified_positive_definite, lambda_max_enclosure,
 };
 use sporadic_model::{
     Gain, PieceCheck, Proof, ProofOptions, ProofPiece, ProofStatus, WindowProof, combine,
@@ -84,7 +84,8 @@ pub(crate) const GAIN_TOLERANCE: f64 = 1e-6;
 
 /// The interval data of (44), or of the validation (48), for one sensor.
 struct SensorCondition {
-    neg_a: Mat<f64>,
+    /// Encloses `−A`.
+    neg_a: IntervalMatrix,
     /// Encloses a basis of `ker C_σ` (`n × r`).
     q: IntervalMatrix,
     p: IntervalMatrix,
@@ -112,6 +113,172 @@ struct SensorCondition {
     eq_cache: HashMap<u64, IntervalMatrix>,
 }
 
+/// The data of (44) as the proof uses it: `A`, each `C_σ` and `P_σ` as interval matrices, and
+/// a floating-point orthonormal complement of each `C_σ` (any near basis serves: the proof
+/// projects it onto the exact kernel). Point matrices in the plant's coordinates, or enclosures
+/// of the same data in the coordinates of the certificate.
+struct ProofData {
+    a: IntervalMatrix,
+    c: Vec<IntervalMatrix>,
+    c_perp: Vec<Mat<f64>>,
+    p: Vec<IntervalMatrix>,
+    next: Vec<usize>,
+}
+
+impl ProofData {
+    /// The plant's data and the certificate `p` as they are.
+    fn point(plant: &RoundRobinPlant, p: &[Mat<f64>]) -> Result<Self, Error> {
+        Ok(Self {
+            a: point(&plant.a().to_owned())?,
+            c: plant
+                .sensors()
+                .iter()
+                .map(|s| point(&s.c().to_owned()))
+                .collect::<Result<_, _>>()?,
+            c_perp: plant
+                .sensors()
+                .iter()
+                .map(|s| s.c_perp().to_owned())
+                .collect(),
+            p: p.iter().map(point).collect::<Result<_, _>>()?,
+            next: (0..plant.num_sensors()).map(|s| plant.next(s)).collect(),
+        })
+    }
+
+    /// The same data in the coordinates `x' = Rx` of the certificate, `RᵀR = Σ_σ P_σ/‖P_σ‖_max`
+    /// (Cholesky), in which the `P'_σ` are near the identity however ill-conditioned the `P_σ`
+    /// are in the plant's coordinates: with `X ∋ R⁻¹` (a verified inverse), `A' = R·A·X`,
+    /// `C'_σ = C_σ·X` and `P'_σ = Xᵀ·P_σ·X` enclose `RAR⁻¹`, `C_σR⁻¹` and `R⁻ᵀP_σR⁻¹`. (44)
+    /// of the enclosed data is (44) of the plant: with `Q' = RQ` a basis of `ker C'_σ`,
+    /// `Ξ'_σ(τ) = diag(I, R⁻ᵀ) Ξ_σ(τ) diag(I, R⁻¹)`, a congruence. `None` when the sum is not
+    /// numerically positive definite or the inverse of `R` is not proven.
+    fn in_certificate_coordinates(
+        plant: &RoundRobinPlant,
+        p: &[Mat<f64>],
+    ) -> Result<Option<Self>, Error> {
+        let Some(r) = certificate_root(p) else {
+            return Ok(None);
+        };
+        let r = point(&r)?;
+        let Some(x) = r.verified_inverse()? else {
+            return Ok(None);
+        };
+        let a = r.checked_mul(&point(&plant.a().to_owned())?.checked_mul(&x)?)?;
+        let c: Vec<IntervalMatrix> = plant
+            .sensors()
+            .iter()
+            .map(|s| point(&s.c().to_owned())?.checked_mul(&x))
+            .collect::<Result<_, _>>()?;
+        let c_perp = c
+            .iter()
+            .map(|ck| sporadic_linalg::null_space(ck.mid()))
+            .collect::<Result<_, _>>()?;
+        let p = p
+            .iter()
+            .map(|pk| x.transpose().checked_mul(&point(pk)?.checked_mul(&x)?))
+            .collect::<Result<_, _>>()?;
+        Ok(Some(Self {
+            a,
+            c,
+            c_perp,
+            p,
+            next: (0..plant.num_sensors()).map(|s| plant.next(s)).collect(),
+        }))
+    }
+
+    /// The proof of (44) on every sensor's window with this data, the bounds divided by a
+    /// rigorous upper bound of `max_σ λ_max(P_σ)` (`None` when there is no positive finite one).
+    fn prove(
+        &self,
+        plant: &RoundRobinPlant,
+        options: &ProofOptions,
+    ) -> Result<Option<Vec<WindowProof>>, Error> {
+        let mut scale = 0.0f64;
+        for pk in &self.p {
+            scale = scale.max(lambda_max_enclosure(&pk.symmetrized()?)?.hi());
+        }
+        if !(scale > 0.0 && scale.is_finite()) {
+            return Ok(None);
+        }
+        let mut parts: Vec<WindowProof> = Vec::with_capacity(plant.num_sensors());
+        for (s, sensor) in plant.sensors().iter().enumerate() {
+            let mut cond = SensorCondition::new(self, s)?;
+            let w = sensor.window();
+            let part = prove_on_window(
+                &format!("(44), sensor {}", s + 1),
+                w.t1(),
+                w.t2(),
+                INITIAL_PIECES,
+                options,
+                &mut |a, b| cond.check(a, b, scale),
+            )?;
+            let stop = part.status != ProofStatus::Proved;
+            parts.push(part);
+            if stop {
+                break;
+            }
+        }
+        Ok(Some(parts))
+    }
+}
+
+/// `R` (upper triangular) with `RᵀR = Σ_σ P_σ/‖P_σ‖_max` (Cholesky; the `P_σ` symmetrised):
+/// the coordinates `x' = Rx` of the certificate. `None` when the sum is not numerically
+/// positive definite or an entry is not finite.
+pub(crate) fn certificate_root(p: &[Mat<f64>]) -> Option<Mat<f64>> {
+    let n = p.first()?.nrows();
+    let mut sum = Mat::<f64>::zeros(n, n);
+    for pk in p {
+        let m = pk.norm_max();
+        if !(m > 0.0 && m.is_finite()) {
+            return None;
+        }
+        sum += Mat::from_fn(n, n, |i, j| 0.5 * (pk[(i, j)] + pk[(j, i)]) / m);
+    }
+    let llt = sum.llt(faer::Side::Lower).ok()?;
+    let r = llt.L().transpose().to_owned();
+    r.is_all_finite().then_some(r)
+}
+
+/// The gain law (45) of the certificate `p` evaluated in its own coordinates `x' = Rx`
+/// ([`certificate_root`]), `K = R⁻¹K'`: where the `P_σ` are ill-conditioned in the plant's
+/// coordinates (a certificate designed in the Gramian normal form and mapped back), (45)
+/// evaluated there loses about `u·κ(P_σ)` of relative accuracy, in these about `u·κ(R)`.
+struct LawInCertificateCoordinates {
+    schedule: GainSchedule,
+    r_inv: Mat<f64>,
+}
+
+impl LawInCertificateCoordinates {
+    fn new(plant: &RoundRobinPlant, p: &[Mat<f64>]) -> Option<Self> {
+        use faer::linalg::solvers::DenseSolveCore;
+        let r = certificate_root(p)?;
+        let r_inv = r.partial_piv_lu().inverse();
+        let a = &r * plant.a() * &r_inv;
+        let cs: Vec<Mat<f64>> = plant.sensors().iter().map(|s| s.c() * &r_inv).collect();
+        let sensors: Vec<_> = cs
+            .iter()
+            .zip(plant.sensors())
+            .map(|(c, s)| (c.as_ref(), s.window()))
+            .collect();
+        let in_r = RoundRobinPlant::new(a.as_ref(), &sensors).ok()?;
+        let ps = p
+            .iter()
+            .map(|pk| {
+                let x = r_inv.transpose() * pk * &r_inv;
+                Mat::from_fn(x.nrows(), x.ncols(), |i, j| 0.5 * (x[(i, j)] + x[(j, i)]))
+            })
+            .collect::<Vec<_>>();
+        let schedule = GainSchedule::new(in_r, ps).ok()?;
+        Some(Self { schedule, r_inv })
+    }
+
+    fn gain(&self, sigma: usize, tau: f64) -> Option<Mat<f64>> {
+        let k = self.schedule.gain(sigma, tau).ok()?;
+        Some(&self.r_inv * k)
+    }
+}
+
 fn point(m: &Mat<f64>) -> Result<IntervalMatrix, IntervalError> {
     IntervalMatrix::from_point(m.as_ref())
 }
@@ -137,11 +304,10 @@ fn unless_overflow<T>(r: Result<T, Error>) -> Result<Option<T>, Error> {
 }
 
 impl SensorCondition {
-    /// The condition (44) `Ξ_σ(τ) ≻ 0` for sensor `sigma` and the certificate `p`.
-    fn new(plant: &RoundRobinPlant, p: &[Mat<f64>], sigma: usize) -> Result<Self, Error> {
-        let sensor = plant.sensor(sigma)?;
-        let c = point(&sensor.c().to_owned())?;
-        let c_perp = point(&sensor.c_perp().to_owned())?;
+    /// The condition (44) `Ξ_σ(τ) ≻ 0` for sensor `sigma` and the data `data`.
+    fn new(data: &ProofData, sigma: usize) -> Result<Self, Error> {
+        let c = data.c[sigma].clone();
+        let c_perp = point(&data.c_perp[sigma])?;
         let cct = c.checked_mul(&c.transpose())?;
         let inv = cct.verified_inverse()?.ok_or_else(|| {
             Error::invalid(format!(
@@ -162,11 +328,8 @@ impl SensorCondition {
         };
         // Symmetrised: a certificate may be symmetric only to rounding (`check_sym`), and the
         // verified definiteness test and the block LDLᵀ bound need symmetric matrices.
-        let p_next = point(&p[plant.next(sigma)])?.symmetrized()?;
-        let (a, ps) = (
-            point(&plant.a().to_owned())?,
-            point(&p[sigma])?.symmetrized()?,
-        );
+        let p_next = data.p[data.next[sigma]].symmetrized()?;
+        let (a, ps) = (data.a.clone(), data.p[sigma].symmetrized()?);
         let (at, pa) = (a.transpose(), ps.checked_mul(&a)?);
         let curvature = at
             .checked_mul(&at.checked_mul(&ps)?)?
@@ -186,7 +349,7 @@ impl SensorCondition {
             _ => None,
         };
         Ok(Self {
-            neg_a: Mat::from_fn(plant.n(), plant.n(), |i, j| -plant.a()[(i, j)]),
+            neg_a: data.a.scale(Interval::point(-1.0)?),
             q,
             p: ps,
             p_next,
@@ -205,13 +368,8 @@ impl SensorCondition {
     /// # Errors
     /// `P_Γ − μI` not proven positive definite (then (48) fails at every τ: it is a principal
     /// block of `Ξ_σ(τ) − μI`) or without a verified inverse, or a failing kernel.
-    fn shifted(
-        plant: &RoundRobinPlant,
-        p: &[Mat<f64>],
-        sigma: usize,
-        mu: f64,
-    ) -> Result<Self, Error> {
-        let mut c = Self::new(plant, p, sigma)?;
+    fn shifted(data: &ProofData, sigma: usize, mu: f64) -> Result<Self, Error> {
+        let mut c = Self::new(data, sigma)?;
         let n = c.p_next.nrows();
         let shifted = c
             .p_next
@@ -272,7 +430,7 @@ impl SensorCondition {
         if let Some(eq) = self.eq_cache.get(&tau.to_bits()) {
             return Ok(eq.clone());
         }
-        let e = expm_enclosure(self.neg_a.as_ref(), tau, tau, &one_piece())?.enclosure;
+        let e = expm_enclosure_interval(&self.neg_a, tau, tau, &one_piece())?.enclosure;
         let eq = e.checked_mul(&self.q)?;
         self.eq_cache.insert(tau.to_bits(), eq.clone());
         Ok(eq)
@@ -310,7 +468,7 @@ impl SensorCondition {
         if self.r() == 0 {
             return Ok((0.0, 0.0));
         }
-        let e = expm_enclosure(self.neg_a.as_ref(), a, b, &one_piece())?.enclosure;
+        let e = expm_enclosure_interval(&self.neg_a, a, b, &one_piece())?.enclosure;
         let eq = e.checked_mul(&self.q)?;
         let d2 = eq
             .transpose()
@@ -400,7 +558,7 @@ impl SensorCondition {
             return Ok(None);
         };
         let h = Interval::point(b)? - Interval::point(a)?;
-        let hull = expm_enclosure(self.neg_a.as_ref(), 0.0, h.hi(), &one_piece())?.enclosure;
+        let hull = expm_enclosure_interval(&self.neg_a, 0.0, h.hi(), &one_piece())?.enclosure;
         let g = hull.checked_mul(&ga)?;
         let d2 = g
             .transpose()
@@ -522,6 +680,8 @@ pub(crate) fn gain_mismatch(
     gains: &[Gain],
 ) -> Result<Option<(usize, f64, Mat<f64>, f64)>, Error> {
     let schedule = GainSchedule::new(plant.clone(), p.to_vec())?;
+    // Set up at the first deviation above the tolerance.
+    let mut alternative: Option<Option<LawInCertificateCoordinates>> = None;
     let mut worst: Option<(usize, f64, Mat<f64>, f64)> = None;
     for (s, sensor) in plant.sensors().iter().enumerate() {
         let name = format!("K_{}", s + 1);
@@ -568,9 +728,19 @@ pub(crate) fn gain_mismatch(
                     sensor.outputs()
                 )));
             }
-            let law = schedule.gain(s, tau)?;
-            let dev = (&k - &law).norm_max() / law.norm_max().max(f64::MIN_POSITIVE);
-            let dev = if dev.is_nan() { f64::INFINITY } else { dev };
+            let deviation = |law: &Mat<f64>| {
+                let dev = (&k - law).norm_max() / law.norm_max().max(f64::MIN_POSITIVE);
+                if dev.is_nan() { f64::INFINITY } else { dev }
+            };
+            let mut dev = deviation(&schedule.gain(s, tau)?);
+            if dev > GAIN_TOLERANCE
+                && let Some(law) = alternative
+                    .get_or_insert_with(|| LawInCertificateCoordinates::new(plant, p))
+                    .as_ref()
+                    .and_then(|l| l.gain(s, tau))
+            {
+                dev = dev.min(deviation(&law));
+            }
             if dev > GAIN_TOLERANCE && !inside {
                 return Err(Error::invalid(format!(
                     "gain {name} listed at τ = {} (outside the window {w}) is not (45) of the \
@@ -684,41 +854,46 @@ pub fn prove_design(
         proof.seconds = start.elapsed().as_secs_f64();
         return Ok(proof);
     }
-    let mut scale = 0.0f64;
-    for pk in p {
-        scale = scale.max(lambda_max_enclosure(&point(pk)?)?.hi());
-    }
-    if !(scale > 0.0 && scale.is_finite()) {
+    let Some(parts) = ProofData::point(plant, p)?.prove(plant, options)? else {
         return Ok(Proof::not_attempted(
             ProofStatus::NotProved,
             "the certificate has no positive finite largest eigenvalue",
         ));
-    }
-    let mut parts: Vec<WindowProof> = Vec::with_capacity(plant.num_sensors());
-    for (s, sensor) in plant.sensors().iter().enumerate() {
-        let mut cond = SensorCondition::new(plant, p, s)?;
-        let w = sensor.window();
-        let part = prove_on_window(
-            &format!("(44), sensor {}", s + 1),
-            w.t1(),
-            w.t2(),
-            INITIAL_PIECES,
-            options,
-            &mut |a, b| cond.check(a, b, scale),
-        )?;
-        let stop = part.status != ProofStatus::Proved;
-        parts.push(part);
-        if stop {
-            break;
-        }
-    }
-    Ok(combine(
-        condition,
+    };
+    let proof = combine(
+        condition.clone(),
         how,
         definition,
         parts,
         start.elapsed().as_secs_f64(),
-    ))
+    );
+    // Undecided in the plant's coordinates (an ill-conditioned certificate, e.g. one designed in
+    // the Gramian normal form and mapped back, whose Ξ_σ(τ) has entries far above its λ_min
+    // there): the same condition in the certificate's own coordinates, with the change of
+    // coordinates enclosed. A proof there replaces the undecided one; a refutation stands.
+    if proof.status != ProofStatus::Inconclusive {
+        return Ok(proof);
+    }
+    if let Some(data) = ProofData::in_certificate_coordinates(plant, p)?
+        && let Some(parts) = data.prove(plant, options)?
+        && parts.iter().all(|w| w.status == ProofStatus::Proved)
+    {
+        return Ok(combine(
+            condition,
+            format!(
+                "{how}; in the coordinates x' = Rx of the certificate (RᵀR = Σ_σ P_σ/‖P_σ‖_max, \
+                 Cholesky), with A' ∋ RAR⁻¹, C'_σ ∋ C_σR⁻¹ and P'_σ ∋ R⁻ᵀP_σR⁻¹ enclosed through \
+                 a verified inverse of R (Ξ'_σ(τ) is a congruence of Ξ_σ(τ)), because the proof \
+                 in the plant's coordinates was inconclusive"
+            ),
+            "rigorous lower bound of min_σ min_τ λ_min(Ξ'_σ(τ)) over the whole windows, divided \
+             by a rigorous upper bound of max_σ λ_max(P'_σ), in the coordinates x' = Rx of the \
+             certificate",
+            parts,
+            start.elapsed().as_secs_f64(),
+        ));
+    }
+    Ok(proof)
 }
 
 /// The condition (44) of one sensor for fixed Lyapunov matrices, enclosed at single `τ` as the
@@ -736,7 +911,10 @@ impl XiDecisive {
         p: &[Mat<f64>],
         sigma: usize,
     ) -> Result<Self, Error> {
-        Ok(Self(SensorCondition::new(plant, p, sigma)?))
+        Ok(Self(SensorCondition::new(
+            &ProofData::point(plant, p)?,
+            sigma,
+        )?))
     }
 
     /// Encloses `λ_max(−Ξ_σ(τ))`: a lower end ≥ 0 shows that `Ξ_σ(τ)` is not positive definite,
@@ -771,7 +949,7 @@ pub(crate) fn prove_validation(
     mu: f64,
     max_pieces: usize,
 ) -> Result<WindowProof, Error> {
-    let mut cond = SensorCondition::shifted(plant, p, sigma, mu)?;
+    let mut cond = SensorCondition::shifted(&ProofData::point(plant, p)?, sigma, mu)?;
     let w = plant.sensor(sigma)?.window();
     let options = ProofOptions {
         max_pieces,

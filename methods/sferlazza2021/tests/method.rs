@@ -3,6 +3,7 @@
 
 use faer::mat;
 use sporadic_linalg::balance::{balancing_scales, unbalance_form, unbalance_gain};
+use sporadic_model::{ProofOptions, ProofStatus, prove_within};
 use sporadic_sferlazza2021::example::{QuarterCar, WINDOWS};
 use sporadic_sferlazza2021::normalise::balanced_plant;
 use sporadic_sferlazza2021::{
@@ -241,7 +242,7 @@ fn former_search(m: &Sferlazza2021, plant: &Plant, sampling: &Sampling, limit: f
 }
 
 #[test]
-fn largest_window_brackets_the_former_answer() {
+fn largest_window_reaches_past_the_balanced_search() {
     let (plant, sampling) = suspension();
     let m = fast();
     let limit = 2.0;
@@ -256,29 +257,45 @@ fn largest_window_brackets_the_former_answer() {
         )
         .unwrap();
     assert_eq!(r.status, Status::Certified);
-    // The bracket is resolved; its failing end (T2 ≈ 1.40) is the §5.3 loop stalling with its
-    // worst τ already in the synthesis set (`solver_inconclusive`), not a verdict of the
-    // method: the search says `undecided`, and the largest certified T2 is a lower bound.
-    assert_eq!(r.search_end, Some(SearchEnd::Undecided));
+    // The failing end (T2 ≈ 1.59) is the §5.3 loop stalling with its worst τ already in the
+    // synthesis set (`solver_inconclusive`) or running out of its 50 iterations, in both forms,
+    // not a verdict of the method: the search says `undecided` (or, where the stalling loops
+    // use up the time budget, `budget_exhausted`), and the largest certified T2 is a lower
+    // bound.
+    assert!(
+        matches!(
+            r.search_end,
+            Some(SearchEnd::Undecided | SearchEnd::BudgetExhausted)
+        ),
+        "{:?}",
+        r.search_end
+    );
     assert!(matches!(
         r.first_failure_reason(),
-        Some(Reason::SolverInconclusive { .. })
+        Some(Reason::SolverInconclusive { .. } | Reason::BudgetExhausted { .. })
     ));
-    let (best, fail) = (r.largest_certified_t2.unwrap(), r.first_failing_t2.unwrap());
-    assert!(fail / best - 1.0 <= 1e-2 + 1e-12 && probes == r.probes.len());
+    let best = r.largest_certified_t2.unwrap();
+    if r.search_end == Some(SearchEnd::Undecided) {
+        let fail = r.first_failing_t2.unwrap();
+        assert!(fail / best - 1.0 <= 1e-2 + 1e-12);
+    }
+    assert_eq!(probes, r.probes.len());
     let (lo, hi) = former_search(&m, &plant, &sampling, limit);
     println!(
-        "new [{best}, {fail}] in {} probes, former [{lo}, {hi}]",
+        "new [{best}, {:?}] in {} probes, former [{lo}, {hi}]",
+        r.first_failing_t2,
         r.probes.len()
     );
-    // Both brackets contain the threshold: they overlap.
-    assert!(
-        best < hi && lo < fail,
-        "new [{best}, {fail}], former [{lo}, {hi}]"
-    );
+    // The former search designed in the balanced coordinates only, whose loop stalls near
+    // T2 = 1.40; the method also designs in the Gramian normal form, which certifies up to
+    // about 1.58. The search is not worse, and its largest certified design is proved over
+    // the continuum of τ in interval arithmetic.
+    assert!(lo <= best, "new {best}, former [{lo}, {hi}]");
     let d = r.design.unwrap();
     assert!(d.status.is_certified());
-    assert_eq!(d.windows.unwrap()[1], win(0.04, best));
+    assert_eq!(d.windows.clone().unwrap()[1], win(0.04, best));
+    let proof = prove_within(&m, &plant, &d, &ProofOptions::default()).unwrap();
+    assert_eq!(proof.status, ProofStatus::Proved, "{}", proof.message);
 }
 
 #[test]
