@@ -6,7 +6,8 @@ use faer::linalg::solvers::DenseSolveCore;
 use faer::{Mat, mat};
 use proptest::prelude::*;
 use sporadic_interval::{
-    EnclosureOptions, IntervalError, IntervalMatrix, expm_enclosure, expm_interval,
+    EnclosureOptions, IntervalError, IntervalMatrix, expm_enclosure, expm_enclosure_interval,
+    expm_interval,
 };
 
 struct RefCase {
@@ -344,5 +345,38 @@ proptest! {
         let r = expm_enclosure(a.as_ref(), tau, tau, &EnclosureOptions::default()).unwrap();
         prop_assert!(r.enclosure.contains_point(expm_dd(&a, tau).as_ref()));
         prop_assert!(r.rel_width < 1e-3, "rel width {}", r.rel_width);
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(300))]
+
+    /// `expm_enclosure_interval` contains `e^{Aτ}` of members of an interval matrix (its
+    /// midpoint and corners, by the double-double exponential) over a window, and on a point
+    /// matrix it is `expm_enclosure` itself.
+    #[test]
+    fn interval_matrices_are_enclosed_for_every_member(
+        entries in proptest::collection::vec(-3.0f64..3.0, 9),
+        corner in proptest::collection::vec(-1.0f64..1.0, 9),
+        rel in 1e-9f64..1e-4,
+        (t0, len) in (0.0f64..1.0, 0.0f64..0.5),
+    ) {
+        let mid = Mat::from_fn(3, 3, |i, j| entries[3 * i + j]);
+        let rad = Mat::from_fn(3, 3, |i, j| rel * (1.0 + entries[3 * i + j].abs()));
+        let a = IntervalMatrix::from_mid_rad(mid.clone(), rad.clone()).unwrap();
+        let options = EnclosureOptions::default();
+        let e = expm_enclosure_interval(&a, t0, t0 + len, &options).unwrap();
+        let member = Mat::from_fn(3, 3, |i, j| mid[(i, j)] + corner[3 * i + j] * rad[(i, j)]);
+        for tau in [t0, t0 + 0.5 * len, t0 + len] {
+            for m in [&mid, &member] {
+                let x = expm_dd(m, tau);
+                prop_assert!(e.enclosure.contains_point(x.as_ref()), "τ = {tau}");
+            }
+        }
+        let point = IntervalMatrix::from_point(mid.as_ref()).unwrap();
+        prop_assert_eq!(
+            expm_enclosure_interval(&point, t0, t0 + len, &options).unwrap(),
+            expm_enclosure(mid.as_ref(), t0, t0 + len, &options).unwrap()
+        );
     }
 }

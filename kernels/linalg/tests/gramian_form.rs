@@ -17,7 +17,7 @@ fn in_form(a: &Mat<f64>, c: &Mat<f64>, unit: f64) -> Option<(Mat<f64>, Mat<f64>,
 }
 
 fn plant() -> impl Strategy<Value = (Mat<f64>, Mat<f64>)> {
-    (2usize..5, 1usize..2).prop_flat_map(|(n, q)| {
+    (2usize..5, 1usize..4).prop_flat_map(|(n, q)| {
         (
             proptest::collection::vec(-2.0f64..2.0, n * n),
             proptest::collection::vec(0.2f64..2.0, n * q),
@@ -49,27 +49,27 @@ fn coordinates(n: usize) -> impl Strategy<Value = Mat<f64>> {
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(200))]
 
-    /// In the form the Gramian of the pair on one time unit is the identity, and the pair (one
-    /// output: with two, the output-share balancing did not always reach the same fixed point
-    /// for outputs in other units, a case left open) is the
+    /// In the form the Gramian of the pair on one time unit is the identity, and the pair (one to
+    /// three outputs) is the
     /// same, up to an orthogonal change of coordinates, for the plant in coordinates
     /// `x = Tz` with outputs in other units: `Q = G₂(G₁T)⁻¹` is orthogonal up to a scalar and
     /// the forms' `A` and `C` agree through it.
     #[test]
     fn the_form_is_canonical(
-        (a, c) in plant(),
-        t in (2usize..5).prop_flat_map(coordinates),
+        ((a, c), t) in plant().prop_flat_map(|(a, c)| {
+            let n = a.nrows();
+            (Just((a, c)), coordinates(n))
+        }),
         units in proptest::collection::vec(-3i32..4, 2),
     ) {
         let n = a.nrows();
-        prop_assume!(t.nrows() == n);
         let unit = 0.7;
         // Observable pairs: an unobservable one has no form, or (its Gramian floored at 1e-10
         // of its largest eigenvalue in every pass) one whose Gramian is not the identity.
         let w0 = gramian_integral((&a * faer::Scale(unit)).as_ref(), (c.transpose() * &c).as_ref(), 1.0)
             .unwrap();
         let ev = w0.self_adjoint_eigenvalues(faer::Side::Lower).unwrap();
-        prop_assume!(ev[0] > 1e-6 * ev[n - 1]);
+        prop_assume!(ev[0] > 1e-4 * ev[n - 1]);
         let form = in_form(&a, &c, unit);
         prop_assume!(form.is_some());
         let (a1, c1, g1) = form.unwrap();
@@ -89,9 +89,9 @@ proptest! {
         let scale = (q.norm_l2().powi(2) / n as f64).sqrt();
         let q = &q * faer::Scale(1.0 / scale);
         let orth = (q.transpose() * &q - Mat::<f64>::identity(n, n)).norm_l2();
-        prop_assert!(orth < 1e-5, "‖QᵀQ − I‖_F = {orth:e}");
+        prop_assert!(orth < 1e-6, "‖QᵀQ − I‖_F = {orth:e}");
         let da = (&q * &a1 * q.transpose() - &a2).norm_l2() / a1.norm_l2();
         let dc = (&c1 * q.transpose() - &c2).norm_l2() / c1.norm_l2();
-        prop_assert!(da < 1e-5 && dc < 1e-5, "A: {da:e}, C: {dc:e}");
+        prop_assert!(da < 1e-6 && dc < 1e-6, "A: {da:e}, C: {dc:e}");
     }
 }

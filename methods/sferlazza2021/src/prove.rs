@@ -349,7 +349,8 @@ impl SensorCondition {
             _ => None,
         };
         Ok(Self {
-            neg_a: data.a.scale(Interval::point(-1.0)?),
+            // Negated exactly (`scale` by −1 would add a rounding radius to every entry).
+            neg_a: IntervalMatrix::from_mid_rad(-data.a.mid().to_owned(), data.a.rad().to_owned())?,
             q,
             p: ps,
             p_next,
