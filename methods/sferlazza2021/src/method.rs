@@ -262,7 +262,11 @@ impl ObserverMethod for Sferlazza2021 {
         Ok(())
     }
 
-    /// The §5.3 loop ([`design_screened`] without the coarse screen) in balanced coordinates.
+    /// The §5.3 loop ([`design_screened`] without the coarse screen) in the balanced
+    /// coordinates of the plant and in its Gramian normal form ([`crate::normalise`]): first in
+    /// the one whose `A` has the smaller Frobenius norm, within half the remaining time budget,
+    /// then in the other where the first does not certify; Proposition 1 failing in the balanced
+    /// coordinates is final.
     /// Its validation (48) first tries a proof for every `τ` of each window where the (49)
     /// grid is large (at most [`SEARCH_PROOF_PIECES`] pieces unless
     /// [`DesignOptions::proof_pieces`] says otherwise; `Some(0)` turns it off), which implies
@@ -764,14 +768,8 @@ impl Sferlazza2021 {
         ps: &[Mat<f64>],
         gains: &[Gain],
     ) -> Result<DesignReport, Error> {
-        let failed = |tau: Option<f64>, message: String| {
-            DesignReport::without_design(
-                self,
-                plant.name(),
-                Some(sampling),
-                Reason::VerificationFailed { tau, message },
-            )
-        };
+        let failed =
+            |tau: Option<f64>, message: String| self.refused(plant, sampling, tau, message);
         let mut lo = f64::INFINITY;
         for p in ps {
             lo = lo.min(sporadic_linalg::min_eigenvalue(p.as_ref())?);
@@ -816,6 +814,22 @@ impl Sferlazza2021 {
         first
     }
 
+    /// The report of a verification that failed (at `tau`, when known).
+    fn refused(
+        &self,
+        plant: &Plant,
+        sampling: &Sampling,
+        tau: Option<f64>,
+        message: String,
+    ) -> DesignReport {
+        DesignReport::without_design(
+            self,
+            plant.name(),
+            Some(sampling),
+            Reason::VerificationFailed { tau, message },
+        )
+    }
+
     /// The check (48) of [`Self::verify_certificate`] in `coordinates`.
     fn verify_in(
         &self,
@@ -827,14 +841,8 @@ impl Sferlazza2021 {
         coordinates: &Coordinates,
     ) -> Result<DesignReport, Error> {
         let mu = self.design.mu;
-        let failed = |tau: Option<f64>, message: String| {
-            DesignReport::without_design(
-                self,
-                plant.name(),
-                Some(sampling),
-                Reason::VerificationFailed { tau, message },
-            )
-        };
+        let failed =
+            |tau: Option<f64>, message: String| self.refused(plant, sampling, tau, message);
         let rr_b = coordinates.plant(rr)?;
         let ps_b: Vec<Mat<f64>> = ps.iter().map(|p| coordinates.form_to(p.as_ref())).collect();
         let rr = &rr_b;
@@ -1024,7 +1032,9 @@ impl Sferlazza2021 {
         report.notes.push(
             "verification of given gains and certificate (no design): Step 1, the validation \
             (48) on the grid (49) or proven over the window in its place (in the balanced \
-            coordinates of the design), and the gain law (45) (in the coordinates given)"
+            coordinates of the plant, or where they do not certify, in the certificate's own \
+            coordinates: see the checks), and the gain law (45) (in the coordinates given, or \
+            in the certificate's where it deviates in them)"
                 .into(),
         );
         Ok(report)

@@ -190,10 +190,7 @@ impl Coordinates {
     pub fn form_back(&self, p: MatRef<'_, f64>) -> Mat<f64> {
         match self {
             Self::Balanced(d) => unbalance_form(p, d),
-            Self::Gramian { state, .. } | Self::Certificate { state, .. } => {
-                let x = state.transpose() * p * state;
-                Mat::from_fn(x.nrows(), x.ncols(), |i, j| 0.5 * (x[(i, j)] + x[(j, i)]))
-            }
+            Self::Gramian { state, .. } | Self::Certificate { state, .. } => congruence(state, p),
         }
     }
 
@@ -203,8 +200,7 @@ impl Coordinates {
         match self {
             Self::Balanced(d) => balance_form(p, d),
             Self::Gramian { state_inverse, .. } | Self::Certificate { state_inverse, .. } => {
-                let x = state_inverse.transpose() * p * state_inverse;
-                Mat::from_fn(x.nrows(), x.ncols(), |i, j| 0.5 * (x[(i, j)] + x[(j, i)]))
+                congruence(state_inverse, p)
             }
         }
     }
@@ -218,4 +214,10 @@ impl Coordinates {
             }
         }
     }
+}
+
+/// `XᵀPX`, symmetrised (the product is symmetric only up to rounding).
+pub(crate) fn congruence(x: &Mat<f64>, p: MatRef<'_, f64>) -> Mat<f64> {
+    let y = x.transpose() * p * x;
+    Mat::from_fn(y.nrows(), y.ncols(), |i, j| 0.5 * (y[(i, j)] + y[(j, i)]))
 }

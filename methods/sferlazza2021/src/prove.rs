@@ -41,7 +41,12 @@
 //!   design's margin (scale-free: (44) is homogeneous in the `P_σ`).
 //!
 //! The proof runs on the plant as the user gave it (the report's gains and certificate are in
-//! the user's coordinates).
+//! the user's coordinates). Where it is inconclusive there — a certificate far from the identity
+//! in those coordinates, e.g. one designed in the Gramian normal form and mapped back, whose
+//! `Ξ_σ(τ)` has entries far above its `λ_min` — it is made again in the certificate's own
+//! coordinates `x' = Rx`, `RᵀR = Σ_σ P_σ/‖P_σ‖_max`, with the transformed data enclosed through
+//! a verified inverse of `R` (`ProofData`): still a proof about the plant as given, since
+//! `Ξ'_σ(τ)` is a congruence of `Ξ_σ(τ)`.
 //!
 //! * **Long windows.** `QᵀΦ_σ(τ)Q` grows like `‖e^{−Aτ}‖²` while `λ_min(Ξ_σ)` stays of the
 //!   order of `P_Γ`, so the absolute remainder `ρ` needs pieces shrinking like
@@ -264,10 +269,7 @@ impl LawInCertificateCoordinates {
         let in_r = RoundRobinPlant::new(a.as_ref(), &sensors).ok()?;
         let ps = p
             .iter()
-            .map(|pk| {
-                let x = r_inv.transpose() * pk * &r_inv;
-                Mat::from_fn(x.nrows(), x.ncols(), |i, j| 0.5 * (x[(i, j)] + x[(j, i)]))
-            })
+            .map(|pk| crate::normalise::congruence(&r_inv, pk.as_ref()))
             .collect::<Vec<_>>();
         let schedule = GainSchedule::new(in_r, ps).ok()?;
         Some(Self { schedule, r_inv })
