@@ -39,7 +39,7 @@
 //!   change;
 //! * **outputs** (several outputs, Gramian form): `S = diag(s_k)` such that every output carries
 //!   the same share `tr(s_k²W_k W⁻¹) = n/q` of the Gramian `W = Σ s_k²W_k` (a fixed point reached
-//!   by Newton steps with a budget, `sporadic_linalg::gramian_form`; the shares are similarity-invariant, and the
+//!   by a multiplicative iteration with a budget, `sporadic_linalg::gramian_form`; the shares are similarity-invariant, and the
 //!   fixed point does not depend on the output units);
 //! * [`Coordinates::Diagonal`]: exact power-of-two state scalings from the observability
 //!   matrix `[C; CA₁; …; CA₁^{n−1}]` (unit columns after `x' = Dx`), then output scalings giving
