@@ -46,18 +46,12 @@ use sporadic_linalg::gramian_form::gramian_form;
 /// # Errors
 /// Those of [`RoundRobinPlant::new`].
 pub fn balanced_plant(plant: &RoundRobinPlant, d: &[f64]) -> Result<RoundRobinPlant, Error> {
-    let a = balance_a(plant.a(), d);
     let cs: Vec<Mat<f64>> = plant
         .sensors()
         .iter()
         .map(|s| balance_c(s.c(), d))
         .collect();
-    let sensors: Vec<_> = cs
-        .iter()
-        .zip(plant.sensors())
-        .map(|(c, s)| (c.as_ref(), s.window()))
-        .collect();
-    RoundRobinPlant::new(a.as_ref(), &sensors)
+    plant.with_matrices(balance_a(plant.a(), d).as_ref(), &cs)
 }
 
 /// The coordinates a design is made in: the plant's own after a diagonal balancing, or the
@@ -169,18 +163,12 @@ impl Coordinates {
                 state,
                 state_inverse,
             } => {
-                let a = state * plant.a() * state_inverse;
                 let cs: Vec<Mat<f64>> = plant
                     .sensors()
                     .iter()
                     .map(|s| s.c() * state_inverse)
                     .collect();
-                let sensors: Vec<_> = cs
-                    .iter()
-                    .zip(plant.sensors())
-                    .map(|(c, s)| (c.as_ref(), s.window()))
-                    .collect();
-                RoundRobinPlant::new(a.as_ref(), &sensors)
+                plant.with_matrices((state * plant.a() * state_inverse).as_ref(), &cs)
             }
         }
     }

@@ -232,6 +232,23 @@ impl RoundRobinPlant {
     pub fn is_jitter_free(&self) -> bool {
         self.sensors.iter().all(|s| s.window.is_periodic())
     }
+    /// The same windows with other matrices: `A` and one `C_σ` per sensor (the plant in other
+    /// state coordinates), orthonormal complements computed afresh.
+    ///
+    /// # Errors
+    /// Those of [`RoundRobinPlant::new`], or a number of `C_σ` other than `N`.
+    pub fn with_matrices(&self, a: MatRef<'_, f64>, cs: &[Mat<f64>]) -> Result<Self, Error> {
+        if cs.len() != self.num_sensors() {
+            return Err(InputError::mismatch("number of C_σ", self.num_sensors(), cs.len()).into());
+        }
+        let sensors: Vec<_> = cs
+            .iter()
+            .zip(&self.sensors)
+            .map(|(c, s)| (c.as_ref(), s.window))
+            .collect();
+        Self::new(a, &sensors)
+    }
+
     /// The same sensors with other windows (e.g. a jitter-free instance `T_σ` inside each window).
     ///
     /// # Errors

@@ -78,6 +78,7 @@ use sporadic_model::{
 
 use crate::error::{Error, sig4};
 use crate::gain::GainSchedule;
+use crate::normalise::Coordinates;
 use crate::plant::RoundRobinPlant;
 
 /// Pieces each window starts with (the driver bisects where the margin is thin).
@@ -251,33 +252,20 @@ pub(crate) fn certificate_root(p: &[Mat<f64>]) -> Option<Mat<f64>> {
 /// evaluated there loses about `u·κ(P_σ)` of relative accuracy, in these about `u·κ(R)`.
 struct LawInCertificateCoordinates {
     schedule: GainSchedule,
-    r_inv: Mat<f64>,
+    own: Coordinates,
 }
 
 impl LawInCertificateCoordinates {
     fn new(plant: &RoundRobinPlant, p: &[Mat<f64>]) -> Option<Self> {
-        use faer::linalg::solvers::DenseSolveCore;
-        let r = certificate_root(p)?;
-        let r_inv = r.partial_piv_lu().inverse();
-        let a = &r * plant.a() * &r_inv;
-        let cs: Vec<Mat<f64>> = plant.sensors().iter().map(|s| s.c() * &r_inv).collect();
-        let sensors: Vec<_> = cs
-            .iter()
-            .zip(plant.sensors())
-            .map(|(c, s)| (c.as_ref(), s.window()))
-            .collect();
-        let in_r = RoundRobinPlant::new(a.as_ref(), &sensors).ok()?;
-        let ps = p
-            .iter()
-            .map(|pk| crate::normalise::congruence(&r_inv, pk.as_ref()))
-            .collect::<Vec<_>>();
-        let schedule = GainSchedule::new(in_r, ps).ok()?;
-        Some(Self { schedule, r_inv })
+        let own = Coordinates::of_certificate(p)?;
+        let ps = p.iter().map(|pk| own.form_to(pk.as_ref())).collect();
+        let schedule = GainSchedule::new(own.plant(plant).ok()?, ps).ok()?;
+        Some(Self { schedule, own })
     }
 
     fn gain(&self, sigma: usize, tau: f64) -> Option<Mat<f64>> {
         let k = self.schedule.gain(sigma, tau).ok()?;
-        Some(&self.r_inv * k)
+        Some(self.own.gain_back(k.as_ref()))
     }
 }
 
