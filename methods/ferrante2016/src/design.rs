@@ -511,11 +511,15 @@ pub(crate) fn design_cached(
     // two-wheeled robot refused at [0.002, 1.4] s as `infeasible_lmi` was `solver_inconclusive`
     // at [2, 1400] ms, and a window search in milliseconds reported a margin threshold of 6.9
     // for its failing probe, 3.4e-4 in seconds, beside certified margins of 1e-9).
-    // Only an infeasibility of the Gramian form replaces an infeasible or inconclusive solve of
-    // the data as given (a precision-limit or verification verdict of the data is kept, and so
-    // is every verdict when the time budget ran out, whose failures say nothing of the form);
-    // the refinement (`crate::refine`) then runs exactly where it ran before.
-    if let (Err(e), Some(f @ Error::Infeasible { .. })) = (&result, gramian_failure)
+    // An infeasible or inconclusive solve of the Gramian form replaces an infeasible or
+    // inconclusive solve of the data as given (a precision-limit or verification verdict of the
+    // data is kept, and so is every verdict when the time budget ran out, whose failures say
+    // nothing of the form); the refinement (`crate::refine`) then runs exactly where it ran
+    // before. (The same robot at [0.002, 1.4] s and [2, 1400] ms: the Gramian form's solve ends
+    // `almost_optimal` with its margin undecided in both units, while the data as given were
+    // `infeasible_lmi` in seconds and `solver_inconclusive` in milliseconds.)
+    if let (Err(e), Some(f @ (Error::Infeasible { .. } | Error::Inconclusive { .. }))) =
+        (&result, gramian_failure)
         && matches!(e, Error::Infeasible { .. } | Error::Inconclusive { .. })
         && !sporadic_sdp::budget::exhausted()
     {
@@ -583,16 +587,19 @@ pub(crate) fn design_cached(
     result
 }
 
-/// `e` (an infeasibility of LMI (41) in the Gramian normal form) with its message saying so:
-/// its margin and threshold are those of that form, not of the data as given.
+/// `e` (an infeasible or inconclusive solve of LMI (41) in the Gramian normal form) with its
+/// message saying so: its margin, threshold and solver status are those of that form, not of
+/// the data as given.
 fn in_gramian_form(e: Error) -> Error {
+    const FORM: &str = "(LMI (41) in the Gramian normal form of the problem, the form that does \
+                        not depend on units or coordinates)";
     match e {
         Error::Infeasible { margin, reason } => Error::Infeasible {
             margin,
-            reason: format!(
-                "{reason} (LMI (41) in the Gramian normal form of the problem, the form that \
-                 does not depend on units or coordinates)"
-            ),
+            reason: format!("{reason} {FORM}"),
+        },
+        Error::Inconclusive { reason } => Error::Inconclusive {
+            reason: format!("{reason} {FORM}"),
         },
         e => e,
     }

@@ -38,9 +38,10 @@
 //!   only. Under `y → cy` the Gramian is multiplied by `c²` and `G` by `c`: `C₁G⁻¹` does not
 //!   change;
 //! * **outputs** (several outputs, Gramian form): `S = diag(s_k)` such that every output carries
-//!   the same share `tr(s_k²W_k W⁻¹) = n/q` of the Gramian `W = Σ s_k²W_k` (a fixed point reached
-//!   by a multiplicative iteration with a budget, `sporadic_linalg::gramian_form`; the shares are similarity-invariant, and the
-//!   fixed point does not depend on the output units);
+//!   the same share `tr(s_k²W_k W⁻¹) = n/q` of the Gramian `W = Σ s_k²W_k` (the minimiser of a
+//!   convex function, reached by Newton's method with a budget, `sporadic_linalg::gramian_form`;
+//!   the shares are similarity-invariant, and the minimiser does not depend on the output
+//!   units);
 //! * [`Coordinates::Diagonal`]: exact power-of-two state scalings from the observability
 //!   matrix `[C; CA₁; …; CA₁^{n−1}]` (unit columns after `x' = Dx`), then output scalings giving
 //!   each row of `SCD⁻¹` the largest entry one (exactly, so that the form does not depend on the
