@@ -802,13 +802,10 @@ fn attempt(
         });
     }
     // The problem as given is solved in the form of the options (by default (41) as printed,
-    // the paper's construction), whatever its output units; a normal form, which is not in the
-    // paper, in the equivalent reduced form (vertex-wise Schur complement, order 2n, or 3n with
-    // a remainder, instead of 3n or 4n; see `crate::lmi`), which has the same feasible set and
-    // costs a fraction. (The given problem with outputs rescaled to unit rows was solved in the
-    // reduced form: a kite whose rows of `C` are 1 was certified up to T2 = 2.763, the same
-    // kite with its outputs in mm and µrad up to 2.839.)
-    let form = if scaling.coordinates == normalise::Coordinates::Given {
+    // the paper's construction); a normal form, which is not in the paper, in the equivalent
+    // reduced form (vertex-wise Schur complement, order 2n, or 3n with a remainder, instead of
+    // 3n or 4n; see `crate::lmi`), which has the same feasible set and costs a fraction.
+    let form = if scaling.is_identity() {
         options.form
     } else {
         LmiForm::Reduced

@@ -681,16 +681,13 @@ fn robot_milliseconds() -> ModelPlant {
 /// used, the Gramian form's first: both units end at the same `T2`. That needs Gramian forms of
 /// the two units that agree far better than the LMI margins there (`~10⁻⁹`): with Newton's
 /// output balancing and the form's passes stopped at `10⁻⁶` from the identity, the forms were
-/// `10⁻⁷` apart and the searches ended at 1.2260 s and 1218.4 ms. Within 1 %, not exactly: the
-/// problem as given (LMI (41) as printed, in the user's coordinates) is not invariant under the
-/// change to ms and mrad, and in those coordinates it certifies up to 1233.7 ms, past the normal
-/// forms' 1226.0 (in seconds the forms decide: 1.2260).
+/// `10⁻⁷` apart and the searches ended at 1.2260 s and 1218.4 ms.
 #[test]
 fn a_two_wheeled_robot_keeps_its_largest_window_in_milliseconds() {
     let s = largest(&robot_seconds(), 0.002, 10.0);
     let ms = largest(&robot_milliseconds(), 2.0, 10000.0);
     assert!(s > 1.2 && ms > 1200.0, "{s} s, {ms} ms");
-    assert!((1000.0 * s - ms).abs() <= 0.01 * ms, "{s} s, {ms} ms");
+    assert!((1000.0 * s - ms).abs() <= 0.005 * ms, "{s} s, {ms} ms");
 }
 
 /// The robot of the test above: a window past its largest `T2` is refused in seconds and in
@@ -814,34 +811,4 @@ fn the_cart_pole_keeps_a_long_window_in_other_coordinates() {
     let (g, o) = (largest(&cart_pole(), 0.02, 5.0), largest(&other, 0.02, 5.0));
     assert!(g > 1.8 && o > 1.8, "{g} {o}");
     assert!((g - o).abs() <= 0.1 * g.max(o), "{g} {o}");
-}
-
-/// A kite written for issue 22: sway (slowly divergent) and roll (divergent at 2 rad/s), both
-/// measured, with the outputs in m and rad and in mm and µrad. The problem as given was solved
-/// in LMI (41) as printed when the rows of `C` have largest entry 1 and in the reduced form
-/// otherwise (same feasible set, other numerics), so the largest window from `T1 = 0.01` was
-/// 2.763 as written and 2.839 in mm and µrad; both are now solved as printed.
-#[test]
-fn a_kite_keeps_its_largest_window_in_other_output_units() {
-    let a = mat![
-        [0.0, 1.0, 0.0, 0.0],
-        [0.0, 0.1, 0.5, 0.0],
-        [0.0, 0.0, 0.0, 1.0],
-        [0.0, 0.0, -4.0, 0.05]
-    ];
-    let written = largest(
-        &plant(a.clone(), mat![[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]]),
-        0.01,
-        10.0,
-    );
-    let other = largest(
-        &plant(a, mat![[1000.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1e6, 0.0]]),
-        0.01,
-        10.0,
-    );
-    assert!(written > 2.7, "{written}");
-    assert!(
-        (written - other).abs() <= 0.005 * written,
-        "{written} vs {other}"
-    );
 }
