@@ -27,6 +27,7 @@ use sporadic_sim::{
 
 use crate::ReproductionError as Error;
 use sporadic_ferrante2016::Error as MethodError;
+use sporadic_ferrante2016::LmiForm;
 use sporadic_ferrante2016::bounds::{BoundOptions, Theorem1Bound, Theorem2Bound, bound_constants};
 use sporadic_ferrante2016::design::{
     Analysis, Design, DesignOptions, TraceCertificate, analyse, design, min_trace_certificate,
@@ -149,7 +150,11 @@ fn example1_values(out_dir: &Path, rep: &mut Reproduction) -> Result<Example1Val
         ex.p.as_ref(),
         &BoundOptions::default(),
     )?;
-    let opts = DesignOptions::default();
+    // The paper's construction: LMI (41) as printed.
+    let opts = DesignOptions {
+        form: LmiForm::Corollary1,
+        ..DesignOptions::default()
+    };
     let mut lmi = Vec::new();
     for (label, gain) in [("0.7321", l), ("0.6", 0.6), ("1.4", 1.4)] {
         let a = analyse(&ex.plant, &ex.window, faer::mat![[gain]].as_ref(), &opts)?;
@@ -242,7 +247,11 @@ fn example1_values(out_dir: &Path, rep: &mut Reproduction) -> Result<Example1Val
 
 fn example2_values(out_dir: &Path, rep: &mut Reproduction) -> Result<Example2Values, Error> {
     let ex = example2()?;
-    let opts = DesignOptions::default();
+    // The paper's construction: LMI (41) as printed.
+    let opts = DesignOptions {
+        form: LmiForm::Corollary1,
+        ..DesignOptions::default()
+    };
     let d = match design(&ex.plant, &ex.window, &opts) {
         Ok(d) => Some(d),
         Err(MethodError::Infeasible { .. }) => None,

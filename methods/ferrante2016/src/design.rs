@@ -94,8 +94,10 @@ pub struct DesignOptions {
     /// Number of equal sub-intervals of `[T1, T2]` whose vertex sets are united (default 1 = the
     /// paper's construction; more pieces reduce conservatism at a linear cost in vertices).
     pub pieces: usize,
-    /// LMI imposed at each vertex: (41) as printed (default) or its equivalent reduced `2n × 2n`
-    /// form ([`LmiForm`]).
+    /// LMI imposed at each vertex: (41) as printed (the paper's construction, as its
+    /// reproduction uses) or its equivalent reduced `2n × 2n` form (default: the same feasible
+    /// set at a fraction of the cost; [`LmiForm`]). The problem as given is solved in this form
+    /// whatever its output units, the normal forms always in the reduced one.
     pub form: LmiForm,
     /// Margin problem: solver settings, verification safety factor, normalisation (default
     /// `‖·‖₂ ≤ 1` on every variable, margin cap 1; lossless since (41) is homogeneous).
@@ -157,7 +159,7 @@ impl Default for DesignOptions {
                 ..ResidueOptions::default()
             }),
             pieces: 1,
-            form: LmiForm::Corollary1,
+            form: LmiForm::Reduced,
             lmi: FeasibilityOptions::default(),
             verify: VerifyOptions::default(),
             detectability: DetectabilityOptions::default(),
@@ -801,11 +803,14 @@ fn attempt(
             reason,
         });
     }
-    // The problem as given is solved in the form of the options (by default (41) as printed,
-    // the paper's construction); a normal form, which is not in the paper, in the equivalent
-    // reduced form (vertex-wise Schur complement, order 2n, or 3n with a remainder, instead of
-    // 3n or 4n; see `crate::lmi`), which has the same feasible set and costs a fraction.
-    let form = if scaling.is_identity() {
+    // The problem as given is solved in the form of the options (by default the reduced form,
+    // vertex-wise Schur complement, order 2n, or 3n with a remainder, instead of 3n or 4n; see
+    // `crate::lmi`; it has the same feasible set and costs a fraction), whatever its output
+    // units; a normal form, which is not in the paper, in the reduced form. (The form of the
+    // given problem was (41) as printed when every row of `C` had largest entry 1 and the
+    // reduced one otherwise: a kite certified up to T2 = 2.763 with outputs in m and rad, 2.839
+    // in mm and µrad.)
+    let form = if scaling.coordinates == normalise::Coordinates::Given {
         options.form
     } else {
         LmiForm::Reduced

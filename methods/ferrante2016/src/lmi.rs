@@ -69,10 +69,10 @@ use crate::system::Plant;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum LmiForm {
     /// The `3n × 3n` LMI (41) of Corollary 1, as printed.
-    #[default]
     Corollary1,
     /// Its vertex-wise Schur complement, the `2n × 2n` form (39) at the vertices (same feasible set,
-    /// cheaper).
+    /// cheaper; the default).
+    #[default]
     Reduced,
 }
 

@@ -6,14 +6,22 @@ use approx::assert_relative_eq;
 use sporadic_embed::Containment;
 use sporadic_ferrante2016::examples::example2;
 use sporadic_ferrante2016::{
-    DesignOptions, VerifyOptions, analyse, check_bound, design, simulate_error, verify,
+    DesignOptions, LmiForm, VerifyOptions, analyse, check_bound, design, simulate_error, verify,
 };
 use sporadic_sim::{Periodic, SimOptions, SimRng, UniformRandom};
+
+/// The paper's construction: LMI (41) as printed (the library's default is its reduced form).
+fn paper() -> DesignOptions {
+    DesignOptions {
+        form: LmiForm::Corollary1,
+        ..DesignOptions::default()
+    }
+}
 
 #[test]
 fn design_is_feasible_and_verified() {
     let ex = example2().unwrap();
-    let d = design(&ex.plant, &ex.window, &DesignOptions::default()).unwrap();
+    let d = design(&ex.plant, &ex.window, &paper()).unwrap();
     // K = 5 coefficients, the λ = 0 one constant ⇒ 16 distinct vertices, 15×15 LMIs.
     assert_eq!(d.embedding.vertex_count(), 16);
     assert_eq!(d.embedding.containment(), &Containment::Guaranteed);
@@ -47,7 +55,7 @@ fn embedding_contains_the_exponential_curve() {
     // Reduced sample: e^{Av} ∈ co{X_i} for random v ∈ [0.2, 3] (the embedding is of the
     // normalised problem, whose time unit is `d.scaling.time`).
     let ex = example2().unwrap();
-    let d = design(&ex.plant, &ex.window, &DesignOptions::default()).unwrap();
+    let d = design(&ex.plant, &ex.window, &paper()).unwrap();
     let mut rng = SimRng::new(5);
     for _ in 0..200 {
         let v = rng.uniform(0.2, 3.0);
@@ -62,13 +70,7 @@ fn embedding_contains_the_exponential_curve() {
 fn paper_gain_is_certified() {
     // Reference value (±1e-4).
     let ex = example2().unwrap();
-    let a = analyse(
-        &ex.plant,
-        &ex.window,
-        ex.l_paper.as_ref(),
-        &DesignOptions::default(),
-    )
-    .unwrap();
+    let a = analyse(&ex.plant, &ex.window, ex.l_paper.as_ref(), &paper()).unwrap();
     assert!(a.certified, "{:?}", a.stats);
     let v = a.verification.unwrap();
     assert_eq!(v.grid_points, 2801);
@@ -128,7 +130,7 @@ fn simulated_error_converges_with_the_published_gain() {
 #[test]
 fn simulated_error_converges_with_our_gain_within_the_bound() {
     let ex = example2().unwrap();
-    let d = design(&ex.plant, &ex.window, &DesignOptions::default()).unwrap();
+    let d = design(&ex.plant, &ex.window, &paper()).unwrap();
     let k = sporadic_ferrante2016::bound_constants(
         &ex.plant,
         &ex.window,
@@ -163,12 +165,11 @@ fn simulated_error_converges_with_our_gain_within_the_bound() {
 #[test]
 fn taylor_and_split_embeddings_are_selectable() {
     use sporadic_embed::{EmbeddingMethod, TaylorOptions};
-    use sporadic_ferrante2016::LmiForm;
     let ex = example2().unwrap();
     // Residue box on 2 pieces: twice the vertices, still verified.
     let split = DesignOptions {
         pieces: 2,
-        ..Default::default()
+        ..paper()
     };
     let d = design(&ex.plant, &ex.window, &split).unwrap();
     assert_eq!(d.embedding.vertex_count(), 32);
@@ -178,7 +179,7 @@ fn taylor_and_split_embeddings_are_selectable() {
     let taylor = DesignOptions {
         embedding: EmbeddingMethod::Taylor(TaylorOptions::default()),
         pieces: 4,
-        ..Default::default()
+        ..paper()
     };
     let d = design(&ex.plant, &ex.window, &taylor).unwrap();
     assert!(d.embedding.remainder_bound() > 0.0);
@@ -188,7 +189,7 @@ fn taylor_and_split_embeddings_are_selectable() {
     // The reduced 2n × 2n vertex form has the same feasible set: it certifies the published gain too.
     let reduced = DesignOptions {
         form: LmiForm::Reduced,
-        ..Default::default()
+        ..paper()
     };
     let d = design(&ex.plant, &ex.window, &reduced).unwrap();
     assert_eq!(d.size.block_size, 10);

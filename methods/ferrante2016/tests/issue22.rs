@@ -812,3 +812,34 @@ fn the_cart_pole_keeps_a_long_window_in_other_coordinates() {
     assert!(g > 1.8 && o > 1.8, "{g} {o}");
     assert!((g - o).abs() <= 0.1 * g.max(o), "{g} {o}");
 }
+
+/// A kite written for issue 22: sway (slowly divergent) and roll (divergent at 2 rad/s), both
+/// measured, with the outputs in m and rad and in mm and µrad. The problem as given was solved
+/// in LMI (41) as printed when the rows of `C` have largest entry 1 and in the reduced form
+/// otherwise (same feasible set, other numerics), so the largest window from `T1 = 0.01` was
+/// 2.763 as written and 2.839 in mm and µrad; both are now solved in the reduced form (the
+/// default), and both end at 2.839.
+#[test]
+fn a_kite_keeps_its_largest_window_in_other_output_units() {
+    let a = mat![
+        [0.0, 1.0, 0.0, 0.0],
+        [0.0, 0.1, 0.5, 0.0],
+        [0.0, 0.0, 0.0, 1.0],
+        [0.0, 0.0, -4.0, 0.05]
+    ];
+    let written = largest(
+        &plant(a.clone(), mat![[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]]),
+        0.01,
+        10.0,
+    );
+    let other = largest(
+        &plant(a, mat![[1000.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1e6, 0.0]]),
+        0.01,
+        10.0,
+    );
+    assert!(written > 2.83, "{written}");
+    assert!(
+        (written - other).abs() <= 0.005 * written,
+        "{written} vs {other}"
+    );
+}
