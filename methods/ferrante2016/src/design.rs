@@ -84,8 +84,8 @@ use sporadic_sdp::lmi::Normalisation;
 
 /// Options of [`design`], [`analyse`] and [`min_trace_certificate`]; the defaults are the
 /// paper's construction (see each field) but for the vertex LMI, which is (41) in its reduced
-/// form (the same feasible set; `form: LmiForm::Corollary1` for (41) as printed). [`DesignOptions::validate`] checks them; every entry
-/// point calls it.
+/// form (the same feasible set; `form: LmiForm::Corollary1` for (41) as printed).
+/// [`DesignOptions::validate`] checks them; every entry point calls it.
 #[derive(Debug, Clone)]
 pub struct DesignOptions {
     /// Polytopic embedding of `e^{Av}` (default: the residue box of §4.1,
@@ -458,10 +458,11 @@ pub(crate) fn design_cached(
         &options.detectability,
     )?;
     // The problem as given (the paper's embedding, outputs in units of their largest
-    // coefficient: `normalise::Scaling::given`, the vertex LMI in the options' form), then the normal forms of
-    // `crate::normalise`: the Gramian form is the same for every change of units or coordinates
-    // of the user's data, the diagonal form for every change of units. The verdict (certified
-    // when any of them is) does not depend on the order, only which certificate is returned.
+    // coefficient: `normalise::Scaling::given`, the vertex LMI in the options' form), then the
+    // normal forms of `crate::normalise`: the Gramian form is the same for every change of units
+    // or coordinates of the user's data, the diagonal form for every change of units. The verdict
+    // (certified when any of them is) does not depend on the order, only which certificate is
+    // returned.
     let context = (start, &detectability);
     // In a window search the normal form that certified the previous probe is tried first: a
     // nearby window is most often certified by the same form, and the others are then not

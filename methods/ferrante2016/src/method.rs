@@ -47,8 +47,8 @@ const ID: &str = "ferrante2016";
 #[derive(Debug, Clone, Default)]
 pub struct Ferrante2016 {
     /// Options of the design at every window (default [`DesignOptions::default`]: residue
-    /// embedding of §4.1 on one piece, LMI (41) in its reduced form, margin problem with every variable
-    /// normalised by `‖·‖₂ ≤ 1` and the margin capped at 1, grid check of (12) on 2801 points,
+    /// embedding of §4.1 on one piece, LMI (41) in its reduced form, margin problem with every
+    /// variable normalised by `‖·‖₂ ≤ 1` and the margin capped at 1, grid check of (12) on 2801 points,
     /// Remark 3 precheck on 1001 points plus the aliasing instants).
     pub design: DesignOptions,
     /// How far the embedding is split when LMI (41) is infeasible on the design's own
