@@ -165,12 +165,12 @@ fn balance_outputs(parts: &[Mat<f64>], s: &mut [f64]) -> Option<(Vec<f64>, Mat<f
         w
     };
     let target = n as f64 / q as f64;
-    let objective = |t: &[f64]| -> f64 {
-        match eigen(&total(t)) {
-            Some((lambda, _)) if lambda[0] > 0.0 => {
-                lambda.iter().map(|l| l.ln()).sum::<f64>() - target * t.iter().sum::<f64>()
-            }
-            _ => f64::INFINITY,
+    // `f(t)` from the eigenvalues of `W(t)` (infinite where `W(t)` is not positive definite).
+    let objective = |t: &[f64], lambda: &[f64]| -> f64 {
+        if lambda[0] > 0.0 {
+            lambda.iter().map(|l| l.ln()).sum::<f64>() - target * t.iter().sum::<f64>()
+        } else {
+            f64::INFINITY
         }
     };
     // Start from every part scaled to unit trace (`t_k = −ln tr W_k`): a start that does not
@@ -228,21 +228,24 @@ fn balance_outputs(parts: &[Mat<f64>], s: &mut [f64]) -> Option<(Vec<f64>, Mat<f
             break;
         }
         let slope: f64 = (0..q).map(|k| g[k] * d[(k, 0)]).sum();
-        let f0 = objective(&t);
+        let f0 = objective(&t, &lambda);
         let mut step = 1.0;
         let next = loop {
             let trial: Vec<f64> = (0..q).map(|k| t[k] + step * d[(k, 0)]).collect();
-            if objective(&trial) <= f0 + 1e-4 * step * slope {
-                break Some(trial);
+            // The eigenvalues of an accepted trial are those of the next iterate.
+            let accepted = eigen(&total(&trial))
+                .filter(|(l, _)| objective(&trial, l) <= f0 + 1e-4 * step * slope);
+            if let Some(e) = accepted {
+                break Some((trial, e));
             }
             step *= 0.5;
             if step < 1e-10 {
                 break None;
             }
         };
-        let Some(next) = next else { break };
+        let Some((next, e)) = next else { break };
         t = next;
-        (lambda, v) = eigen(&total(&t))?;
+        (lambda, v) = e;
     }
     for (sk, tk) in s.iter_mut().zip(&t) {
         *sk = (0.5 * tk).exp();

@@ -340,7 +340,7 @@ impl SensorCondition {
         };
         Ok(Self {
             // Negated exactly (`scale` by −1 would add a rounding radius to every entry).
-            neg_a: IntervalMatrix::from_mid_rad(-data.a.mid().to_owned(), data.a.rad().to_owned())?,
+            neg_a: -&data.a,
             q,
             p: ps,
             p_next,
