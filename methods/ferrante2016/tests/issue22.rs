@@ -843,3 +843,35 @@ fn a_kite_keeps_its_largest_window_in_other_output_units() {
         "{written} vs {other}"
     );
 }
+
+/// A random plant of a fuzzing run (`benches/scripts/fuzz.sh`, seed 23, plant 8: order 6, one
+/// output, stable and unstable modes, eigenvector condition 6). In its Gramian normal form
+/// (`‖A‖₂ = 35` for a spectral radius of 0.7 on the form's time unit) the residue embedding fell
+/// into one cluster with the remainder bound 1.8e15, which made the robust (41) infeasible on its
+/// face, and that refusal replaced the verdict of the data as given (256 vertices, remainder
+/// 1.4e-9, a solve whose margin is −1.1e-9): the user was told that the window failed because of
+/// a remainder bound of 1.8e15. An unusable embedding of a normal form is no verdict: the refusal
+/// is the solve's, and it does not quote a remainder bound.
+#[test]
+fn an_unusable_embedding_of_a_normal_form_is_no_verdict() {
+    let a = mat![
+        [-1.42564, 0.471252, 3.02641, -2.59306, 0.803008, 0.843501],
+        [1.31329, 0.39191, 0.40394, -4.2696, 0.235587, -1.37922],
+        [-1.33473, 1.31969, -0.541262, 10.3125, -1.19439, 2.39915],
+        [-0.436372, 0.0745774, -1.49576, 2.88114, 0.358034, 1.42464],
+        [-1.00113, -0.264072, 1.50743, -3.00199, 2.15954, 0.323111],
+        [-0.0327457, -0.27645, 0.548003, -3.21579, 0.595224, 1.11165]
+    ];
+    let c = mat![[-0.222368, -0.301755, 2.22969, 0.511716, -0.266867, 0.495867]];
+    let p = plant(a, c);
+    assert_eq!(design(&p, 0.026528, 0.15).status, Status::Certified);
+    for t2 in [0.16, 0.277182] {
+        let r = design(&p, 0.026528, t2);
+        assert_eq!(r.status, Status::NotCertified);
+        let Some(Reason::InfeasibleLmi { message }) = &r.reason else {
+            panic!("[0.026528, {t2}]: {:?}", r.reason);
+        };
+        assert!(!message.contains("remainder bound"), "{message}");
+        assert!(message.contains("margin"), "{message}");
+    }
+}
