@@ -144,6 +144,16 @@ impl JacobianPolytope {
         self.vertices.len()
     }
 
+    /// The entrywise lower bounds of `Θ` (m×m).
+    pub fn lower(&self) -> MatRef<'_, f64> {
+        self.lower.as_ref()
+    }
+
+    /// The entrywise upper bounds of `Θ` (m×m).
+    pub fn upper(&self) -> MatRef<'_, f64> {
+        self.upper.as_ref()
+    }
+
     /// The free entries `(i, j)` of `Θ` in bit order.
     pub fn free_entries(&self) -> &[(usize, usize)] {
         &self.free_entries

@@ -29,6 +29,28 @@ pub fn sym_part(a: MatRef<'_, f64>) -> Result<Mat<f64>, LinalgError> {
     Ok(Mat::from_fn(n, n, |i, j| 0.5 * (a[(i, j)] + a[(j, i)])))
 }
 
+/// `R` (upper triangular, positive diagonal) with `RᵀR = Σ_k P_k/‖P_k‖_max` (Cholesky; the `P_k`
+/// symmetrised): the coordinates `x' = Rx` of a certificate made of the Lyapunov matrices
+/// `P_k`, in which their sum is of the order of the identity. A certificate that is
+/// ill-conditioned in the plant's coordinates (designed in other ones and mapped back, or whose
+/// margin is below the verification threshold there) is checked or solved again in these.
+/// `None` when the sum is not numerically positive definite, an entry is not finite, or `p`
+/// is empty or its matrices are not square of one order.
+pub fn certificate_root(p: &[Mat<f64>]) -> Option<Mat<f64>> {
+    let n = p.first()?.nrows();
+    let mut sum = Mat::<f64>::zeros(n, n);
+    for pk in p {
+        let m = pk.norm_max();
+        if pk.nrows() != n || pk.ncols() != n || !(m > 0.0 && m.is_finite()) {
+            return None;
+        }
+        sum += Mat::from_fn(n, n, |i, j| 0.5 * (pk[(i, j)] + pk[(j, i)]) / m);
+    }
+    let llt = sum.llt(Side::Lower).ok()?;
+    let r = llt.L().transpose().to_owned();
+    r.is_all_finite().then_some(r)
+}
+
 /// Checks that `s` is square, non-empty, finite and symmetric within [`SYMMETRY_TOLERANCE`];
 /// returns its order.
 pub(crate) fn check_symmetric(s: MatRef<'_, f64>, what: &str) -> Result<usize, LinalgError> {

@@ -135,26 +135,21 @@ impl MaxTauBar {
 }
 
 /// One compiled instance of (20) with a free gain, moved from window to window.
-pub(crate) struct CompiledProbe<'a> {
-    plant: &'a Plant,
+pub(crate) struct CompiledProbe {
     condition: Condition,
     lmi: Lmi20,
 }
 
-impl<'a> CompiledProbe<'a> {
+impl CompiledProbe {
     /// Compiles (20) for `condition` at `first`.
     pub fn new(
-        plant: &'a Plant,
+        plant: &Plant,
         condition: Condition,
         first: Bounds,
         options: &FeasibilityOptions,
     ) -> Result<Self, Error> {
         let lmi = Lmi20::new(plant, condition, &first, GainTerm::Free, options)?;
-        Ok(Self {
-            plant,
-            condition,
-            lmi,
-        })
+        Ok(Self { condition, lmi })
     }
 
     /// Solves the margin problem at `bounds`.
@@ -163,17 +158,11 @@ impl<'a> CompiledProbe<'a> {
         self.lmi.solve()
     }
 
-    /// Solves at `window` and turns the solution into a verified design (gain recovery and
-    /// every independent check), or the error saying why not — what [`crate::design()`] does,
-    /// without recompiling the model.
-    pub fn design(
-        &mut self,
-        window: SamplingWindow,
-        options: &DesignOptions,
-    ) -> Result<Design, Error> {
+    /// Solves the margin problem at `window` ([`crate::solve_margin`] without recompiling the
+    /// model).
+    pub fn solve_window(&mut self, window: SamplingWindow) -> Result<MarginSolution, Error> {
         let r = self.solve(Bounds::of(&window))?;
-        let sol = MarginSolution::from_parts(self.condition, window, r);
-        finish(self.plant, sol, None, &options.check)
+        Ok(MarginSolution::from_parts(self.condition, window, r))
     }
 }
 

@@ -76,6 +76,7 @@
 
 pub mod bisection;
 pub mod conditions;
+pub mod coordinates;
 pub mod design;
 mod error;
 pub mod example;

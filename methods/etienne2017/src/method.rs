@@ -7,9 +7,7 @@
 use std::time::Instant;
 
 use faer::{Mat, MatRef};
-use sporadic_linalg::balance::{
-    balance_a, balance_b, balance_c, balancing_scales, unbalance_form, unbalance_gain,
-};
+use sporadic_linalg::balance::{balance_a, balance_b, balance_c, balancing_scales, unbalance_gain};
 
 use sporadic_model::{
     Bracketing, Check, DesignReport, Gain, Margin, MaxIntervalReport, MethodError, MethodOptions,
@@ -19,7 +17,11 @@ use sporadic_model::{
 };
 
 use crate::bisection::CompiledProbe;
-use crate::design::{Design, DesignOptions, analyse, analysis_condition, design};
+use crate::coordinates::Coordinates;
+use crate::design::{
+    Design, DesignOptions, MarginSolution, analyse, analysis_condition, design, finish,
+    solve_margin,
+};
 use crate::error::Error;
 use crate::gain::GainSchedule;
 use crate::lmi::{Bounds, Condition};
@@ -163,6 +165,8 @@ fn window_of(sampling: &Sampling) -> Result<SamplingWindow, MethodError> {
 enum Outcome {
     Certified {
         design: Box<Design>,
+        /// The coordinates it was made in.
+        coordinates: Coordinates,
         /// Why Corollary 2 was not used, when Theorem 3 was.
         static_failure: Option<String>,
     },
@@ -172,15 +176,26 @@ enum Outcome {
 impl Etienne2017 {
     /// Corollary 2 first, Theorem 3 when it fails (per [`Etienne2017::conditions`]); Remark 6
     /// for a periodic window.
-    fn design_at(&self, plant: &Plant, window: &SamplingWindow) -> Result<Outcome, MethodError> {
-        let run = |condition| match design(plant, condition, window, &self.design) {
-            Ok(d) => Ok(Ok(d)),
-            Err(e) => verdict_of(e).map(|r| Err((e_message(&r), r))),
+    fn design_at(
+        &self,
+        plant: &Plant,
+        balanced: &Coordinates,
+        window: &SamplingWindow,
+    ) -> Result<Outcome, MethodError> {
+        let run = |condition| {
+            let designed = solve_margin(plant, condition, window, &self.design)
+                .and_then(|sol| self.finish_in(plant, balanced, sol));
+            match designed {
+                Ok(d) => Ok(Ok(d)),
+                Err(e) => verdict_of(e).map(|r| Err((e_message(&r), r))),
+            }
         };
-        let certified = |d: Design, static_failure| Outcome::Certified {
-            design: Box::new(d),
-            static_failure,
-        };
+        let certified =
+            |(d, coordinates): (Design, Coordinates), static_failure| Outcome::Certified {
+                design: Box::new(d),
+                coordinates,
+                static_failure,
+            };
         if window.is_periodic() {
             return Ok(match run(Condition::Remark6)? {
                 Ok(d) => certified(d, None),
@@ -210,7 +225,40 @@ impl Etienne2017 {
         })
     }
 
-    /// The report of a verified design.
+    /// `sol`, solved on the balanced plant `plant`, as a verified design ([`finish`]), with
+    /// the coordinates it was made in; when its margin is positive but not verified by the LMI
+    /// layer (below its threshold), the same condition solved once more in the coordinates of
+    /// its own certificate ([`crate::coordinates`], not in the paper). A failure there leaves
+    /// the verdict of the first solve.
+    fn finish_in(
+        &self,
+        plant: &Plant,
+        balanced: &Coordinates,
+        sol: MarginSolution,
+    ) -> Result<(Design, Coordinates), Error> {
+        let own = if sol.margin > 0.0 && !sol.verified() {
+            balanced.of_certificate(&sol.certificate)
+        } else {
+            None
+        };
+        let (condition, window) = (sol.condition, sol.window);
+        let first = match finish(plant, sol, None, &self.design.check) {
+            Ok(d) => return Ok((d, balanced.clone())),
+            Err(e) => e,
+        };
+        let Some(own) = own else {
+            return Err(first);
+        };
+        match own
+            .plant(plant)
+            .and_then(|q| design(&q, condition, &window, &self.design))
+        {
+            Ok(d) => Ok((d, own)),
+            Err(_) => Err(first),
+        }
+    }
+
+    /// The report of a verified design made in `coordinates`.
     #[allow(clippy::too_many_arguments)]
     fn report(
         &self,
@@ -218,14 +266,14 @@ impl Etienne2017 {
         sampling: &Sampling,
         vertices: usize,
         d: &Design,
-        scales: &[f64],
+        coordinates: &Coordinates,
         notes: Vec<String>,
         seconds: f64,
     ) -> DesignReport {
         let mut r = DesignReport::certified(self, plant.name(), sampling);
         let condition = d.lmi.condition;
-        r.gains.push(gain_entry(&d.gain, condition, scales));
-        r.certificate = certificate_entries(&d.lmi.certificate, d.gain.is_constant(), scales);
+        r.gains.push(gain_entry(&d.gain, condition, coordinates));
+        r.certificate = certificate_entries(&d.lmi.certificate, d.gain.is_constant(), coordinates);
         r.margin = Some(Margin {
             value: d.lmi.margin,
             definition: margin_definition(condition),
@@ -245,15 +293,7 @@ impl Etienne2017 {
             d.lmi.stats.decision_scalars,
         ));
         r.notes.extend(notes);
-        if scales.iter().any(|&x| x != 1.0) {
-            r.notes.push(format!(
-                "designed in the balanced coordinates x_b = D⁻¹x with D = diag{:?} (powers of 2, \
-                 LAPACK gebal scaling of |A| + |G||H|; exact): K and P1, P2, L are in the plant's \
-                 coordinates (K = D·K_b, P = D⁻¹P_bD⁻¹, L = D⁻¹L_b); the margin and the checks \
-                 are those of the balanced plant",
-                scales
-            ));
-        }
+        r.notes.extend(coordinates.note());
         r.notes.push(
             "B and u do not enter the error dynamics (4): the design holds for every input".into(),
         );
@@ -325,8 +365,9 @@ impl Etienne2017 {
             match check.failure() {
                 None => {
                     let mut r = DesignReport::certified(self, plant.name(), sampling);
-                    r.gains.push(gain_entry(&gain, condition, scales));
-                    r.certificate = certificate_entries(&cert, gain.is_constant(), scales);
+                    let balanced = Coordinates::balanced(scales.to_vec());
+                    r.gains.push(gain_entry(&gain, condition, &balanced));
+                    r.certificate = certificate_entries(&cert, gain.is_constant(), &balanced);
                     r.checks = independent_checks(&self.design, &check);
                     r.notes.push(format!(
                         "given gain and certificate verified for {} (no LMI solved): the \
@@ -354,7 +395,7 @@ impl Etienne2017 {
                 sampling,
                 p.vertices().len(),
                 &d,
-                scales,
+                &Coordinates::balanced(scales.to_vec()),
                 notes,
                 start.elapsed().as_secs_f64(),
             )),
@@ -373,10 +414,10 @@ impl Etienne2017 {
     }
 }
 
-/// The gain `K` (or the schedule `K(τ)`) of a design in the plant's coordinates `x = Dx_b`:
-/// `K = D·K_b`.
-fn gain_entry(g: &GainSchedule, condition: Condition, scales: &[f64]) -> Gain {
-    let gain = |k: MatRef<'_, f64>| unbalance_gain(k, scales);
+/// The gain `K` (or the schedule `K(τ)`) of a design made in `coordinates`, in the plant's
+/// ([`Coordinates::gain_back`]).
+fn gain_entry(g: &GainSchedule, condition: Condition, coordinates: &Coordinates) -> Gain {
+    let gain = |k: MatRef<'_, f64>| coordinates.gain_back(k);
     let w = *g.window();
     let jump = "jump of observer (3) at each sample t_k: x̂(t_k) = x̂(t_k⁻) + K(τ)(y_k − \
                 Cx̂(t_k⁻)), τ = t_k − t_{k−1} the length of the interval that just ended; \
@@ -412,11 +453,15 @@ fn gain_entry(g: &GainSchedule, condition: Condition, scales: &[f64]) -> Gain {
     }
 }
 
-/// The certificate `P1, P2` and `L` (static gain) or `L0, L1` in the plant's coordinates
-/// `x = Dx_b`: `P = D⁻¹P_bD⁻¹`, `L = PK = D⁻¹L_b`.
-fn certificate_entries(cert: &Certificate, constant: bool, scales: &[f64]) -> Vec<NamedMatrix> {
-    let form = |p: MatRef<'_, f64>| unbalance_form(p, scales);
-    let rows_down = |m: MatRef<'_, f64>| balance_b(m, scales);
+/// The certificate `P1, P2` and `L` (static gain) or `L0, L1` of a design made in
+/// `coordinates`, in the plant's ([`Coordinates::form_back`], [`Coordinates::multiplier_back`]).
+fn certificate_entries(
+    cert: &Certificate,
+    constant: bool,
+    coordinates: &Coordinates,
+) -> Vec<NamedMatrix> {
+    let form = |p: MatRef<'_, f64>| coordinates.form_back(p);
+    let rows_down = |m: MatRef<'_, f64>| coordinates.multiplier_back(m);
     let mut out = vec![
         NamedMatrix::new(
             "P1",
@@ -661,9 +706,11 @@ impl ObserverMethod for Etienne2017 {
             Ok(p) => p,
             Err(e) => return verdict_of(e).map(failed),
         };
-        match self.design_at(&p, &window)? {
+        let balanced = Coordinates::balanced(scales);
+        match self.design_at(&p, &balanced, &window)? {
             Outcome::Certified {
                 design,
+                coordinates,
                 static_failure,
             } => {
                 let notes = static_failure
@@ -680,7 +727,7 @@ impl ObserverMethod for Etienne2017 {
                     sampling,
                     p.vertices().len(),
                     &design,
-                    &scales,
+                    &coordinates,
                     notes,
                     start.elapsed().as_secs_f64(),
                 ))
@@ -732,6 +779,7 @@ impl ObserverMethod for Etienne2017 {
             }
         };
         let vertices = p.vertices().len();
+        let balanced = Coordinates::balanced(scales);
         let condition = match self.conditions {
             Conditions::Corollary2 => Condition::Corollary2,
             _ => Condition::Theorem3,
@@ -750,12 +798,13 @@ impl ObserverMethod for Etienne2017 {
                 "Corollary 2"
             }
         );
-        let mut compiled: Option<CompiledProbe<'_>> = None;
+        let mut compiled: Option<CompiledProbe> = None;
         let mut probe = |s: &Sampling| -> Result<DesignReport, MethodError> {
             let probe_start = Instant::now();
             let w = window_of(s)?;
             let result = if w.is_periodic() {
-                design(&p, Condition::Remark6, &w, &self.design)
+                solve_margin(&p, Condition::Remark6, &w, &self.design)
+                    .and_then(|sol| self.finish_in(&p, &balanced, sol))
             } else {
                 if compiled.is_none() {
                     let c =
@@ -774,7 +823,9 @@ impl ObserverMethod for Etienne2017 {
                     });
                 }
                 match compiled.as_mut() {
-                    Some(c) => c.design(w, &self.design),
+                    Some(c) => c
+                        .solve_window(w)
+                        .and_then(|sol| self.finish_in(&p, &balanced, sol)),
                     None => {
                         return Err(invalid(
                             sporadic_linalg::InputError::empty("LMI (20)").into(),
@@ -783,9 +834,17 @@ impl ObserverMethod for Etienne2017 {
                 }
             };
             Ok(match result {
-                Ok(d) => {
+                Ok((d, coordinates)) => {
                     let seconds = probe_start.elapsed().as_secs_f64();
-                    self.report(plant, s, vertices, &d, &scales, vec![note.clone()], seconds)
+                    self.report(
+                        plant,
+                        s,
+                        vertices,
+                        &d,
+                        &coordinates,
+                        vec![note.clone()],
+                        seconds,
+                    )
                 }
                 Err(e) => DesignReport::without_design(self, plant.name(), Some(s), verdict_of(e)?),
             })

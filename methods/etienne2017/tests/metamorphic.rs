@@ -13,7 +13,9 @@
 use faer::linalg::solvers::Solve;
 use faer::{Mat, MatRef, mat};
 use proptest::prelude::*;
-use sporadic_etienne2017::sporadic_model::{Lipschitz, Plant as ModelPlant};
+use sporadic_etienne2017::sporadic_model::{
+    Lipschitz, Plant as ModelPlant, ProofOptions, ProofStatus, prove_within,
+};
 use sporadic_etienne2017::{
     Etienne2017, MethodOptions, ObserverMethod, Sampling, SamplingWindow, example,
 };
@@ -197,4 +199,76 @@ proptest! {
         let s = largest(&similar(&d, diag.as_ref()), 0.05, 5.0).unwrap();
         prop_assert!(close(base, s), "D = {diag:?}: {base} vs {s}");
     }
+}
+
+/// A reactor with a saturating feedback written for this check (order 3, one output):
+/// `ẋ1 = x2`, `ẋ2 = −x1 − 0.5x2 + 2φ(x3)`, `ẋ3 = x1 − 2x3`, `φ = tanh` (`φ' ∈ [0, 1]`),
+/// `y = x1`, in the coordinates `x = Tz` given by `t` (the identity: as written).
+fn reactor(t: MatRef<'_, f64>) -> ModelPlant {
+    let tinv = t.full_piv_lu().solve(Mat::<f64>::identity(3, 3));
+    let a = mat![[0.0, 1.0, 0.0], [-1.0, -0.5, 0.0], [1.0, 0.0, -2.0]];
+    let (g, h, c) = (
+        mat![[0.0], [2.0], [0.0]],
+        mat![[0.0, 0.0, 1.0]],
+        mat![[1.0, 0.0, 0.0]],
+    );
+    let lip = Lipschitz::new(
+        (&tinv * &g).as_ref(),
+        (&h * t).as_ref(),
+        mat![[0.0]].as_ref(),
+        mat![[1.0]].as_ref(),
+    )
+    .unwrap();
+    ModelPlant::linear((&tinv * &a * t).as_ref(), None, (&c * t).as_ref())
+        .unwrap()
+        .with_lipschitz(lip)
+        .unwrap()
+}
+
+/// The reactor certified `T2` up to 4.8338 as written and 4.7750 in coordinates `x = Tz`
+/// (`κ(T) < 10`), 1.2 % apart: the margin `t*` of (20) is measured in the coordinates of the
+/// solve, and in these it fell below the verification threshold first (`t* = 3.6·10⁻⁷` against
+/// `5.9·10⁻⁷` at `T2 = 4.8`). A positive margin below the threshold is now solved once more in
+/// the coordinates of its own certificate (`crate::coordinates`): both reach 4.835 (0.01 %
+/// apart). The design at `[0.01, 4.8]` in `x = Tz`, made in those coordinates and mapped back,
+/// passes `verify` and is proved in interval arithmetic on the plant as given.
+#[test]
+fn a_reactor_keeps_its_largest_window_in_other_coordinates() {
+    let t = mat![[1.0, 0.5, -0.3], [0.2, 1.0, 0.4], [-0.1, 0.3, 1.0]];
+    let largest_of = |p: &ModelPlant| {
+        let s = Sampling::Synchronous(SamplingWindow::new(0.01, 0.01).unwrap());
+        Etienne2017::default()
+            .largest_window(p, &s, 20.0, &MethodOptions::default(), &mut |_| {})
+            .unwrap()
+            .largest_certified_t2
+            .expect("certified")
+    };
+    let written = largest_of(&reactor(Mat::<f64>::identity(3, 3).as_ref()));
+    let other = largest_of(&reactor(t.as_ref()));
+    assert!(close(written, other), "{written} vs {other}");
+    assert!(other > 4.8, "{other}");
+
+    let (m, plant) = (Etienne2017::default(), reactor(t.as_ref()));
+    let s = Sampling::Synchronous(SamplingWindow::new(0.01, 4.8).unwrap());
+    let r = m.design(&plant, &s, &MethodOptions::default()).unwrap();
+    assert!(r.status.is_certified(), "{:?}", r.reason);
+    assert!(
+        r.notes
+            .iter()
+            .any(|n| n.contains("coordinates of the certificate")),
+        "{:?}",
+        r.notes
+    );
+    let checked = m
+        .verify(
+            &plant,
+            &s,
+            &r.gains,
+            &r.certificate,
+            &MethodOptions::default(),
+        )
+        .unwrap();
+    assert!(checked.status.is_certified(), "{:?}", checked.reason);
+    let proof = prove_within(&m, &plant, &r, &ProofOptions::default()).unwrap();
+    assert_eq!(proof.status, ProofStatus::Proved, "{}", proof.message);
 }

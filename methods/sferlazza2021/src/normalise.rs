@@ -128,7 +128,7 @@ impl Coordinates {
     /// The coordinates of the certificate `p` (`None` when `Σ_σ P_σ/‖P_σ‖_max` is not
     /// numerically positive definite).
     pub fn of_certificate(p: &[Mat<f64>]) -> Option<Self> {
-        let r = crate::prove::certificate_root(p)?;
+        let r = sporadic_linalg::symmetric::certificate_root(p)?;
         let r_inv = r.partial_piv_lu().inverse();
         r_inv.is_all_finite().then_some(Self::Certificate {
             state: r,

@@ -162,7 +162,7 @@ impl ProofData {
         plant: &RoundRobinPlant,
         p: &[Mat<f64>],
     ) -> Result<Option<Self>, Error> {
-        let Some(r) = certificate_root(p) else {
+        let Some(r) = sporadic_linalg::symmetric::certificate_root(p) else {
             return Ok(None);
         };
         let r = point(&r)?;
@@ -228,28 +228,11 @@ impl ProofData {
     }
 }
 
-/// `R` (upper triangular) with `RᵀR = Σ_σ P_σ/‖P_σ‖_max` (Cholesky; the `P_σ` symmetrised):
-/// the coordinates `x' = Rx` of the certificate. `None` when the sum is not numerically
-/// positive definite or an entry is not finite.
-pub(crate) fn certificate_root(p: &[Mat<f64>]) -> Option<Mat<f64>> {
-    let n = p.first()?.nrows();
-    let mut sum = Mat::<f64>::zeros(n, n);
-    for pk in p {
-        let m = pk.norm_max();
-        if !(m > 0.0 && m.is_finite()) {
-            return None;
-        }
-        sum += Mat::from_fn(n, n, |i, j| 0.5 * (pk[(i, j)] + pk[(j, i)]) / m);
-    }
-    let llt = sum.llt(faer::Side::Lower).ok()?;
-    let r = llt.L().transpose().to_owned();
-    r.is_all_finite().then_some(r)
-}
-
 /// The gain law (45) of the certificate `p` evaluated in its own coordinates `x' = Rx`
-/// ([`certificate_root`]), `K = R⁻¹K'`: where the `P_σ` are ill-conditioned in the plant's
-/// coordinates (a certificate designed in the Gramian normal form and mapped back), (45)
-/// evaluated there loses about `u·κ(P_σ)` of relative accuracy, in these about `u·κ(R)`.
+/// ([`sporadic_linalg::symmetric::certificate_root`]), `K = R⁻¹K'`: where the `P_σ` are
+/// ill-conditioned in the plant's coordinates (a certificate designed in the Gramian normal
+/// form and mapped back), (45) evaluated there loses about `u·κ(P_σ)` of relative accuracy, in
+/// these about `u·κ(R)`.
 struct LawInCertificateCoordinates {
     schedule: GainSchedule,
     own: Coordinates,

@@ -1,0 +1,150 @@
+//! The state coordinates a design is made in (issue 22: a verdict must not depend on the user's
+//! units or coordinates), and the maps of its gains and certificate back to the plant's.
+//!
+//! LMIs (20) are invariant under a change of state coordinates `x = Tx'` in exact arithmetic
+//! (`R_p → T⁻¹R_pT`, `P_i → TᵀP_iT`, `L_i → TᵀL_i`), but their margin `t*` is not: the
+//! normalisation `‖P_i‖₂ ≤ 1`, `P_i ⪰ tI` measures it in the coordinates of the solve, and the
+//! LMI layer accepts a margin only above a verification threshold relative to the data. So a
+//! window near the end of the feasible range is certified in some coordinates and not in others:
+//! a reactor with a saturating feedback (order 3, one output) certified `T2` up to 4.8338 as
+//! written and 4.7750 in coordinates `x = Tz` (`κ(T) < 10`), where `t* = 3.6·10⁻⁷` at
+//! `T2 = 4.8` fell below the threshold `5.9·10⁻⁷`.
+//!
+//! A design is made in the balanced coordinates `x_b = D⁻¹x` (`D` the powers-of-two `gebal`
+//! scaling of `|A| + |G||H|`, exact; [`crate::balanced_plant`]), and, when its margin there is
+//! positive but not verified, once more in the coordinates of its own certificate,
+//! `x' = Rx_b` with `RᵀR = P1/‖P1‖_max + P2/‖P2‖_max`
+//! ([`sporadic_linalg::symmetric::certificate_root`]), where the certificate is of the order of
+//! the identity and `t*` no longer carries its condition number (not in the paper). The same
+//! reactor then certifies up to 4.8356 as written and 4.8353 in `x = Tz`. The design in those
+//! coordinates is made and checked on the floating-point plant `(RA_bR⁻¹, RG_b, H_bR⁻¹,
+//! C_bR⁻¹)`, as a design in the balanced coordinates is checked on the balanced plant.
+
+use faer::linalg::solvers::DenseSolveCore;
+use faer::{Mat, MatRef};
+use sporadic_linalg::balance::{balance_b, unbalance_form, unbalance_gain};
+
+use crate::error::Error;
+use crate::system::Plant;
+use crate::verify::Certificate;
+
+/// Largest condition number `‖R‖₂‖R⁻¹‖₂` of the coordinates of a certificate that a design is
+/// solved again in: a larger one comes from a certificate too ill-conditioned to stand for the
+/// problem's own scale (its plant would carry that rounding).
+pub const MAX_CERTIFICATE_CONDITION: f64 = 1e6;
+
+/// The coordinates of a design: the balanced ones `x_b = D⁻¹x` (`D = diag(scales)`), possibly
+/// followed by those of a certificate, `x' = Rx_b`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Coordinates {
+    scales: Vec<f64>,
+    /// `(R, R⁻¹)`.
+    own: Option<(Mat<f64>, Mat<f64>)>,
+}
+
+impl Coordinates {
+    /// The balanced coordinates `x_b = D⁻¹x`, `D = diag(scales)`.
+    pub fn balanced(scales: Vec<f64>) -> Self {
+        Self { scales, own: None }
+    }
+
+    /// The coordinates `x' = Rx_b` of `certificate` (its `P1`, `P2` in the balanced
+    /// coordinates), `RᵀR = P1/‖P1‖_max + P2/‖P2‖_max`; `None` when that sum is not
+    /// numerically positive definite or `R` is too ill-conditioned
+    /// ([`MAX_CERTIFICATE_CONDITION`]).
+    pub fn of_certificate(&self, certificate: &Certificate) -> Option<Self> {
+        let r = sporadic_linalg::symmetric::certificate_root(&[
+            certificate.p1.clone(),
+            certificate.p2.clone(),
+        ])?;
+        let r_inv = r.partial_piv_lu().inverse();
+        let s = r.singular_values().ok()?;
+        let condition = s.first()? / s.last()?;
+        (r_inv.is_all_finite() && condition <= MAX_CERTIFICATE_CONDITION).then(|| Self {
+            scales: self.scales.clone(),
+            own: Some((r, r_inv)),
+        })
+    }
+
+    /// Whether these are the coordinates of a certificate.
+    pub fn is_certificate(&self) -> bool {
+        self.own.is_some()
+    }
+
+    /// The balanced plant `balanced` in these coordinates: itself, or `(RAR⁻¹, RB, CR⁻¹, RG,
+    /// HR⁻¹)` with the same Jacobian bounds.
+    ///
+    /// # Errors
+    /// Those of [`Plant::new`] (non-finite data).
+    pub fn plant(&self, balanced: &Plant) -> Result<Plant, Error> {
+        let Some((r, r_inv)) = &self.own else {
+            return Ok(balanced.clone());
+        };
+        let polytope = balanced.polytope();
+        Plant::new(
+            (r * balanced.a() * r_inv).as_ref(),
+            (r * balanced.b()).as_ref(),
+            (balanced.c() * r_inv).as_ref(),
+            (r * balanced.g()).as_ref(),
+            (balanced.h() * r_inv).as_ref(),
+            polytope.lower(),
+            polytope.upper(),
+        )
+    }
+
+    /// A quadratic form `x'ᵀP'x'` in the plant's coordinates: `P = D⁻¹RᵀP'RD⁻¹`.
+    pub fn form_back(&self, p: MatRef<'_, f64>) -> Mat<f64> {
+        let pb = match &self.own {
+            Some((r, _)) => {
+                let x = r.transpose() * p * r;
+                Mat::from_fn(x.nrows(), x.ncols(), |i, j| 0.5 * (x[(i, j)] + x[(j, i)]))
+            }
+            None => p.to_owned(),
+        };
+        unbalance_form(pb.as_ref(), &self.scales)
+    }
+
+    /// A gain `K'` (`x̂'⁺ = x̂' + K'(y − C'x̂')`) in the plant's coordinates: `K = DR⁻¹K'`.
+    pub fn gain_back(&self, k: MatRef<'_, f64>) -> Mat<f64> {
+        match &self.own {
+            Some((_, r_inv)) => unbalance_gain((r_inv * k).as_ref(), &self.scales),
+            None => unbalance_gain(k, &self.scales),
+        }
+    }
+
+    /// A multiplier `L' = P'K'` in the plant's coordinates: `L = PK = D⁻¹RᵀL'`.
+    pub fn multiplier_back(&self, l: MatRef<'_, f64>) -> Mat<f64> {
+        match &self.own {
+            Some((r, _)) => balance_b((r.transpose() * l).as_ref(), &self.scales),
+            None => balance_b(l, &self.scales),
+        }
+    }
+
+    /// What the report says of these coordinates (`None` for the plant as given).
+    pub fn note(&self) -> Option<String> {
+        let balanced = self.scales.iter().any(|&x| x != 1.0);
+        match &self.own {
+            None if balanced => Some(format!(
+                "designed in the balanced coordinates x_b = D⁻¹x with D = diag{:?} (powers of 2, \
+                 LAPACK gebal scaling of |A| + |G||H|; exact): K and P1, P2, L are in the \
+                 plant's coordinates (K = D·K_b, P = D⁻¹P_bD⁻¹, L = D⁻¹L_b); the margin and the \
+                 checks are those of the balanced plant",
+                self.scales
+            )),
+            None => None,
+            Some((r, r_inv)) => {
+                let condition = r.norm_l2() * r_inv.norm_l2();
+                Some(format!(
+                    "designed in the coordinates of the certificate of a first solve, whose \
+                     margin was positive but below the verification threshold: x' = R·x_b with \
+                     RᵀR = P1/‖P1‖_max + P2/‖P2‖_max (Cholesky; ‖R‖_F‖R⁻¹‖_F = {condition:.3e}), \
+                     x_b = D⁻¹x the balanced coordinates (D = diag{:?}); the margin and the \
+                     checks are those of the floating-point plant (RA_bR⁻¹, RG_b, H_bR⁻¹, \
+                     C_bR⁻¹) there; K = D·R⁻¹K', P = D⁻¹RᵀP'RD⁻¹, L = D⁻¹RᵀL' are in the \
+                     plant's coordinates",
+                    self.scales
+                ))
+            }
+        }
+    }
+}
