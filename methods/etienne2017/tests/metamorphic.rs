@@ -230,7 +230,8 @@ fn reactor(t: MatRef<'_, f64>) -> ModelPlant {
 /// solve, and in these it fell below the verification threshold first (`t* = 3.6·10⁻⁷` against
 /// `5.9·10⁻⁷` at `T2 = 4.8`). A positive margin below the threshold is now solved once more in
 /// the coordinates of its own certificate (`crate::coordinates`): both reach 4.835 (0.01 %
-/// apart). The design at `[0.01, 4.8]` in `x = Tz`, made in those coordinates and mapped back,
+/// apart), and so does the reactor in coordinates whose units span two decades. The design at
+/// `[0.01, 4.8]` in `x = Tz`, made in those coordinates and mapped back,
 /// passes `verify` and is proved in interval arithmetic on the plant as given.
 #[test]
 fn a_reactor_keeps_its_largest_window_in_other_coordinates() {
@@ -247,6 +248,14 @@ fn a_reactor_keeps_its_largest_window_in_other_coordinates() {
     let other = largest_of(&reactor(t.as_ref()));
     assert!(close(written, other), "{written} vs {other}");
     assert!(other > 4.8, "{other}");
+    // Units spanning two decades on top of a mixing (`κ(T) = 110`): 4.748 before (1.8 %).
+    let units = mat![
+        [0.10160008497588109, 1.8368234066807025, -1.1052033255939753],
+        [0.04583771004758763, 4.739695815585673, 1.2035324460326529],
+        [-0.01336548994791684, 1.8504680707463743, 3.48542255073102]
+    ];
+    let mixed = largest_of(&reactor(units.as_ref()));
+    assert!(close(written, mixed), "{written} vs {mixed}");
 
     let (m, plant) = (Etienne2017::default(), reactor(t.as_ref()));
     let s = Sampling::Synchronous(SamplingWindow::new(0.01, 4.8).unwrap());
@@ -271,4 +280,37 @@ fn a_reactor_keeps_its_largest_window_in_other_coordinates() {
     assert!(checked.status.is_certified(), "{:?}", checked.reason);
     let proof = prove_within(&m, &plant, &r, &ProofOptions::default()).unwrap();
     assert_eq!(proof.status, ProofStatus::Proved, "{}", proof.message);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig {
+        cases: 4,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(23),
+        ..ProptestConfig::default()
+    })]
+
+    /// The reactor in random coordinates `x = (I + U(−0.4, 0.4))·diag(10^U(−1.5, 1.5)) z`: the
+    /// largest window within 1 % of the one as written. (One draw of this kind, made outside
+    /// the test, gave 4.748 against 4.834 before the design in the coordinates of its own
+    /// certificate, and is in the test above; the four draws of this seed passed before too.)
+    #[test]
+    fn the_reactor_keeps_its_largest_window_under_similarity(
+        entries in proptest::collection::vec(-0.4f64..0.4, 9),
+        decades in proptest::collection::vec(-1.5f64..1.5, 3),
+    ) {
+        let largest_of = |t: MatRef<'_, f64>| {
+            let s = Sampling::Synchronous(SamplingWindow::new(0.01, 0.01).unwrap());
+            Etienne2017::default()
+                .largest_window(&reactor(t), &s, 20.0, &MethodOptions::default(), &mut |_| {})
+                .unwrap()
+                .largest_certified_t2
+                .expect("certified")
+        };
+        let base = largest_of(Mat::<f64>::identity(3, 3).as_ref());
+        let t = Mat::from_fn(3, 3, |i, j| {
+            (f64::from(u8::from(i == j)) + entries[3 * i + j]) * 10f64.powf(decades[j])
+        });
+        let other = largest_of(t.as_ref());
+        prop_assert!(close(base, other), "T = {t:?}: {base} vs {other}");
+    }
 }
