@@ -40,7 +40,8 @@
 //! the best iterate is kept, and the log records every step. The run stops when (44) holds at
 //! the vertices and Theorem 1 is certified for `Γ(L)` (below), when the value stalls, or at the
 //! step limits; a run that does not get there is reported as **not certified**, with a typed
-//! reason ([`NotCertified`]): the value stalled at `t ≥ 0` ([`NotCertified::Infeasible`]), the
+//! reason ([`NotCertified`]): the value stalled where `t` plus the rounding bound of its f64
+//! evaluation is `≥ 0` ([`NotCertified::Infeasible`]), the
 //! step limits ran out while it was still decreasing ([`NotCertified::BudgetExhausted`]), or
 //! (44) holds at the vertices but the Theorem 1 re-verification for `Γ(L)` fails
 //! ([`NotCertified::VerificationFailed`]). When no step returns a finite point at all the run is
@@ -231,6 +232,9 @@ pub enum NotCertified {
         best_t: f64,
         /// `‖P‖₂δ` at the best iterate.
         remainder_effect: f64,
+        /// The rounding bound of the f64 evaluation of the `Ψ_i` at the best iterate
+        /// (`max_i λmax(Ψ_i)` plus it must be negative).
+        rounding: f64,
         /// Number of LMI steps solved.
         steps: usize,
     },
@@ -264,10 +268,13 @@ impl std::fmt::Display for NotCertified {
             NotCertified::Infeasible {
                 best_t,
                 remainder_effect,
+                rounding,
                 steps,
             } => write!(
                 f,
-                "(44) not certified: best max_i lambda_max(Psi_i) = {best_t:.3e} (+ remainder {remainder_effect:.3e}) after {steps} LMI steps (stalled)"
+                "(44) not certified: best max_i lambda_max(Psi_i) = {best_t:.3e} (+ remainder \
+                 {remainder_effect:.3e}, + rounding bound {rounding:.3e}; the sum must be \
+                 negative) after {steps} LMI steps (stalled)"
             ),
             NotCertified::BudgetExhausted {
                 best_t,
@@ -910,6 +917,7 @@ impl Run<'_> {
                 Stop::Stalled => NotCertified::Infeasible {
                     best_t: check.max_eigenvalue,
                     remainder_effect: check.remainder_effect,
+                    rounding: check.rounding,
                     steps,
                 },
                 Stop::Budget(limit) => NotCertified::BudgetExhausted {

@@ -177,9 +177,15 @@ fn not_certified_variants_map_to_their_reasons() {
     let infeasible = NotCertified::Infeasible {
         best_t: 0.1,
         remainder_effect: 1e-9,
+        rounding: 1e-12,
         steps: 3,
     };
     assert_eq!(infeasible.reason().kind(), "infeasible_lmi");
+    // A negative best value is refused with the rounding bound that decided it.
+    assert!(
+        infeasible.to_string().contains("rounding bound 1.000e-12"),
+        "{infeasible}"
+    );
     let budget = NotCertified::BudgetExhausted {
         best_t: 0.1,
         steps: 25,
