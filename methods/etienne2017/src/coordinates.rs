@@ -66,11 +66,6 @@ impl Coordinates {
         })
     }
 
-    /// Whether these are the coordinates of a certificate.
-    pub fn is_certificate(&self) -> bool {
-        self.own.is_some()
-    }
-
     /// The balanced plant `balanced` in these coordinates: itself, or `(RAR⁻¹, RB, CR⁻¹, RG,
     /// HR⁻¹)` with the same Jacobian bounds.
     ///
@@ -146,5 +141,46 @@ impl Coordinates {
                 ))
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use faer::mat;
+
+    /// The maps back are one change of coordinates: `L = PK` in the plant's coordinates when
+    /// `L' = P'K'` in the certificate's, and `P` is the certificate's congruence.
+    #[test]
+    fn the_maps_back_keep_l_equal_to_p_times_k() {
+        let balanced = Coordinates::balanced(vec![0.25, 2.0, 1.0]);
+        let certificate = Certificate {
+            p1: mat![[4.0, 1.0, 0.0], [1.0, 3.0, 0.5], [0.0, 0.5, 2.0]],
+            p2: mat![[2.0, -0.5, 0.2], [-0.5, 5.0, 0.0], [0.2, 0.0, 1.0]],
+            l0: Mat::zeros(3, 1),
+            l1: Mat::zeros(3, 1),
+        };
+        let own = balanced.of_certificate(&certificate).unwrap();
+        let (p, k) = (
+            mat![[1.5, 0.2, -0.1], [0.2, 0.9, 0.3], [-0.1, 0.3, 1.2]],
+            mat![[0.7], [-1.1], [0.4]],
+        );
+        let l = &p * &k;
+        let (pb, kb, lb) = (
+            own.form_back(p.as_ref()),
+            own.gain_back(k.as_ref()),
+            own.multiplier_back(l.as_ref()),
+        );
+        assert!((&pb * &kb - &lb).norm_max() <= 1e-12 * lb.norm_max());
+        // The plant's P is the certificate's congruence of P': x'ᵀP'x' = xᵀPx at x = DR⁻¹x'.
+        let x = mat![[0.3], [-1.0], [2.0]];
+        let xb = Mat::from_fn(3, 1, |i, _| x[(i, 0)] / balanced.scales[i]);
+        let (r, _) = own.own.as_ref().unwrap();
+        let xp = r * &xb;
+        let (v, w) = (
+            (x.transpose() * &pb * &x)[(0, 0)],
+            (xp.transpose() * &p * &xp)[(0, 0)],
+        );
+        assert!((v - w).abs() <= 1e-12 * v.abs(), "{v} vs {w}");
     }
 }

@@ -94,9 +94,14 @@ fn similar(d: &Data, t: MatRef<'_, f64>) -> Data {
 
 /// The largest certified `T2 ≤ limit` with `T1` fixed (`None`: nothing certified).
 fn largest(d: &Data, t1: f64, limit: f64) -> Option<f64> {
+    largest_of(&plant(d), t1, limit)
+}
+
+/// [`largest`] for a plant.
+fn largest_of(p: &ModelPlant, t1: f64, limit: f64) -> Option<f64> {
     let s = Sampling::Synchronous(SamplingWindow::new(t1, t1).unwrap());
     let r = Etienne2017::default()
-        .largest_window(&plant(d), &s, limit, &MethodOptions::default(), &mut |_| {})
+        .largest_window(p, &s, limit, &MethodOptions::default(), &mut |_| {})
         .unwrap();
     r.largest_certified_t2
 }
@@ -236,16 +241,9 @@ fn reactor(t: MatRef<'_, f64>) -> ModelPlant {
 #[test]
 fn a_reactor_keeps_its_largest_window_in_other_coordinates() {
     let t = mat![[1.0, 0.5, -0.3], [0.2, 1.0, 0.4], [-0.1, 0.3, 1.0]];
-    let largest_of = |p: &ModelPlant| {
-        let s = Sampling::Synchronous(SamplingWindow::new(0.01, 0.01).unwrap());
-        Etienne2017::default()
-            .largest_window(p, &s, 20.0, &MethodOptions::default(), &mut |_| {})
-            .unwrap()
-            .largest_certified_t2
-            .expect("certified")
-    };
-    let written = largest_of(&reactor(Mat::<f64>::identity(3, 3).as_ref()));
-    let other = largest_of(&reactor(t.as_ref()));
+    let reach = |p: &ModelPlant| largest_of(p, 0.01, 20.0).expect("certified");
+    let written = reach(&reactor(Mat::<f64>::identity(3, 3).as_ref()));
+    let other = reach(&reactor(t.as_ref()));
     assert!(close(written, other), "{written} vs {other}");
     assert!(other > 4.8, "{other}");
     // Units spanning two decades on top of a mixing (`κ(T) = 110`): 4.748 before (1.8 %).
@@ -254,7 +252,7 @@ fn a_reactor_keeps_its_largest_window_in_other_coordinates() {
         [0.04583771004758763, 4.739695815585673, 1.2035324460326529],
         [-0.01336548994791684, 1.8504680707463743, 3.48542255073102]
     ];
-    let mixed = largest_of(&reactor(units.as_ref()));
+    let mixed = reach(&reactor(units.as_ref()));
     assert!(close(written, mixed), "{written} vs {mixed}");
 
     let (m, plant) = (Etienne2017::default(), reactor(t.as_ref()));
@@ -298,19 +296,12 @@ proptest! {
         entries in proptest::collection::vec(-0.4f64..0.4, 9),
         decades in proptest::collection::vec(-1.5f64..1.5, 3),
     ) {
-        let largest_of = |t: MatRef<'_, f64>| {
-            let s = Sampling::Synchronous(SamplingWindow::new(0.01, 0.01).unwrap());
-            Etienne2017::default()
-                .largest_window(&reactor(t), &s, 20.0, &MethodOptions::default(), &mut |_| {})
-                .unwrap()
-                .largest_certified_t2
-                .expect("certified")
-        };
-        let base = largest_of(Mat::<f64>::identity(3, 3).as_ref());
+        let reach = |t: MatRef<'_, f64>| largest_of(&reactor(t), 0.01, 20.0).expect("certified");
+        let base = reach(Mat::<f64>::identity(3, 3).as_ref());
         let t = Mat::from_fn(3, 3, |i, j| {
             (f64::from(u8::from(i == j)) + entries[3 * i + j]) * 10f64.powf(decades[j])
         });
-        let other = largest_of(t.as_ref());
+        let other = reach(t.as_ref());
         prop_assert!(close(base, other), "T = {t:?}: {base} vs {other}");
     }
 }
