@@ -2,6 +2,7 @@
 //! isometric vectorisation `svec`/`smat` used by semidefinite programming.
 
 use crate::InputError;
+use faer::linalg::solvers::DenseSolveCore;
 use faer::{Mat, MatRef, Side};
 
 use crate::{LinalgError, check};
@@ -27,6 +28,21 @@ pub fn he(a: MatRef<'_, f64>) -> Result<Mat<f64>, LinalgError> {
 pub fn sym_part(a: MatRef<'_, f64>) -> Result<Mat<f64>, LinalgError> {
     let n = check::square_finite(a, "sym_part: A")?;
     Ok(Mat::from_fn(n, n, |i, j| 0.5 * (a[(i, j)] + a[(j, i)])))
+}
+
+/// `XᵀPX`, symmetrised (the product is symmetric only up to rounding): a quadratic form `P`
+/// in the coordinates `x = Xx'`. The product is formed as `(XᵀP)X`.
+pub fn symmetric_congruence(x: MatRef<'_, f64>, p: MatRef<'_, f64>) -> Mat<f64> {
+    let y = x.transpose() * p * x;
+    Mat::from_fn(y.nrows(), y.ncols(), |i, j| 0.5 * (y[(i, j)] + y[(j, i)]))
+}
+
+/// [`certificate_root`] `R` with its inverse (LU), the change of coordinates `x' = Rx` and its
+/// way back; `None` as [`certificate_root`], or when the inverse has a non-finite entry.
+pub fn certificate_coordinates(p: &[Mat<f64>]) -> Option<(Mat<f64>, Mat<f64>)> {
+    let r = certificate_root(p)?;
+    let r_inv = r.partial_piv_lu().inverse();
+    r_inv.is_all_finite().then_some((r, r_inv))
 }
 
 /// `R` (upper triangular, positive diagonal) with `RᵀR = Σ_k P_k/‖P_k‖_max` (Cholesky; the `P_k`

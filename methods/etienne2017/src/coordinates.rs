@@ -20,9 +20,9 @@
 //! coordinates is made and checked on the floating-point plant `(RA_bR⁻¹, RG_b, H_bR⁻¹,
 //! C_bR⁻¹)`, as a design in the balanced coordinates is checked on the balanced plant.
 
-use faer::linalg::solvers::DenseSolveCore;
 use faer::{Mat, MatRef};
 use sporadic_linalg::balance::{balance_b, unbalance_form, unbalance_gain};
+use sporadic_linalg::symmetric::symmetric_congruence;
 
 use crate::error::Error;
 use crate::system::Plant;
@@ -53,14 +53,13 @@ impl Coordinates {
     /// numerically positive definite or `R` is too ill-conditioned
     /// ([`MAX_CERTIFICATE_CONDITION`]).
     pub fn of_certificate(&self, certificate: &Certificate) -> Option<Self> {
-        let r = sporadic_linalg::symmetric::certificate_root(&[
+        let (r, r_inv) = sporadic_linalg::symmetric::certificate_coordinates(&[
             certificate.p1.clone(),
             certificate.p2.clone(),
         ])?;
-        let r_inv = r.partial_piv_lu().inverse();
         let s = r.singular_values().ok()?;
         let condition = s.first()? / s.last()?;
-        (r_inv.is_all_finite() && condition <= MAX_CERTIFICATE_CONDITION).then(|| Self {
+        (condition <= MAX_CERTIFICATE_CONDITION).then(|| Self {
             scales: self.scales.clone(),
             own: Some((r, r_inv)),
         })
@@ -90,10 +89,7 @@ impl Coordinates {
     /// A quadratic form `x'ᵀP'x'` in the plant's coordinates: `P = D⁻¹RᵀP'RD⁻¹`.
     pub fn form_back(&self, p: MatRef<'_, f64>) -> Mat<f64> {
         let pb = match &self.own {
-            Some((r, _)) => {
-                let x = r.transpose() * p * r;
-                Mat::from_fn(x.nrows(), x.ncols(), |i, j| 0.5 * (x[(i, j)] + x[(j, i)]))
-            }
+            Some((r, _)) => symmetric_congruence(r.as_ref(), p),
             None => p.to_owned(),
         };
         unbalance_form(pb.as_ref(), &self.scales)

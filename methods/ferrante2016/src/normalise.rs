@@ -178,8 +178,7 @@ impl Scaling {
     /// `P = Tᵀ P' T` for a symmetric `P'`, symmetrised (the product is only symmetric up to
     /// rounding).
     pub fn symmetric_congruence_back(&self, p: MatRef<'_, f64>) -> Mat<f64> {
-        let x = self.congruence_back(p);
-        Mat::from_fn(x.nrows(), x.ncols(), |i, j| 0.5 * (x[(i, j)] + x[(j, i)]))
+        sporadic_linalg::symmetric::symmetric_congruence(self.state.as_ref(), p)
     }
 
     /// The upper-triangular factor `R` (positive diagonal) of `P = TᵀP'T` for a symmetric

@@ -34,11 +34,11 @@ use faer::{Mat, MatRef};
 
 use crate::error::Error;
 use crate::plant::{RoundRobinPlant, Sensor};
-use faer::linalg::solvers::DenseSolveCore;
 use sporadic_linalg::balance::{
     balance_a, balance_c, balance_form, balancing_scales, unbalance_form, unbalance_gain,
 };
 use sporadic_linalg::gramian_form::gramian_form;
+use sporadic_linalg::symmetric::symmetric_congruence;
 
 /// The round-robin plant in the balanced coordinates `x_b = D⁻¹x` (`D = diag(d)`): `D⁻¹AD` and
 /// `C_σD`, same windows, orthonormal complements.
@@ -128,9 +128,8 @@ impl Coordinates {
     /// The coordinates of the certificate `p` (`None` when `Σ_σ P_σ/‖P_σ‖_max` is not
     /// numerically positive definite).
     pub fn of_certificate(p: &[Mat<f64>]) -> Option<Self> {
-        let r = sporadic_linalg::symmetric::certificate_root(p)?;
-        let r_inv = r.partial_piv_lu().inverse();
-        r_inv.is_all_finite().then_some(Self::Certificate {
+        let (r, r_inv) = sporadic_linalg::symmetric::certificate_coordinates(p)?;
+        Some(Self::Certificate {
             state: r,
             state_inverse: r_inv,
         })
@@ -178,7 +177,9 @@ impl Coordinates {
     pub fn form_back(&self, p: MatRef<'_, f64>) -> Mat<f64> {
         match self {
             Self::Balanced(d) => unbalance_form(p, d),
-            Self::Gramian { state, .. } | Self::Certificate { state, .. } => congruence(state, p),
+            Self::Gramian { state, .. } | Self::Certificate { state, .. } => {
+                symmetric_congruence(state.as_ref(), p)
+            }
         }
     }
 
@@ -188,7 +189,7 @@ impl Coordinates {
         match self {
             Self::Balanced(d) => balance_form(p, d),
             Self::Gramian { state_inverse, .. } | Self::Certificate { state_inverse, .. } => {
-                congruence(state_inverse, p)
+                symmetric_congruence(state_inverse.as_ref(), p)
             }
         }
     }
@@ -202,10 +203,4 @@ impl Coordinates {
             }
         }
     }
-}
-
-/// `XᵀPX`, symmetrised (the product is symmetric only up to rounding).
-pub(crate) fn congruence(x: &Mat<f64>, p: MatRef<'_, f64>) -> Mat<f64> {
-    let y = x.transpose() * p * x;
-    Mat::from_fn(y.nrows(), y.ncols(), |i, j| 0.5 * (y[(i, j)] + y[(j, i)]))
 }
