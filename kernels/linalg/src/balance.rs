@@ -68,6 +68,92 @@ pub fn balancing_scales(a: MatRef<'_, f64>) -> Vec<f64> {
     d
 }
 
+/// The diagonal `D` (powers of 2) of [`balancing_scales`] with the scales it leaves free fixed
+/// as well. A state whose off-diagonal column is zero (it drives no
+/// other state, e.g. the position at the head of an integrator chain) or whose off-diagonal row is
+/// zero (no other state drives it) has no balanced scale: `gebal` skips it and keeps the user's
+/// unit, and the scales of the states it is coupled to then follow that unit too, so `D⁻¹AD`
+/// depends on it (issue 22: a DC motor whose position is in mm refused a window certified in m).
+/// Such states are peeled off one at a time (each test is on the states not yet peeled) until one
+/// state is left or none is free; the remaining core is balanced by `gebal`, and each peeled
+/// state, in the reverse order of peeling, gets the scale that makes the norm of its coupling to
+/// the states scaled before it (its row if it is driven by one of them, else its column) equal to
+/// the core's reference magnitude: the RMS off-diagonal row norm `‖offdiag(B)‖_F / √n_core` of the
+/// balanced core `B`, or `‖B‖_F / √n_core` if `B` is diagonal. A state coupled to none of them
+/// keeps scale 1, and so do all peeled states when the core is zero (a nilpotent chain, whose `A`
+/// has no magnitude of its own). Equal to [`balancing_scales`] when no state is peeled.
+///
+/// Used where only positive diagonal changes of coordinates are allowed, so that the choice of
+/// these scales cannot be left to a later normalisation (the interval observer of Rabehi et al.
+/// 2021). The methods that also change coordinates by a similarity keep [`balancing_scales`]:
+/// for Sferlazza et al. (2021) on a rotorcraft whose actuator no state drives, the completed
+/// scaling (actuator coupling 0.4 instead of 0.05) moved the precision limit of its proof of
+/// (48) below a 2600 ms window that the `gebal` scaling certifies.
+pub fn complete_balancing_scales(a: MatRef<'_, f64>) -> Vec<f64> {
+    let n = a.nrows();
+    let mut core: Vec<usize> = (0..n).collect();
+    let mut peeled: Vec<usize> = Vec::new();
+    while core.len() > 1 {
+        let free = core.iter().position(|&i| {
+            let column = core.iter().all(|&k| k == i || a[(k, i)] == 0.0);
+            let row = core.iter().all(|&k| k == i || a[(i, k)] == 0.0);
+            column || row
+        });
+        match free {
+            Some(pos) => peeled.push(core.remove(pos)),
+            None => break,
+        }
+    }
+    if peeled.is_empty() {
+        return balancing_scales(a);
+    }
+    let mut d = vec![1.0f64; n];
+    let sub = Mat::from_fn(core.len(), core.len(), |i, j| a[(core[i], core[j])]);
+    let sub_scales = balancing_scales(sub.as_ref());
+    let balanced = balance_a(sub.as_ref(), &sub_scales);
+    for (&i, &s) in core.iter().zip(&sub_scales) {
+        d[i] = s;
+    }
+    let reference = if core.is_empty() {
+        0.0
+    } else {
+        let off_diagonal = (0..core.len())
+            .flat_map(|i| (0..core.len()).map(move |j| (i, j)))
+            .filter(|&(i, j)| i != j)
+            .fold(0.0f64, |acc, (i, j)| acc.hypot(balanced[(i, j)]));
+        let magnitude = if off_diagonal > 0.0 {
+            off_diagonal
+        } else {
+            balanced.norm_l2()
+        };
+        magnitude / (core.len() as f64).sqrt()
+    };
+    if !(reference > 0.0 && reference.is_finite()) {
+        return d;
+    }
+    let mut scaled: Vec<usize> = core;
+    for &i in peeled.iter().rev() {
+        let row = scaled
+            .iter()
+            .fold(0.0f64, |acc, &k| acc.hypot(a[(i, k)] * d[k]));
+        let column = scaled
+            .iter()
+            .fold(0.0f64, |acc, &k| acc.hypot(a[(k, i)] / d[k]));
+        let target = if row > 0.0 {
+            row / reference
+        } else if column > 0.0 {
+            reference / column
+        } else {
+            1.0
+        };
+        if target.is_finite() && target > 0.0 {
+            d[i] = 2f64.powi(target.log2().round() as i32);
+        }
+        scaled.push(i);
+    }
+    d
+}
+
 /// `D⁻¹AD` for `D = diag(d)`.
 pub fn balance_a(a: MatRef<'_, f64>, d: &[f64]) -> Mat<f64> {
     Mat::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)] * d[j] / d[i])
@@ -130,5 +216,37 @@ mod tests {
         // Powers of 2: the form round-trips exactly.
         let p = mat![[2.5, -0.3], [-0.3, 7.0]];
         assert_eq!(unbalance_form(balance_form(p.as_ref(), &d).as_ref(), &d), p);
+    }
+
+    /// The head of an integrator chain drives nothing: its scale, and through it the scales of
+    /// the states it reads, no longer follow the user's units. A DC motor in every combination
+    /// of power-of-2 units gets the same balanced matrix, and a damped integrator its pole's
+    /// magnitude on the off-diagonal.
+    #[test]
+    fn undriven_and_undriving_states_are_balanced_too() {
+        let motor = mat![[0.0, 1.0, 0.0], [0.0, -0.8, 4.0], [0.0, -1.5, -12.0]];
+        let reference = balance_a(motor.as_ref(), &complete_balancing_scales(motor.as_ref()));
+        for k in 0..27 {
+            let units = [
+                (k % 3) as i32 * 7 - 7,
+                (k / 3 % 3) as i32 * 5 - 5,
+                (k / 9) as i32 * 9 - 9,
+            ];
+            let t = Mat::from_fn(3, 3, |i, j| motor[(i, j)] * 2f64.powi(units[j] - units[i]));
+            let b = balance_a(t.as_ref(), &complete_balancing_scales(t.as_ref()));
+            assert_eq!(b, reference, "units 2^{units:?}");
+        }
+        // ẋ1 = 1e-3·x2, ẋ2 = −2x2 (x1 drives nothing): |B_01| is 2 up to the power of 2.
+        let lag = mat![[0.0, 1e-3], [0.0, -2.0]];
+        let b = balance_a(lag.as_ref(), &complete_balancing_scales(lag.as_ref()));
+        assert!((2f64.sqrt()..=8f64.sqrt()).contains(&b[(0, 1)]), "{b:?}");
+        // A state nothing drives (x1, row zero) gets its column norm set to the magnitude of the
+        // core {x2}, |−1|, up to the power of 2.
+        let fed = mat![[-3.0, 0.0], [1e5, -1.0]];
+        let b = balance_a(fed.as_ref(), &complete_balancing_scales(fed.as_ref()));
+        assert!((0.5f64.sqrt()..=2f64.sqrt()).contains(&b[(1, 0)]), "{b:?}");
+        // A nilpotent chain has no magnitude of its own: the user's units stand.
+        let chain = mat![[0.0, 5.0, 0.0], [0.0, 0.0, 0.25], [0.0, 0.0, 0.0]];
+        assert_eq!(complete_balancing_scales(chain.as_ref()), vec![1.0; 3]);
     }
 }

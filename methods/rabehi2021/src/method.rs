@@ -10,7 +10,7 @@ use std::time::Instant;
 use faer::Mat;
 
 use sporadic_linalg::balance::{
-    balance_a, balance_b, balance_c, balancing_scales, unbalance_a, unbalance_gain,
+    balance_a, balance_b, balance_c, complete_balancing_scales, unbalance_a, unbalance_gain,
 };
 
 use sporadic_model::{
@@ -148,7 +148,8 @@ fn plant_of(plant: &ModelPlant) -> Result<(Plant, Bounds), MethodError> {
 /// `(D⁻¹AD, D⁻¹B, CD)`. The interval observer is equivariant under a positive diagonal change of
 /// coordinates (it keeps the order `x̲ ≤ x ≤ x̄`), so a design there is one for the plant; the
 /// Taylor polytope of `e^(Āμ)` and the normalisations of the BMI (44), which are not invariant,
-/// then see the same matrix whatever units the user chose (issue 22).
+/// then see the same matrix whatever units the user chose (issue 22), including the units of a
+/// state `gebal` leaves free, such as the angle of a motor ([`complete_balancing_scales`]).
 fn balanced_plant(p: &Plant, scales: &[f64]) -> Result<Plant, MethodError> {
     Plant::new(
         balance_a(p.a(), scales).as_ref(),
@@ -542,7 +543,7 @@ impl ObserverMethod for Rabehi2021 {
         self.synthesis.validate().map_err(invalid)?;
         let (p, bounds) = plant_of(plant)?;
         let window = sampling.windows()[0];
-        let scales = balancing_scales(p.a());
+        let scales = complete_balancing_scales(p.a());
         let balanced = balanced_plant(&p, &scales)?;
         let mut report = match synthesise(&balanced, &window, &self.synthesis) {
             Ok(d) => match &d.status {
@@ -552,7 +553,9 @@ impl ObserverMethod for Rabehi2021 {
                     if scales.iter().any(|&x| x != 1.0) {
                         r.notes.push(format!(
                             "designed in the balanced coordinates x_b = D⁻¹x with D = diag{} \
-                             (powers of 2, LAPACK gebal scaling of A; exact): L and G1, G2 are \
+                             (powers of 2, LAPACK gebal scaling of A, with the scales of states \
+                             that no other state drives or that drive none fixed from the \
+                             balanced rest; exact): L and G1, G2 are \
                              in the plant's coordinates (L = D·L_b, G_i = D·G_ib·D⁻¹); P, F and \
                              P_19 and the margin are those of the balanced plant, whose interval \
                              error is D⁻¹ times the plant's",
@@ -600,7 +603,7 @@ impl ObserverMethod for Rabehi2021 {
         let t1 = sampling.t1();
         let cap = if self.applies(plant, sampling).is_ok() && limit.is_finite() && limit > t1 {
             let (p, _) = plant_of(plant)?;
-            let p = balanced_plant(&p, &balancing_scales(p.a()))?;
+            let p = balanced_plant(&p, &complete_balancing_scales(p.a()))?;
             match necessary_limit(&p, t1, limit, Some(NECESSARY_SCAN_STEPS)) {
                 Ok(c) => c,
                 Err(e) => {
@@ -663,7 +666,7 @@ impl ObserverMethod for Rabehi2021 {
         let (p, _) = plant_of(plant)?;
         let window = sampling.windows()[0];
         let (l, p19) = read_given(p.n(), p.p(), gains, certificate)?;
-        let scales = balancing_scales(p.a());
+        let scales = complete_balancing_scales(p.a());
         let balanced = balanced_plant(&p, &scales)?;
         self.verify_given(plant, sampling, &window, &balanced, &scales, &l, p19)
     }

@@ -106,3 +106,33 @@ fn a_certified_window_certifies_its_sub_windows() {
         );
     }
 }
+
+/// A DC motor (angle, speed, current; angle measured): the angle drives no other state, so `gebal`
+/// has no scale for it and kept the user's unit. With the angle in mrad, the speed in 10 rad/s and
+/// the current in 0.5 A, `[0.01, 1.5]` was refused after the 25 s budget (best
+/// `max λmax(Ψ_i) = −1.89`, rounding bound 13.7), while the same motor in SI units certified it in
+/// one LMI step. `balancing_scales` now fixes the angle's scale from the balanced speed–current
+/// core, and both get the same balanced matrix up to powers of 2.
+#[test]
+fn an_undriven_state_in_other_units_keeps_the_verdict() {
+    let motor = Data {
+        a: mat![[0.0, 1.0, 0.0], [0.0, -0.8, 4.0], [0.0, -1.5, -12.0]],
+        c: mat![[1.0, 0.0, 0.0]],
+        d: vec![0.0, 0.2, 0.05],
+        v: vec![0.002],
+    };
+    let dg = [1e-3, 10.0, 0.5];
+    let units = Data {
+        a: Mat::from_fn(3, 3, |i, j| motor.a[(i, j)] * dg[j] / dg[i]),
+        c: Mat::from_fn(1, 3, |i, j| motor.c[(i, j)] * dg[j]),
+        d: motor.d.iter().zip(dg).map(|(v, s)| v / s).collect(),
+        v: motor.v.clone(),
+    };
+    let s = Sampling::Synchronous(SamplingWindow::new(0.01, 1.5).unwrap());
+    for (what, x) in [("SI units", &motor), ("mrad, 10 rad/s, 0.5 A", &units)] {
+        let r = Rabehi2021::default()
+            .design(&plant(x), &s, &MethodOptions::default())
+            .unwrap();
+        assert!(r.status.is_certified(), "{what}: {:?}", r.reason);
+    }
+}
