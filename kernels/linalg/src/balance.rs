@@ -226,12 +226,8 @@ mod tests {
     fn undriven_and_undriving_states_are_balanced_too() {
         let motor = mat![[0.0, 1.0, 0.0], [0.0, -0.8, 4.0], [0.0, -1.5, -12.0]];
         let reference = balance_a(motor.as_ref(), &complete_balancing_scales(motor.as_ref()));
-        for k in 0..27 {
-            let units = [
-                (k % 3) as i32 * 7 - 7,
-                (k / 3 % 3) as i32 * 5 - 5,
-                (k / 9) as i32 * 9 - 9,
-            ];
+        for k in 0..27i32 {
+            let units = [(k % 3) * 7 - 7, (k / 3 % 3) * 5 - 5, (k / 9) * 9 - 9];
             let t = Mat::from_fn(3, 3, |i, j| motor[(i, j)] * 2f64.powi(units[j] - units[i]));
             let b = balance_a(t.as_ref(), &complete_balancing_scales(t.as_ref()));
             assert_eq!(b, reference, "units 2^{units:?}");
