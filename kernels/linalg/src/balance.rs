@@ -69,16 +69,16 @@ pub fn balancing_scales(a: MatRef<'_, f64>) -> Vec<f64> {
 }
 
 /// The diagonal `D` (powers of 2) of [`balancing_scales`] with the scales it leaves free fixed
-/// as well. A state whose off-diagonal column is zero (it drives no
-/// other state, e.g. the position at the head of an integrator chain) or whose off-diagonal row is
-/// zero (no other state drives it) has no balanced scale: `gebal` skips it and keeps the user's
-/// unit, and the scales of the states it is coupled to then follow that unit too, so `D⁻¹AD`
-/// depends on it (issue 22: a DC motor whose position is in mm refused a window certified in m).
-/// Such states are peeled off one at a time (each test is on the states not yet peeled) until one
-/// state is left or none is free; the remaining core is balanced by `gebal`, and each peeled
-/// state, in the reverse order of peeling, gets the scale that makes the norm of its coupling to
-/// the states scaled before it (its row if it is driven by one of them, else its column) equal to
-/// the core's reference magnitude: the RMS off-diagonal row norm `‖offdiag(B)‖_F / √n_core` of the
+/// as well. A state whose off-diagonal column is zero (it drives no other state, e.g. the angle
+/// at the head of a motor's integrator chain) or whose off-diagonal row is zero (no other state
+/// drives it) has no balanced scale: `gebal` skips it and keeps the user's unit, and the scales
+/// of the states it is coupled to then follow that unit too, so `D⁻¹AD` depends on it (issue 22:
+/// a DC motor with its angle in mrad refused a window that it certifies in rad). Such states are
+/// peeled off one at a time (each test is on the states not yet peeled) until one state is left
+/// or none is free; the remaining core is balanced by `gebal`, and each peeled state, in the
+/// reverse order of peeling, gets the scale that makes the norm of its coupling to the states
+/// scaled before it (its row if it is driven by one of them, else its column) equal to the
+/// core's reference magnitude: the RMS off-diagonal row norm `‖offdiag(B)‖_F / √n_core` of the
 /// balanced core `B`, or `‖B‖_F / √n_core` if `B` is diagonal. A state coupled to none of them
 /// keeps scale 1, and so do all peeled states when the core is zero (a nilpotent chain, whose `A`
 /// has no magnitude of its own). Equal to [`balancing_scales`] when no state is peeled.
@@ -146,8 +146,10 @@ pub fn complete_balancing_scales(a: MatRef<'_, f64>) -> Vec<f64> {
         } else {
             1.0
         };
+        // LAPACK's bounds on a scale, as in `balancing_scales`.
+        let sfmin = f64::MIN_POSITIVE / f64::EPSILON;
         if target.is_finite() && target > 0.0 {
-            d[i] = 2f64.powi(target.log2().round() as i32);
+            d[i] = 2f64.powi(target.clamp(sfmin, 1.0 / sfmin).log2().round() as i32);
         }
         scaled.push(i);
     }

@@ -111,8 +111,8 @@ fn a_certified_window_certifies_its_sub_windows() {
 /// has no scale for it and kept the user's unit. With the angle in mrad, the speed in 10 rad/s and
 /// the current in 0.5 A, `[0.01, 1.5]` was refused after the 25 s budget (best
 /// `max λmax(Ψ_i) = −1.89`, rounding bound 13.7), while the same motor in SI units certified it in
-/// one LMI step. `balancing_scales` now fixes the angle's scale from the balanced speed–current
-/// core, and both get the same balanced matrix up to powers of 2.
+/// one LMI step. `complete_balancing_scales` now fixes the angle's scale from the balanced
+/// speed–current core, and both get the same balanced matrix up to powers of 2.
 #[test]
 fn an_undriven_state_in_other_units_keeps_the_verdict() {
     let motor = Data {
