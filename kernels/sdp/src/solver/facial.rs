@@ -118,6 +118,8 @@
 use faer::diag::Diag;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::evd::{ComputeEigenvectors, self_adjoint_evd, self_adjoint_evd_scratch};
+use std::borrow::Cow;
+
 use faer::{Mat, Par};
 
 use super::blockops::{
@@ -198,12 +200,20 @@ impl Basis {
     }
 }
 
-/// One round: a problem, the face its exposing constraints define, and how its constraints map
-/// onto the next problem's.
+/// One round: a problem and its [`Face`].
 #[derive(Debug, Clone)]
-struct Round {
-    /// The problem before this round.
-    problem: Problem,
+struct Round<'a> {
+    /// The problem before this round: the caller's own for the first round (borrowed, not
+    /// copied: on gpp500 a copy held 3 MB through the whole solve), the previous round's
+    /// reduced problem after it.
+    problem: Cow<'a, Problem>,
+    face: Face,
+}
+
+/// The face a problem's exposing constraints define, and how its constraints map onto the
+/// reduced problem's.
+#[derive(Debug, Clone)]
+struct Face {
     /// Per block of `problem`.
     bases: Vec<Basis>,
     /// Index of every block of `problem` in the reduced problem (`None`: dropped).
@@ -216,8 +226,8 @@ struct Round {
 
 /// A problem reduced to a face of its cone (see the module documentation).
 #[derive(Debug, Clone)]
-pub(crate) struct Reduction {
-    rounds: Vec<Round>,
+pub(crate) struct Reduction<'a> {
+    rounds: Vec<Round<'a>>,
     reduced: Problem,
 }
 
@@ -424,10 +434,11 @@ fn transform(basis: &Basis, a: &SparseSym, add: &mut dyn FnMut(usize, usize, f64
     }
 }
 
-/// One round of reduction of `problem`, or `None` if nothing is exposed.
+/// One round of reduction of `problem` (its face and the reduced problem), or `None` if nothing
+/// is exposed.
 /// `Err(())`: the reduction is abandoned (a constraint vanishes on the face with `b_j ≠ 0`, or
 /// nothing would be left to solve).
-fn round(problem: &Problem) -> Result<Option<(Round, Problem)>, ()> {
+fn round(problem: &Problem) -> Result<Option<(Face, Problem)>, ()> {
     let parts = parts_of(problem);
     let exposing: Vec<(usize, f64)> = parts
         .iter()
@@ -529,8 +540,7 @@ fn round(problem: &Problem) -> Result<Option<(Round, Problem)>, ()> {
     }
     reduced.b = kept.iter().map(|&j| problem.b[j]).collect();
     Ok(Some((
-        Round {
-            problem: problem.clone(),
+        Face {
             bases,
             block_map,
             exposing,
@@ -542,21 +552,27 @@ fn round(problem: &Problem) -> Result<Option<(Round, Problem)>, ()> {
 
 /// The reduction of `problem` (validated), or `None` when it has no semidefinite constraint
 /// with `b_i = 0` or the reduction is abandoned (module documentation).
-pub(crate) fn reduce(problem: &Problem) -> Option<Reduction> {
-    let mut rounds: Vec<Round> = Vec::new();
-    let mut current: Option<Problem> = None;
+pub(crate) fn reduce(problem: &Problem) -> Option<Reduction<'_>> {
+    let mut rounds: Vec<Round<'_>> = Vec::new();
+    let mut current: Cow<'_, Problem> = Cow::Borrowed(problem);
     while rounds.len() < ROUNDS {
-        let p = current.as_ref().unwrap_or(problem);
-        match round(p) {
-            Ok(Some((r, reduced))) => {
-                rounds.push(r);
-                current = Some(reduced);
+        match round(&current) {
+            Ok(Some((face, reduced))) => {
+                let problem = std::mem::replace(&mut current, Cow::Owned(reduced));
+                rounds.push(Round { problem, face });
             }
             Ok(None) => break,
             Err(()) => return None,
         }
     }
-    current.map(|reduced| Reduction { rounds, reduced })
+    if rounds.is_empty() {
+        None
+    } else {
+        Some(Reduction {
+            rounds,
+            reduced: current.into_owned(),
+        })
+    }
 }
 
 /// `C − Σ_j y_j A_j`, one dense matrix per block.
@@ -991,13 +1007,13 @@ fn newton_step(
 
 /// `V X Vᵀ` block by block: a matrix of the problem after `round` lifted to the problem
 /// before it (LP blocks: the kept entries; dropped blocks: zero).
-fn lift_primal(round: &Round, x: &[Mat<f64>]) -> Vec<Mat<f64>> {
+fn lift_primal(round: &Round<'_>, x: &[Mat<f64>]) -> Vec<Mat<f64>> {
     round
         .problem
         .blocks
         .iter()
-        .zip(&round.bases)
-        .zip(&round.block_map)
+        .zip(&round.face.bases)
+        .zip(&round.face.block_map)
         .map(|((bd, basis), k)| {
             let n = bd.block.size;
             match (basis, k) {
@@ -1094,7 +1110,7 @@ fn range_split(x: &[Mat<f64>], s: &[Mat<f64>]) -> Option<(Vec<Mat<f64>>, Vec<Mat
     Some((projectors, complements))
 }
 
-impl Reduction {
+impl Reduction<'_> {
     /// The problem to solve.
     pub(crate) fn problem(&self) -> &Problem {
         &self.reduced
@@ -1105,9 +1121,9 @@ impl Reduction {
     /// within [`CORRECTION_ENTRIES`]; beyond it a face that is not optimal goes straight to the
     /// unreduced solve, whose time and memory are those of any solve.
     fn correction_fits(&self) -> bool {
-        self.rounds
-            .iter()
-            .all(|r| stacked_rows(&r.problem).saturating_mul(r.kept.len()) <= CORRECTION_ENTRIES)
+        self.rounds.iter().all(|r| {
+            stacked_rows(&r.problem).saturating_mul(r.face.kept.len()) <= CORRECTION_ENTRIES
+        })
     }
 
     /// The point of the original problem that `sol` (a solution of [`Reduction::problem`])
@@ -1128,24 +1144,29 @@ impl Reduction {
                     .get(i + 1)
                     .map_or(&self.reduced, |next| &next.problem);
                 if let Some((q, z)) = range_split(&x, &slack(face, &y)) {
-                    complementary_dual(p, &lift_primal(r, &q), &r.kept, face, &z, &mut y);
+                    complementary_dual(p, &lift_primal(r, &q), &r.face.kept, face, &z, &mut y);
                 }
             }
             x = lift_primal(r, &x);
             let mut full_y = vec![0.0; p.b.len()];
-            r.kept.iter().zip(&y).for_each(|(&j, &v)| full_y[j] = v);
+            r.face
+                .kept
+                .iter()
+                .zip(&y)
+                .for_each(|(&j, &v)| full_y[j] = v);
             let blocks: Vec<Block> = p.blocks.iter().map(|bd| bd.block).collect();
             let s0 = slack(p, &full_y);
             let e: Vec<Option<Mat<f64>>> = p
                 .blocks
                 .iter()
                 .map(|bd| {
-                    let e = exposing_sum(bd, &r.exposing);
+                    let e = exposing_sum(bd, &r.face.exposing);
                     (!e.is_empty()).then(|| e.to_dense(bd.block))
                 })
                 .collect();
             let t = multiplier(&blocks, &s0, &e, tau + face_deficit(&blocks, &s0, &e));
-            r.exposing
+            r.face
+                .exposing
                 .iter()
                 .for_each(|&(i, sign)| full_y[i] = -t * sign);
             y = full_y;
