@@ -77,19 +77,19 @@ pub fn balancing_scales(a: MatRef<'_, f64>) -> Vec<f64> {
 /// peeled off one at a time (each test is on the states not yet peeled) until one state is left
 /// or none is free; the remaining core is balanced by `gebal`, and each peeled state, in the
 /// reverse order of peeling, gets the scale that makes the norm of its coupling to the states
-/// scaled before it (its row if it is driven by one of them, else its column) equal to the
-/// core's reference magnitude: the RMS off-diagonal row norm `‖offdiag(B)‖_F / √n_core` of the
-/// balanced core `B`, or `‖B‖_F / √n_core` if `B` is diagonal. A state coupled to none of them
-/// keeps scale 1, and so do all peeled states when the core is zero (a nilpotent chain, whose `A`
-/// has no magnitude of its own). Equal to [`balancing_scales`] when no state is peeled.
+/// scaled before it (its row if it is driven by one of them, else its column) equal to
+/// `magnitude`, a rate the caller chooses from the problem (it must scale like `A` when time is
+/// scaled, so that the balanced matrix does not depend on the units of time or state either). A
+/// state coupled to none of them keeps scale 1. Equal to [`balancing_scales`] when no state is
+/// peeled, and the peeled states keep scale 1 when `magnitude` is not positive and finite.
 ///
 /// Used where only positive diagonal changes of coordinates are allowed, so that the choice of
 /// these scales cannot be left to a later normalisation (the interval observer of Rabehi et al.
-/// 2021). The methods that also change coordinates by a similarity keep [`balancing_scales`]:
-/// for Sferlazza et al. (2021) on a rotorcraft whose actuator no state drives, the completed
-/// scaling (actuator coupling 0.4 instead of 0.05) moved the precision limit of its proof of
-/// (48) below a 2600 ms window that the `gebal` scaling certifies.
-pub fn complete_balancing_scales(a: MatRef<'_, f64>) -> Vec<f64> {
+/// 2021, with `magnitude = 1/T2`). The methods that also change coordinates by a similarity keep
+/// [`balancing_scales`]: for Sferlazza et al. (2021) on a rotorcraft whose actuator no state
+/// drives, a completed scaling (actuator coupling 0.4 instead of 0.05) moved the precision limit
+/// of its proof of (48) below a 2600 ms window that the `gebal` scaling certifies.
+pub fn complete_balancing_scales(a: MatRef<'_, f64>, magnitude: f64) -> Vec<f64> {
     let n = a.nrows();
     let mut core: Vec<usize> = (0..n).collect();
     let mut peeled: Vec<usize> = Vec::new();
@@ -110,25 +110,10 @@ pub fn complete_balancing_scales(a: MatRef<'_, f64>) -> Vec<f64> {
     let mut d = vec![1.0f64; n];
     let sub = Mat::from_fn(core.len(), core.len(), |i, j| a[(core[i], core[j])]);
     let sub_scales = balancing_scales(sub.as_ref());
-    let balanced = balance_a(sub.as_ref(), &sub_scales);
     for (&i, &s) in core.iter().zip(&sub_scales) {
         d[i] = s;
     }
-    let reference = if core.is_empty() {
-        0.0
-    } else {
-        let off_diagonal = (0..core.len())
-            .flat_map(|i| (0..core.len()).map(move |j| (i, j)))
-            .filter(|&(i, j)| i != j)
-            .fold(0.0f64, |acc, (i, j)| acc.hypot(balanced[(i, j)]));
-        let magnitude = if off_diagonal > 0.0 {
-            off_diagonal
-        } else {
-            balanced.norm_l2()
-        };
-        magnitude / (core.len() as f64).sqrt()
-    };
-    if !(reference > 0.0 && reference.is_finite()) {
+    if !(magnitude > 0.0 && magnitude.is_finite()) {
         return d;
     }
     let mut scaled: Vec<usize> = core;
@@ -140,9 +125,9 @@ pub fn complete_balancing_scales(a: MatRef<'_, f64>) -> Vec<f64> {
             .iter()
             .fold(0.0f64, |acc, &k| acc.hypot(a[(k, i)] / d[k]));
         let target = if row > 0.0 {
-            row / reference
+            row / magnitude
         } else if column > 0.0 {
-            reference / column
+            magnitude / column
         } else {
             1.0
         };
@@ -222,29 +207,34 @@ mod tests {
 
     /// The head of an integrator chain drives nothing: its scale, and through it the scales of
     /// the states it reads, no longer follow the user's units. A DC motor in every combination
-    /// of power-of-2 units gets the same balanced matrix, and a damped integrator its pole's
-    /// magnitude on the off-diagonal.
+    /// of power-of-2 units gets the same balanced matrix, and a free state's coupling the given
+    /// magnitude up to a power of 2.
     #[test]
     fn undriven_and_undriving_states_are_balanced_too() {
         let motor = mat![[0.0, 1.0, 0.0], [0.0, -0.8, 4.0], [0.0, -1.5, -12.0]];
-        let reference = balance_a(motor.as_ref(), &complete_balancing_scales(motor.as_ref()));
+        let reference = balance_a(
+            motor.as_ref(),
+            &complete_balancing_scales(motor.as_ref(), 0.8),
+        );
         for k in 0..27i32 {
             let units = [(k % 3) * 7 - 7, (k / 3 % 3) * 5 - 5, (k / 9) * 9 - 9];
             let t = Mat::from_fn(3, 3, |i, j| motor[(i, j)] * 2f64.powi(units[j] - units[i]));
-            let b = balance_a(t.as_ref(), &complete_balancing_scales(t.as_ref()));
+            let b = balance_a(t.as_ref(), &complete_balancing_scales(t.as_ref(), 0.8));
             assert_eq!(b, reference, "units 2^{units:?}");
         }
-        // ẋ1 = 1e-3·x2, ẋ2 = −2x2 (x1 drives nothing): |B_01| is 2 up to the power of 2.
+        // ẋ1 = 1e-3·x2, ẋ2 = −2x2 (x1 drives nothing): |B_01| is the given 2.
         let lag = mat![[0.0, 1e-3], [0.0, -2.0]];
-        let b = balance_a(lag.as_ref(), &complete_balancing_scales(lag.as_ref()));
+        let b = balance_a(lag.as_ref(), &complete_balancing_scales(lag.as_ref(), 2.0));
         assert!((2f64.sqrt()..=8f64.sqrt()).contains(&b[(0, 1)]), "{b:?}");
-        // A state nothing drives (x1, row zero) gets its column norm set to the magnitude of the
-        // core {x2}, |−1|, up to the power of 2.
+        // A state nothing drives (x1, row zero) gets its column norm set to the given 1.
         let fed = mat![[-3.0, 0.0], [1e5, -1.0]];
-        let b = balance_a(fed.as_ref(), &complete_balancing_scales(fed.as_ref()));
+        let b = balance_a(fed.as_ref(), &complete_balancing_scales(fed.as_ref(), 1.0));
         assert!((0.5f64.sqrt()..=2f64.sqrt()).contains(&b[(1, 0)]), "{b:?}");
-        // A nilpotent chain has no magnitude of its own: the user's units stand.
+        // Without a magnitude the user's units stand.
         let chain = mat![[0.0, 5.0, 0.0], [0.0, 0.0, 0.25], [0.0, 0.0, 0.0]];
-        assert_eq!(complete_balancing_scales(chain.as_ref()), vec![1.0; 3]);
+        assert_eq!(
+            complete_balancing_scales(chain.as_ref(), f64::INFINITY),
+            vec![1.0; 3]
+        );
     }
 }

@@ -245,7 +245,7 @@ pub fn prove_design(
     let (n, p) = (plant.n(), c.nrows());
     let (l, p19) = read_given(n, p, &design.gains, &design.certificate)?;
     let p19 = p19.ok_or_else(|| bad("the design report's certificate has no P_19"))?;
-    let d = complete_balancing_scales(plant.a());
+    let d = complete_balancing_scales(plant.a(), crate::method::peeled_coupling(plant.a()));
     let (a_b, c_b, l_b) = (
         balance_a(plant.a(), &d),
         balance_c(c, &d),

@@ -111,8 +111,9 @@ fn a_certified_window_certifies_its_sub_windows() {
 /// has no scale for it and kept the user's unit. With the angle in mrad, the speed in 10 rad/s and
 /// the current in 0.5 A, `[0.01, 1.5]` was refused after the 25 s budget (best
 /// `max λmax(Ψ_i) = −1.89`, rounding bound 13.7), while the same motor in SI units certified it in
-/// one LMI step. `complete_balancing_scales` now fixes the angle's scale from the balanced
-/// speed–current core, and both get the same balanced matrix up to powers of 2.
+/// one LMI step. `complete_balancing_scales` now fixes the angle's scale (its coupling to the
+/// speed gets the plant's slowest rate, 0.8), and both get the same balanced matrix up to powers
+/// of 2.
 #[test]
 fn an_undriven_state_in_other_units_keeps_the_verdict() {
     let motor = Data {
@@ -130,6 +131,35 @@ fn an_undriven_state_in_other_units_keeps_the_verdict() {
     };
     let s = Sampling::Synchronous(SamplingWindow::new(0.01, 1.5).unwrap());
     for (what, x) in [("SI units", &motor), ("mrad, 10 rad/s, 0.5 A", &units)] {
+        let r = Rabehi2021::default()
+            .design(&plant(x), &s, &MethodOptions::default())
+            .unwrap();
+        assert!(r.status.is_certified(), "{what}: {:?}", r.reason);
+    }
+}
+
+/// A cart (position, velocity with friction 0.2, force with a lag of rate 5; position measured):
+/// the position drives nothing and no state drives the force, so the balancing left both scales
+/// to the user. In SI units `[0.02, 2]` was certified; with the position in mm, the velocity in
+/// units of 0.3 m/s and the force in units of 50 N not even `[0.02, 0.02]` was. The free states'
+/// couplings now get the plant's slowest rate (0.2), whatever the units.
+#[test]
+fn a_cart_in_other_units_keeps_the_verdict() {
+    let cart = Data {
+        a: mat![[0.0, 1.0, 0.0], [0.0, -0.2, 1.0], [0.0, 0.0, -5.0]],
+        c: mat![[1.0, 0.0, 0.0]],
+        d: vec![0.0, 0.1, 0.5],
+        v: vec![0.01],
+    };
+    let dg = [1e-3, 0.3, 50.0];
+    let units = Data {
+        a: Mat::from_fn(3, 3, |i, j| cart.a[(i, j)] * dg[j] / dg[i]),
+        c: Mat::from_fn(1, 3, |i, j| cart.c[(i, j)] * dg[j]),
+        d: cart.d.iter().zip(dg).map(|(v, s)| v / s).collect(),
+        v: cart.v.clone(),
+    };
+    let s = Sampling::Synchronous(SamplingWindow::new(0.02, 2.0).unwrap());
+    for (what, x) in [("SI units", &cart), ("mm, 0.3 m/s, 50 N", &units)] {
         let r = Rabehi2021::default()
             .design(&plant(x), &s, &MethodOptions::default())
             .unwrap();
