@@ -159,18 +159,20 @@ fn balanced_plant(p: &Plant, scales: &[f64]) -> Result<Plant, MethodError> {
     .map_err(invalid)
 }
 
-/// The magnitude given to the coupling of a state that LAPACK's balancing leaves free
-/// ([`complete_balancing_scales`]): the slowest nonzero rate on the diagonal of `A`, `min |a_ii|`
+/// The scales of the balanced coordinates of a plant with state matrix `a`:
+/// [`complete_balancing_scales`] with the coupling of a state that LAPACK's balancing leaves free
+/// set to the slowest nonzero rate on the diagonal of `A`, `min |a_ii|`
 /// over `a_ii ≠ 0` (it scales with `A` under a change of time unit and does not depend on the
 /// state units). A coupling larger than the plant's rates inflates `Ā` and with it the Taylor
 /// polytope of `e^(Āμ)`: a cart (position, velocity with friction 0.2, force lag 5) written with
-/// couplings 0.25, 1, 4, 16 was certified up to `T2` = 2, 2, 1.24 and 0.093. Infinite (not a
-/// magnitude: the user's units stand) when the diagonal is zero.
-pub(crate) fn peeled_coupling(a: MatRef<'_, f64>) -> f64 {
-    (0..a.nrows())
+/// couplings 0.25, 1, 4, 16 was certified up to `T2` = 2, 2, 1.24 and 0.093. When the diagonal
+/// is zero there is no such rate and the user's units of the free states stand.
+pub(crate) fn balancing_scales_of(a: MatRef<'_, f64>) -> Vec<f64> {
+    let slowest = (0..a.nrows())
         .map(|i| a[(i, i)].abs())
         .filter(|&r| r > 0.0)
-        .fold(f64::INFINITY, f64::min)
+        .fold(f64::INFINITY, f64::min);
+    complete_balancing_scales(a, slowest)
 }
 
 /// The gain and the split of a design made in balanced coordinates, in the plant's:
@@ -557,7 +559,7 @@ impl ObserverMethod for Rabehi2021 {
         self.synthesis.validate().map_err(invalid)?;
         let (p, bounds) = plant_of(plant)?;
         let window = sampling.windows()[0];
-        let scales = complete_balancing_scales(p.a(), peeled_coupling(p.a()));
+        let scales = balancing_scales_of(p.a());
         let balanced = balanced_plant(&p, &scales)?;
         let mut report = match synthesise(&balanced, &window, &self.synthesis) {
             Ok(d) => match &d.status {
@@ -617,10 +619,7 @@ impl ObserverMethod for Rabehi2021 {
         let t1 = sampling.t1();
         let cap = if self.applies(plant, sampling).is_ok() && limit.is_finite() && limit > t1 {
             let (p, _) = plant_of(plant)?;
-            let p = balanced_plant(
-                &p,
-                &complete_balancing_scales(p.a(), peeled_coupling(p.a())),
-            )?;
+            let p = balanced_plant(&p, &balancing_scales_of(p.a()))?;
             match necessary_limit(&p, t1, limit, Some(NECESSARY_SCAN_STEPS)) {
                 Ok(c) => c,
                 Err(e) => {
@@ -683,7 +682,7 @@ impl ObserverMethod for Rabehi2021 {
         let (p, _) = plant_of(plant)?;
         let window = sampling.windows()[0];
         let (l, p19) = read_given(p.n(), p.p(), gains, certificate)?;
-        let scales = complete_balancing_scales(p.a(), peeled_coupling(p.a()));
+        let scales = balancing_scales_of(p.a());
         let balanced = balanced_plant(&p, &scales)?;
         self.verify_given(plant, sampling, &window, &balanced, &scales, &l, p19)
     }

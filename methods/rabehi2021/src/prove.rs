@@ -43,8 +43,7 @@ use sporadic_interval::{
     is_verified_negative_definite, is_verified_positive_definite, lambda_max_enclosure,
 };
 use sporadic_linalg::balance::{
-    balance_a, balance_b, balance_c, complete_balancing_scales, unbalance_a, unbalance_form,
-    unbalance_gain,
+    balance_a, balance_b, balance_c, unbalance_a, unbalance_form, unbalance_gain,
 };
 use sporadic_model::{
     DesignReport, Gain, MethodError, NamedMatrix, PieceCheck, Plant as ModelPlant, Proof,
@@ -245,7 +244,7 @@ pub fn prove_design(
     let (n, p) = (plant.n(), c.nrows());
     let (l, p19) = read_given(n, p, &design.gains, &design.certificate)?;
     let p19 = p19.ok_or_else(|| bad("the design report's certificate has no P_19"))?;
-    let d = complete_balancing_scales(plant.a(), crate::method::peeled_coupling(plant.a()));
+    let d = crate::method::balancing_scales_of(plant.a());
     let (a_b, c_b, l_b) = (
         balance_a(plant.a(), &d),
         balance_c(c, &d),

@@ -48,6 +48,28 @@ fn largest(x: &Data, t1: f64, limit: f64) -> f64 {
     r.largest_certified_t2.expect("certified")
 }
 
+/// The plant in the units `x = diag(dg)·z`: `(D⁻¹AD, CD, D⁻¹d̄)`, the same output and noise.
+fn in_units(x: &Data, dg: &[f64]) -> Data {
+    let (n, p) = (x.a.nrows(), x.c.nrows());
+    Data {
+        a: Mat::from_fn(n, n, |i, j| x.a[(i, j)] * dg[j] / dg[i]),
+        c: Mat::from_fn(p, n, |i, j| x.c[(i, j)] * dg[j]),
+        d: x.d.iter().zip(dg).map(|(v, s)| v / s).collect(),
+        v: x.v.clone(),
+    }
+}
+
+/// Asserts that `x` as given and in the units `diag(dg)` both certify the window `(t1, t2)`.
+fn certified_in_both_units(x: &Data, dg: &[f64], (t1, t2): (f64, f64)) {
+    let s = Sampling::Synchronous(SamplingWindow::new(t1, t2).unwrap());
+    for (what, x) in [("as given", x), ("in other units", &in_units(x, dg))] {
+        let r = Rabehi2021::default()
+            .design(&plant(x), &s, &MethodOptions::default())
+            .unwrap();
+        assert!(r.status.is_certified(), "{what}: {:?}", r.reason);
+    }
+}
+
 fn close(a: f64, b: f64) -> bool {
     (a - b).abs() <= 0.01 * a.abs().max(b.abs())
 }
@@ -72,12 +94,7 @@ fn units_and_output_scaling_keep_the_largest_window() {
     // Position in millimetres, velocity in km/s.
     let dg = [1e-3, 1e3];
     let x = example();
-    let units = Data {
-        a: Mat::from_fn(2, 2, |i, j| x.a[(i, j)] * dg[j] / dg[i]),
-        c: Mat::from_fn(1, 2, |i, j| x.c[(i, j)] * dg[j]),
-        d: x.d.iter().zip(dg).map(|(v, s)| v / s).collect(),
-        v: x.v.clone(),
-    };
+    let units = in_units(&x, &dg);
     let s = largest(&units, 0.04, 3.0);
     assert!(close(base, s), "units: {base} vs {s}");
     let c = 250.0;
@@ -122,20 +139,7 @@ fn an_undriven_state_in_other_units_keeps_the_verdict() {
         d: vec![0.0, 0.2, 0.05],
         v: vec![0.002],
     };
-    let dg = [1e-3, 10.0, 0.5];
-    let units = Data {
-        a: Mat::from_fn(3, 3, |i, j| motor.a[(i, j)] * dg[j] / dg[i]),
-        c: Mat::from_fn(1, 3, |i, j| motor.c[(i, j)] * dg[j]),
-        d: motor.d.iter().zip(dg).map(|(v, s)| v / s).collect(),
-        v: motor.v.clone(),
-    };
-    let s = Sampling::Synchronous(SamplingWindow::new(0.01, 1.5).unwrap());
-    for (what, x) in [("SI units", &motor), ("mrad, 10 rad/s, 0.5 A", &units)] {
-        let r = Rabehi2021::default()
-            .design(&plant(x), &s, &MethodOptions::default())
-            .unwrap();
-        assert!(r.status.is_certified(), "{what}: {:?}", r.reason);
-    }
+    certified_in_both_units(&motor, &[1e-3, 10.0, 0.5], (0.01, 1.5));
 }
 
 /// A cart (position, velocity with friction 0.2, force with a lag of rate 5; position measured):
@@ -151,18 +155,5 @@ fn a_cart_in_other_units_keeps_the_verdict() {
         d: vec![0.0, 0.1, 0.5],
         v: vec![0.01],
     };
-    let dg = [1e-3, 0.3, 50.0];
-    let units = Data {
-        a: Mat::from_fn(3, 3, |i, j| cart.a[(i, j)] * dg[j] / dg[i]),
-        c: Mat::from_fn(1, 3, |i, j| cart.c[(i, j)] * dg[j]),
-        d: cart.d.iter().zip(dg).map(|(v, s)| v / s).collect(),
-        v: cart.v.clone(),
-    };
-    let s = Sampling::Synchronous(SamplingWindow::new(0.02, 2.0).unwrap());
-    for (what, x) in [("SI units", &cart), ("mm, 0.3 m/s, 50 N", &units)] {
-        let r = Rabehi2021::default()
-            .design(&plant(x), &s, &MethodOptions::default())
-            .unwrap();
-        assert!(r.status.is_certified(), "{what}: {:?}", r.reason);
-    }
+    certified_in_both_units(&cart, &[1e-3, 0.3, 50.0], (0.02, 2.0));
 }
