@@ -14,6 +14,9 @@ use faer::{Mat, MatRef};
 /// column norms by at least 5 %; LAPACK needs a handful).
 const MAX_SWEEPS: usize = 200;
 
+/// Bounds that keep the scales finite (LAPACK's `sfmin`; `sfmax = 1/sfmin`).
+const SFMIN: f64 = f64::MIN_POSITIVE / f64::EPSILON;
+
 /// The diagonal `D` (powers of 2) of the `gebal` scaling of `a` (no permutation): `D⁻¹AD` has
 /// off-diagonal row and column 2-norms within a factor 2 of each other where that lowers their sum
 /// by at least 5 %. All ones when `a` is already balanced.
@@ -21,9 +24,7 @@ pub fn balancing_scales(a: MatRef<'_, f64>) -> Vec<f64> {
     let n = a.nrows();
     let mut b = a.to_owned();
     let mut d = vec![1.0f64; n];
-    // Powers of 2 and bounds that keep the scales finite (LAPACK's sfmin/sfmax).
-    let sfmin = f64::MIN_POSITIVE / f64::EPSILON;
-    let sfmax = 1.0 / sfmin;
+    let (sfmin, sfmax) = (SFMIN, 1.0 / SFMIN);
     for _ in 0..MAX_SWEEPS {
         let mut changed = false;
         for i in 0..n {
@@ -131,10 +132,8 @@ pub fn complete_balancing_scales(a: MatRef<'_, f64>, magnitude: f64) -> Vec<f64>
         } else {
             1.0
         };
-        // LAPACK's bounds on a scale, as in `balancing_scales`.
-        let sfmin = f64::MIN_POSITIVE / f64::EPSILON;
         if target.is_finite() && target > 0.0 {
-            d[i] = 2f64.powi(target.clamp(sfmin, 1.0 / sfmin).log2().round() as i32);
+            d[i] = 2f64.powi(target.clamp(SFMIN, 1.0 / SFMIN).log2().round() as i32);
         }
         scaled.push(i);
     }
