@@ -166,7 +166,7 @@ def verify(plant: PlantLike, method: str, gains: Any, certificate: Any = None,
     The report always has a ``proof``: with ``prove=True`` the rigorous proof; without it
     ``inconclusive`` ("no proof was asked for") when the gains pass the floating-point check,
     ``not_proved`` when they fail it. Raises :class:`VerificationUnavailableError` for a method
-    without a check of given gains (sferlazza2021, andrieu2014), as the CLI exits with an error.
+    without a check of given gains (andrieu2014), as the CLI exits with an error.
     """
     _proof_args(prove, proof_pieces)
     p = _plant(plant)

@@ -62,7 +62,7 @@ class SimulationUnavailableError(SporadicError):
 
 
 class VerificationUnavailableError(SporadicError):
-    """The method has no check of given gains (``verify``; e.g. sferlazza2021, andrieu2014)."""
+    """The method has no check of given gains (``verify``; andrieu2014)."""
 
 
 class SdpError(SporadicError, ValueError):

@@ -135,7 +135,13 @@ class Plant:
             for key in ("disturbance", "noise"):
                 if bounds.get(key) is not None:
                     lines.append(f"{key} = {_vec(_as_vector(f'bounds.{key}', bounds[key]))}")
-        self._init("\n".join(lines) + "\n", "<Plant>")
+        try:
+            self._init("\n".join(lines) + "\n", "<Plant>")
+        except PlantError as e:
+            # The text is generated here: its line numbers mean nothing to the caller, whose
+            # arrays the field names (``plant.C``, ``sampling.window``) already point to.
+            d = dict(e.details, line=0, path="")
+            raise PlantError(f"{d.get('field', '')}: {d.get('reason', e.message)}", e.kind, d) from None
 
     def _init(self, text: str, path: str) -> None:
         self._text = text

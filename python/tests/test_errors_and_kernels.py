@@ -61,6 +61,9 @@ def test_bad_plants_raise_plant_error_with_the_field(kwargs, field):
         sporadic.Plant(A, B, C, **kwargs)
     assert e.value.field.startswith(field), (e.value.field, str(e.value))
     assert e.value.kind == "plant_file" and str(e.value)
+    # The plant file behind arrays is generated: no line of it is quoted to the caller.
+    assert e.value.line == 0 and "<Plant>" not in str(e.value), str(e.value)
+    assert str(e.value).startswith(e.value.field + ": "), str(e.value)
     assert isinstance(e.value, ValueError)
 
 

@@ -75,7 +75,7 @@ def test_verify_a_design_report_equals_cli_json(cli, tmp_path, path, method):
         try:
             got = sporadic.verify(path, method, design, prove=prove)
         except sporadic.VerificationUnavailableError as e:
-            # no check of given gains (sferlazza2021, andrieu2014): the CLI fails the same way
+            # no check of given gains (andrieu2014): the CLI fails the same way
             assert e.kind == "verification_unavailable" and "not available" in str(e)
             assert cli(*args, raw=True).strip() == ""  # the CLI fails too: an error, no report
             return
