@@ -249,6 +249,13 @@ class Simulation:
     x: Optional[np.ndarray] = None
     x_hat: Optional[np.ndarray] = None
 
+    def __repr__(self) -> str:
+        # The dataclass default would print every array in full.
+        span = (float(self.t[0]), float(self.t[-1])) if len(self.t) else None
+        last = float(self.norm[-1]) if len(self.norm) else None
+        return (f"Simulation(method={self.report.method!r}, quantity={self.quantity!r}, t={span!r}, "
+                f"points={len(self.t)}, samples={len(self.jumps)}, final_norm={last!r})")
+
 
 def simulate(plant: PlantLike, method: str = "ferrante2016", *, horizon: Optional[float] = None,
              initial_error: Optional[Sequence[float]] = None, scenario: str = "uniform", seed: int = 1,

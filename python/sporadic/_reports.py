@@ -52,6 +52,14 @@ class _Report:
     def __getitem__(self, key: str) -> Any:
         return self._d[key]
 
+    def __iter__(self):
+        """The report's top-level JSON keys, as a dict's (without it Python would iterate by
+        calling ``report[0]``, ``report[1]``, … and fail with ``KeyError: 0``)."""
+        return iter(self._d)
+
+    def __contains__(self, key: object) -> bool:
+        return key in self._d
+
     def __eq__(self, other: object) -> bool:
         return type(other) is type(self) and other._d == self._d  # type: ignore[attr-defined]
 

@@ -48,6 +48,8 @@ def test_report_attributes_on_a_certified_design():
     assert P.shape == (3, 3) and np.array_equal(P, P.T)
     assert json.loads(r.to_json()) == r.to_dict()
     assert "certified" in repr(r)
+    # A report reads like a dict of its JSON: its keys iterate, `in` tests them.
+    assert list(r) == list(r.to_dict()) and "margin" in r and "no such key" not in r
 
 
 def test_numpy_plant_equals_the_plant_file():
@@ -114,6 +116,8 @@ def test_compare_without_search_equals_cli_json(cli, tmp_path):
     expected = cli("compare", path, "--no-search", "--out", tmp_path, "--json")
     assert without_timing(r.to_dict()) == without_timing(expected)
     assert set(r.designs) == set(METHODS)
+    # Iterating a comparison gives its keys (it used to fail with `KeyError: 0`).
+    assert "results" in list(r) and "results" in r
 
 
 def test_compare_with_search_equals_cli_json(cli, tmp_path):
@@ -141,6 +145,10 @@ def test_simulate_equals_the_cli_time_series(cli, tmp_path):
     assert sim.error.shape == (3, n) and sim.norm.shape == (n,)
     assert len(sim.jumps) == sim.j[-1] and np.all(sim.j[sim.jumps] == sim.j[sim.jumps - 1] + 1)
     assert sim.norm[-1] < sim.norm[0]
+    # A one-line repr with the figures that identify the run, not every array in full.
+    text = repr(sim)
+    assert "\n" not in text and len(text) < 300, text
+    assert f"samples={len(sim.jumps)}" in text and "ferrante2016" in text, text
 
 
 def test_simulate_periodic_scenarios_and_not_certified():
