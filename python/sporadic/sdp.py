@@ -47,6 +47,14 @@ class SdpResult:
     def solved(self) -> bool:
         return self.status in ("optimal", "almost_optimal")
 
+    def __repr__(self) -> str:
+        # The dataclass default would print y, X and Z in full.
+        blocks = ", ".join("x".join(map(str, x.shape)) for x in self.X)
+        return (f"SdpResult(status={self.status!r}, primal_objective={self.primal_objective!r}, "
+                f"dual_objective={self.dual_objective!r}, m={len(self.y)}, blocks=[{blocks}], "
+                f"dimacs_max={float(np.max(np.abs(self.dimacs))) if len(self.dimacs) else None!r}, "
+                f"iterations={self.iterations})")
+
 
 def _result(d) -> SdpResult:
     return SdpResult(

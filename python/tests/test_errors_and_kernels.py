@@ -124,6 +124,9 @@ def test_sdp_solve_smallest_eigenvalue():
     r = sporadic.sdp.solve([[1.0, 2.0]], [[[1.0, 1.0]]], [1.0], [-2])
     assert r.status == "optimal" and abs(r.primal_objective - 1.0) < 1e-7
     assert r.X[0].shape == (2, 1)
+    # One line with status, objectives and shapes, not y, X and Z in full.
+    text = repr(r)
+    assert "\n" not in text and "status='optimal'" in text and "blocks=[2x1]" in text, text
 
 
 def test_sdp_bad_input():
