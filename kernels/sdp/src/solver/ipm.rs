@@ -17,7 +17,7 @@ use super::schur::assemble;
 use super::settings::{IterationLog, Settings};
 use super::solution::{FacialPath, Solution, Status};
 use super::start::initial_point;
-use super::step::{Side, step_lengths};
+use super::step::{Confirm, Side, step_lengths};
 use super::structure::{Analysis, Values};
 use crate::problem::Problem;
 
@@ -517,6 +517,7 @@ pub(crate) fn run(
                     },
                 ],
                 gamma,
+                Confirm::No,
             );
             let mu_pred = if an.nu > 0 {
                 (res.xs
@@ -573,6 +574,7 @@ pub(crate) fn run(
                 },
             ],
             gamma,
+            Confirm::Yes,
         );
         // The factors and residuals of the current iterate are dead once the step lengths are
         // known: they go before the new point and its factors are formed.

@@ -25,7 +25,8 @@
 //!    (module `linsys`) — or, once these normal equations are too ill-conditioned to deliver
 //!    `𝒜(ΔX) = r_p` to the tolerance, the same Newton system as a least-squares problem in the
 //!    HKM-scaled space solved by Householder QR (module `lsq`);
-//! 3. a predictor (`σ = 0`), exact step lengths to the cone boundary (module `step`), the centring
+//! 3. a predictor (`σ = 0`), step lengths to the cone boundary (module `step`: exact, or bounded
+//!    by Lanczos steps for blocks of order 200 or more, module `lanczos`), the centring
 //!    parameter `σ = (μ_aff/μ)^e` with SDPT3's adaptive exponent `e = max(1, 3 min(α_p,α_d)²)`,
 //!    and a corrector with the second-order term `ΔX_a ΔS_a` (module `direction`);
 //! 4. steps `α = min(1, γ α_max)` with `γ = 0.9 + 0.09 min(α_p, α_d)` (SDPT3), backtracked if a
@@ -80,6 +81,7 @@ mod cost;
 mod direction;
 mod facial;
 mod ipm;
+mod lanczos;
 mod linsys;
 mod lsq;
 mod par;
