@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import json
-from typing import Any, Dict, List, Optional, Tuple
+from typing import Any, Dict, Iterator, List, Optional, Tuple
 
 import numpy as np
 
@@ -52,7 +52,7 @@ class _Report:
     def __getitem__(self, key: str) -> Any:
         return self._d[key]
 
-    def __iter__(self):
+    def __iter__(self) -> Iterator[str]:
         """The report's top-level JSON keys, as a dict's (without it Python would iterate by
         calling ``report[0]``, ``report[1]``, … and fail with ``KeyError: 0``)."""
         return iter(self._d)

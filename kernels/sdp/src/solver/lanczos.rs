@@ -9,8 +9,8 @@
 //! **Bound.** With full reorthogonalisation, `k` steps give the tridiagonal `T_k` and the
 //! residual norm `r_1 = β_k |e_kᵀ y_1|` of its largest Ritz pair `(θ_1, y_1)`: an eigenvalue of
 //! the operator lies within `r_1` of `θ_1`, and `θ_1 + r_1` bounds the largest one once the
-//! Krylov space has found it, which a start vector with no zero component in any eigenvector
-//! ensures in exact arithmetic. (SDPT3 tightens `r_1` to `r_1²/g` by the Kato–Temple
+//! Krylov space has found it, which it does in exact arithmetic when the start vector has a
+//! component along the top eigenvector, the faster the larger that component. (SDPT3 tightens `r_1` to `r_1²/g` by the Kato–Temple
 //! inequality, with the gap `g` to the next Ritz value; that assumes no unresolved eigenvalue
 //! in the gap, and on a spectrum whose top is repeated it fell below the largest eigenvalue.)
 //! Convergence is not tested before [`MIN_STEPS`] steps, and the caller confirms the bound
@@ -90,9 +90,10 @@ pub(crate) fn largest_eigenvalue_bound(n: usize, mut apply: impl FnMut(&[f64], &
     unreachable!("the last step returns")
 }
 
-/// The unit start vector of order `n`: irregular positive components, so that no eigenvector of
-/// a structured operator is orthogonal to it (a constant vector is, to every antisymmetric mode
-/// of a Laplacian).
+/// The unit start vector of order `n`: irregular positive components (SDPT3 draws a random
+/// one), so that an eigenvector of a structured operator is unlikely to be nearly orthogonal to
+/// it, as a constant vector is to every antisymmetric mode of a Laplacian; fixed, so that the
+/// solver's results do not depend on a seed.
 fn start_vector(n: usize) -> Vec<f64> {
     let mut state = 0x9e37_79b9_7f4a_7c15u64;
     let mut v: Vec<f64> = (0..n)
