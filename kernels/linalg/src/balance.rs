@@ -86,10 +86,11 @@ pub fn balancing_scales(a: MatRef<'_, f64>) -> Vec<f64> {
 ///
 /// Used where only positive diagonal changes of coordinates are allowed, so that the choice of
 /// these scales cannot be left to a later normalisation (the interval observer of Rabehi et al.
-/// 2021, with the plant's slowest rate `min |a_ii|` as `magnitude`). The methods that also change coordinates by a similarity keep
-/// [`balancing_scales`]: for Sferlazza et al. (2021) on a rotorcraft whose actuator no state
-/// drives, a completed scaling (actuator coupling 0.4 instead of 0.05) moved the precision limit
-/// of its proof of (48) below a 2600 ms window that the `gebal` scaling certifies.
+/// 2021, with the plant's slowest rate `min |a_ii|` as `magnitude`). The methods that also
+/// change coordinates by a similarity keep [`balancing_scales`]: for Sferlazza et al. (2021) on a
+/// rotorcraft whose actuator no state drives, a completed scaling (actuator coupling 0.4 instead
+/// of 0.05) moved the precision limit of its proof of (48) below a 2600 ms window that the
+/// `gebal` scaling certifies.
 pub fn complete_balancing_scales(a: MatRef<'_, f64>, magnitude: f64) -> Vec<f64> {
     let n = a.nrows();
     let mut core: Vec<usize> = (0..n).collect();

@@ -10,11 +10,11 @@
 //! residual norm `r_1 = β_k |e_kᵀ y_1|` of its largest Ritz pair `(θ_1, y_1)`: an eigenvalue of
 //! the operator lies within `r_1` of `θ_1`, and `θ_1 + r_1` bounds the largest one once the
 //! Krylov space has found it, which it does in exact arithmetic when the start vector has a
-//! component along the top eigenvector, the faster the larger that component. (SDPT3 tightens `r_1` to `r_1²/g` by the Kato–Temple
-//! inequality, with the gap `g` to the next Ritz value; that assumes no unresolved eigenvalue
-//! in the gap, and on a spectrum whose top is repeated it fell below the largest eigenvalue.)
-//! Convergence is not tested before [`MIN_STEPS`] steps, and the caller confirms the bound
-//! (a Cholesky test in [`super::step`]).
+//! component along the top eigenvector, the faster the larger that component. (SDPT3 tightens
+//! `r_1` to `r_1²/g` by the Kato–Temple inequality, with the gap `g` to the next Ritz value;
+//! that assumes no unresolved eigenvalue in the gap, and on a spectrum whose top is repeated it
+//! fell below the largest eigenvalue.) Convergence is not tested before [`MIN_STEPS`] steps,
+//! and the caller confirms the bound (a Cholesky test in [`super::step`]).
 
 use faer::Mat;
 use faer::linalg::matmul::matmul;
@@ -76,9 +76,9 @@ pub(crate) fn largest_eigenvalue_bound(n: usize, mut apply: impl FnMut(&[f64], &
         let b = w.iter().map(|x| x * x).sum::<f64>().sqrt();
         let last = k + 1 == steps || b <= f64::EPSILON * a.abs().max(1.0);
         if last || (k + 1 >= MIN_STEPS && (k + 1) % CHECK_EVERY == 0) {
-            let (bound, excess) = ritz_bound(&alpha, &beta, b);
-            if last || excess <= TOL * (bound - excess).abs().max(1.0) {
-                return bound;
+            let (theta, residual) = largest_ritz_pair(&alpha, &beta, b);
+            if last || residual <= TOL * theta.abs().max(1.0) {
+                return theta + residual;
             }
         }
         beta.push(b);
@@ -109,9 +109,9 @@ fn start_vector(n: usize) -> Vec<f64> {
     v
 }
 
-/// The bound `θ_1 + r_1` and its excess `r_1` from the tridiagonal with diagonal `alpha` and
-/// off-diagonal `beta` (one shorter) and the next off-diagonal entry `b`.
-fn ritz_bound(alpha: &[f64], beta: &[f64], b: f64) -> (f64, f64) {
+/// The largest Ritz value `θ_1` and its residual `r_1` from the tridiagonal with diagonal
+/// `alpha` and off-diagonal `beta` (one shorter) and the next off-diagonal entry `b`.
+fn largest_ritz_pair(alpha: &[f64], beta: &[f64], b: f64) -> (f64, f64) {
     let k = alpha.len();
     let t = Mat::<f64>::from_fn(k, k, |i, j| {
         if i == j {
@@ -130,8 +130,7 @@ fn ritz_bound(alpha: &[f64], beta: &[f64], b: f64) -> (f64, f64) {
     // Eigenvalues ascending: the largest is the last; its residual is `b` times the last
     // component of its eigenvector.
     let top = k - 1;
-    let r1 = b * evd.U()[(k - 1, top)].abs();
-    (evd.S()[top] + r1, r1)
+    (evd.S()[top], b * evd.U()[(k - 1, top)].abs())
 }
 
 #[cfg(test)]
@@ -171,7 +170,11 @@ mod tests {
         /// bound is at least the largest eigenvalue (up to rounding) and close to it: spectra
         /// at random, in clusters of equal eigenvalues, and with the top repeated.
         #[test]
-        fn bounds_the_largest_eigenvalue(n in 1usize..=120, seed in any::<u64>(), kind in 0usize..3) {
+        fn bounds_the_largest_eigenvalue(
+            n in 1usize..=120,
+            seed in any::<u64>(),
+            kind in 0usize..3,
+        ) {
             let mut rng = XorShift(seed | 1);
             let mut lambda: Vec<f64> = (0..n).map(|_| 4.0 * rng.centred()).collect();
             if kind == 1 {

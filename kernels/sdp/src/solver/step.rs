@@ -322,7 +322,11 @@ mod tests {
             let linv = lower_inverse(&cholesky(&v).expect("positive definite"));
             let exact = exact_step(min_eig(BlockKind::Psd, &congruence(&linv, &d)));
             let gamma = 0.95;
-            let side = Side { cur: std::slice::from_ref(&v), linv: std::slice::from_ref(&linv), d: std::slice::from_ref(&d) };
+            let side = Side {
+                cur: std::slice::from_ref(&v),
+                linv: std::slice::from_ref(&linv),
+                d: std::slice::from_ref(&d),
+            };
             let Bound::Known(a) = side.bound(0, BlockKind::Psd, gamma, Confirm::Yes) else {
                 return Err(TestCaseError::fail("a large block's bound is always known"));
             };
