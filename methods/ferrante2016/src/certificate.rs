@@ -138,31 +138,76 @@ impl CertificateCoordinates {
 }
 
 /// Whether LMI (41) holds at a point `(P, F, J)` at every vertex of `set` by more than what
-/// rounding and the embedding's own error can explain: `λmax(Φ_i) < −τ` with
-/// `τ = 2‖P‖₂·error + 64u·3n·s` (`error` the bound of [`VertexSet`], `u` the unit roundoff, `s`
-/// the largest block norm of `Φ_i`). A backward-stable eigenvalue computation is within
-/// `O(u)‖Φ_i‖` of the exact one, and the true `e^{Av}` is within `error` of the hull, which
-/// moves `Φ` by at most `‖P‖₂` times that in its `(3,1)` block: so this is Corollary 1's strict
-/// LMI, decided without the solver's verification threshold (which is relative to the
-/// normalisation `‖P‖₂ ≤ 1` of the margin problem and so depends on the coordinates).
+/// rounding and the embedding's own error can explain: `λmax(Φ_i) < −τ` ([`VertexTest`]).
+/// The vertices are tested from `*first` on, cyclically, and a vertex that fails is stored
+/// there: the iterates of one solve tend to fail at the same vertex, which is then tested
+/// first (the verdict does not depend on the order).
 pub(crate) fn strictly_negative(
     plant: &Plant,
     set: &VertexSet<'_>,
-    p: MatRef<'_, f64>,
-    f: MatRef<'_, f64>,
-    j: MatRef<'_, f64>,
+    (p, f, j): (MatRef<'_, f64>, MatRef<'_, f64>, MatRef<'_, f64>),
+    first: &mut usize,
 ) -> bool {
-    let (n, u) = (plant.n(), f64::EPSILON);
-    let coupling = f - j * plant.c();
-    let norm2 = |m: MatRef<'_, f64>| m.singular_values().map_or(f64::INFINITY, |s| s[0]);
-    let (np, nf, nc) = (norm2(p), norm2(f), norm2(coupling.as_ref()));
-    let xmax = largest_norm(set.vertices);
-    let scale = np.max(2.0 * nf).max(nc).max(np * xmax);
-    let tau = 2.0 * np * set.error + 64.0 * u * (3 * n) as f64 * scale;
-    if !tau.is_finite() {
-        return false;
+    let count = set.vertices.len();
+    VertexTest::new(plant, set, p, f, j).is_some_and(|test| {
+        let start = *first % count.max(1);
+        (start..count).chain(0..start).all(|i| {
+            let passes = test.largest_eigenvalue(set.vertices[i].as_ref()) < -test.tau;
+            if !passes {
+                *first = i;
+            }
+            passes
+        })
+    })
+}
+
+/// LMI (41) at a point `(P, F, J)`, vertex by vertex, with the bound `τ` on what rounding and
+/// the embedding's own error can explain: `τ = 2‖P‖₂·error + 64u·3n·s` (`error` the bound of
+/// [`VertexSet`], `u` the unit roundoff, `s` the largest block norm of `Φ_i`). A backward-stable
+/// eigenvalue computation is within `O(u)‖Φ_i‖` of the exact one, and the true `e^{Av}` is
+/// within `error` of the hull, which moves `Φ` by at most `‖P‖₂` times that in its `(3,1)`
+/// block: so `λmax(Φ_i) < −τ` at every vertex is Corollary 1's strict LMI, decided without the
+/// solver's verification threshold (which is relative to the normalisation `‖P‖₂ ≤ 1` of the
+/// margin problem and so depends on the coordinates).
+pub(crate) struct VertexTest<'a> {
+    p: MatRef<'a, f64>,
+    f: MatRef<'a, f64>,
+    /// `F − JC`.
+    coupling: Mat<f64>,
+    n: usize,
+    /// The bound `τ`.
+    pub tau: f64,
+}
+
+impl<'a> VertexTest<'a> {
+    /// The test at `(P, F, J)` on the vertices of `set`; `None` when `τ` is not finite (the
+    /// point decides nothing).
+    pub fn new(
+        plant: &Plant,
+        set: &VertexSet<'_>,
+        p: MatRef<'a, f64>,
+        f: MatRef<'a, f64>,
+        j: MatRef<'a, f64>,
+    ) -> Option<Self> {
+        let (n, u) = (plant.n(), f64::EPSILON);
+        let coupling = f - j * plant.c();
+        let norm2 = |m: MatRef<'_, f64>| m.singular_values().map_or(f64::INFINITY, |s| s[0]);
+        let (np, nf, nc) = (norm2(p), norm2(f), norm2(coupling.as_ref()));
+        let xmax = largest_norm(set.vertices);
+        let scale = np.max(2.0 * nf).max(nc).max(np * xmax);
+        let tau = 2.0 * np * set.error + 64.0 * u * (3 * n) as f64 * scale;
+        tau.is_finite().then_some(Self {
+            p,
+            f,
+            coupling,
+            n,
+            tau,
+        })
     }
-    set.vertices.iter().all(|x| {
+
+    /// `λmax(Φ(X))` of (41) at the vertex `x` (`+∞` when it cannot be computed).
+    pub fn largest_eigenvalue(&self, x: MatRef<'_, f64>) -> f64 {
+        let (n, p, f, coupling) = (self.n, self.p, self.f, &self.coupling);
         let px = p * x;
         let phi = Mat::from_fn(3 * n, 3 * n, |i, k| {
             let (bi, bk, ii, kk) = (i / n, k / n, i % n, k % n);
@@ -176,8 +221,8 @@ pub(crate) fn strictly_negative(
                 _ => 0.0,
             }
         });
-        sporadic_linalg::max_eigenvalue(phi.as_ref()).is_ok_and(|l| l < -tau)
-    })
+        sporadic_linalg::max_eigenvalue(phi.as_ref()).unwrap_or(f64::INFINITY)
+    }
 }
 
 #[cfg(test)]

@@ -72,7 +72,8 @@ use sporadic_embed::{
 };
 use sporadic_sdp::lmi::{FeasibilityOptions, Outcome};
 
-use crate::certificate::{CertificateCoordinates, VertexSet, strictly_negative};
+use crate::active::{ACTIVE_FROM, ActiveSet};
+use crate::certificate::{CertificateCoordinates, VertexSet, VertexTest, strictly_negative};
 use crate::detectability::{DetectabilityOptions, DetectabilityReport, check_detectability};
 use crate::error::Error;
 use crate::lmi::{GainTerm, Lmi41, LmiForm, LmiResult, LmiSize, Objective, Point41, gain_from};
@@ -250,9 +251,94 @@ pub struct Analysis {
     pub size: LmiSize,
 }
 
+/// Solves the margin problem of LMI (41) at `vertices` with remainder `delta`; with
+/// `certifies`, the returned flag says whether the returned point passes `strictly_negative` on
+/// that set. A window search's probe on many vertices ([`ACTIVE_FROM`]) solves it on the
+/// vertices found to bind (module [`crate::active`]): a certificate is still tested at every
+/// vertex, and a subset without a positive margin bounds the whole polytope's from above.
+fn solve_on(
+    plant: &Plant,
+    (vertices, delta): (&[Mat<f64>], f64),
+    gain: GainTerm,
+    (options, form): (&DesignOptions, LmiForm),
+    cache: &mut LmiCache,
+    certifies: Option<&VertexSet<'_>>,
+) -> Result<(LmiResult, bool), Error> {
+    let full = |cache: &mut LmiCache| {
+        solve_at(
+            plant,
+            (vertices, delta),
+            gain.clone(),
+            (options, form),
+            cache,
+            certifies,
+        )
+    };
+    let Some(set) = certifies else {
+        return full(cache);
+    };
+    if !options.lmi.stop_when_verified || vertices.len() < ACTIVE_FROM {
+        return full(cache);
+    }
+    let mut active = ActiveSet::new(vertices.len());
+    let mut previous: Option<f64> = None;
+    for round in 1.. {
+        let subset = active.vertices(set);
+        let (mut r, certified) = solve_at(
+            plant,
+            (&subset, delta),
+            gain.clone(),
+            (options, form),
+            cache,
+            certifies,
+        )?;
+        r.size.lmi_count = vertices.len();
+        if certified {
+            return Ok((r, true));
+        }
+        let margin = r.margin.filter(|t| *t > 0.0);
+        let stalled = margin
+            .zip(previous)
+            .is_some_and(|(t, p)| t > (1.0 - STALL) * p);
+        let added = match (margin, stalled) {
+            (Some(_), false) => {
+                VertexTest::new(plant, set, r.p.as_ref(), r.f.as_ref(), r.j.as_ref())
+                    .map_or(0, |test| active.add_failing(set, &test))
+            }
+            _ => 0,
+        };
+        if added == 0 {
+            // The subset decides: a relaxation without a positive margin, or a point that
+            // fails the test only at the subset's own vertices, or vertices added without
+            // lowering the margin (so not binding).
+            r.feasible = false;
+            r.stats.reason = format!(
+                "{}; (41) imposed at {} of the {} vertices, those found to bind in {round} \
+                 solve(s) (constraint generation, not in the paper): a relaxation of (41) at \
+                 every vertex, whose margin bounds theirs from above",
+                r.stats.reason,
+                subset.len(),
+                vertices.len()
+            );
+            return Ok((r, false));
+        }
+        if 2 * active.len() > vertices.len() {
+            break;
+        }
+        previous = margin;
+    }
+    full(cache)
+}
+
+/// Relative decrease of the margin below which vertices added to a subset ([`ActiveSet`]) are
+/// taken not to bind: the subset's optimum is then the whole polytope's to within the solver's
+/// accuracy, and its point, which fails the rounding-aware test, is what a solve at every
+/// vertex would return.
+const STALL: f64 = 1e-2;
+
 /// Builds (or re-uses, when one of the cached instances fits the vertex count and the sign of
 /// the remainder) the margin-problem instance of LMI (41) and solves it.
-fn solve_on(
+fn solve_at(
     plant: &Plant,
     (vertices, delta): (&[Mat<f64>], f64),
     gain: GainTerm,
@@ -298,14 +384,10 @@ fn solve_on(
     // design certifies every window a probe certifies.
     let stop = options.lmi.stop_when_verified;
     let mut last: Option<Point41> = None;
+    let mut first = 0;
     let r = lmi.solve_accepting(&mut |point| {
-        if !strictly_negative(
-            plant,
-            set,
-            point.p.as_ref(),
-            point.f.as_ref(),
-            point.j.as_ref(),
-        ) {
+        let at = (point.p.as_ref(), point.f.as_ref(), point.j.as_ref());
+        if !strictly_negative(plant, set, at, &mut first) {
             return false;
         }
         if !stop {
@@ -313,9 +395,14 @@ fn solve_on(
         }
         stop
     })?;
-    let certified = |r: &LmiResult| {
+    let mut certified = |r: &LmiResult| {
         r.margin.is_some_and(|t| t > 0.0)
-            && strictly_negative(plant, set, r.p.as_ref(), r.f.as_ref(), r.j.as_ref())
+            && strictly_negative(
+                plant,
+                set,
+                (r.p.as_ref(), r.f.as_ref(), r.j.as_ref()),
+                &mut first,
+            )
     };
     Ok(match last {
         _ if certified(&r) => (r, true),

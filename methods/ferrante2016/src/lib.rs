@@ -68,6 +68,7 @@
 //! # Ok::<(), sporadic_ferrante2016::Error>(())
 //! ```
 
+mod active;
 pub mod bounds;
 mod certificate;
 pub mod design;

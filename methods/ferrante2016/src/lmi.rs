@@ -92,6 +92,10 @@ pub(crate) enum GainTerm {
 pub struct LmiSize {
     /// Number of vertex LMIs `ν`.
     pub lmi_count: usize,
+    /// Number of them imposed in the solve that returned the point: `ν`, or fewer when a
+    /// window search's probe imposed only those found to bind (every vertex is then tested at
+    /// the returned point by more than rounding; constraint generation, `crate::design`).
+    pub imposed: usize,
     /// Order of each vertex LMI (`3n`; `2n` in the reduced form; `4n` with a remainder).
     pub block_size: usize,
 }
@@ -389,6 +393,7 @@ impl Lmi41 {
         let stats = SolverStats::of(&sol, self.compiled.model().num_scalars());
         let size = LmiSize {
             lmi_count: self.vertices.len(),
+            imposed: self.vertices.len(),
             block_size: self.block_size,
         };
         Ok(LmiResult {

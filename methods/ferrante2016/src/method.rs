@@ -387,6 +387,13 @@ fn checks(options: &DesignOptions, d: &Design) -> Vec<Check> {
     // A margin at or below the solver's threshold was accepted by the rounding-based vertex
     // test of the design (`strictly_negative`), and the text says so.
     let acceptance = match d.stats.margin_threshold {
+        _ if d.size.imposed < d.size.lmi_count => format!(
+            "imposed at {} of the vertices, those found to bind in earlier solves (constraint \
+             generation, not in the paper); accepted because every vertex LMI's largest \
+             eigenvalue at the returned point is below −τ, τ bounding rounding and the \
+             embedding's reconstruction error and remainder",
+            d.size.imposed
+        ),
         Some(t) if d.certificate.margin <= t => format!(
             "the margin is below the solver's verification threshold {t:.2e} (relative to the \
              normalisation ‖P‖₂ ≤ 1); accepted because every vertex LMI's largest eigenvalue at \
