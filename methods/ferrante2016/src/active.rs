@@ -63,12 +63,6 @@ impl ActiveSet {
         self.imposed.iter().filter(|&&b| b).count()
     }
 
-    /// Whether every vertex is imposed.
-    #[cfg(test)]
-    pub fn is_complete(&self) -> bool {
-        self.imposed.iter().all(|&b| b)
-    }
-
     /// The imposed vertices of `set`.
     pub fn vertices(&self, set: &VertexSet<'_>) -> Vec<Mat<f64>> {
         set.vertices
@@ -109,7 +103,6 @@ mod tests {
             let set = ActiveSet::new(count);
             assert_eq!(set.len(), count.min(ROUND), "{count}");
             assert!(set.imposed[0] && set.imposed[count - 1], "{count}");
-            assert_eq!(set.is_complete(), count <= ROUND);
         }
     }
 }

@@ -24,6 +24,9 @@
 //! (41) at the vertices), and a point at which every vertex LMI is negative definite by more
 //! than `2‖P‖₂δ` and rounding (`strictly_negative`) certifies the window as it stands; only a
 //! point in between is solved again in the robust form.
+//! A probe whose embedding has many vertices solves each form on the vertices found to bind
+//! (constraint generation, module `active`, not in the paper), every vertex being tested at
+//! the returned point.
 //! When no form certifies, the solves whose margin was undecided (within the solver's
 //! verification threshold of zero) are repeated, the largest margin first and until one gives a
 //! certificate, in the coordinates in which their own `P` is the identity (module
@@ -264,34 +267,21 @@ fn solve_on(
     cache: &mut LmiCache,
     certifies: Option<&VertexSet<'_>>,
 ) -> Result<(LmiResult, bool), Error> {
-    let full = |cache: &mut LmiCache| {
-        solve_at(
-            plant,
-            (vertices, delta),
-            gain.clone(),
-            (options, form),
-            cache,
-            certifies,
-        )
+    let at = |imposed: &[Mat<f64>], cache: &mut LmiCache| {
+        let (options, gain) = ((options, form), gain.clone());
+        solve_at(plant, (imposed, delta), gain, options, cache, certifies)
     };
     let Some(set) = certifies else {
-        return full(cache);
+        return at(vertices, cache);
     };
     if !options.lmi.stop_when_verified || vertices.len() < ACTIVE_FROM {
-        return full(cache);
+        return at(vertices, cache);
     }
     let mut active = ActiveSet::new(vertices.len());
     let mut previous: Option<f64> = None;
     for round in 1.. {
         let subset = active.vertices(set);
-        let (mut r, certified) = solve_at(
-            plant,
-            (&subset, delta),
-            gain.clone(),
-            (options, form),
-            cache,
-            certifies,
-        )?;
+        let (mut r, certified) = at(&subset, cache)?;
         r.size.lmi_count = vertices.len();
         if certified {
             return Ok((r, true));
@@ -327,7 +317,7 @@ fn solve_on(
         }
         previous = margin;
     }
-    full(cache)
+    at(vertices, cache)
 }
 
 /// Relative decrease of the margin below which vertices added to a subset ([`ActiveSet`]) are
