@@ -14,8 +14,8 @@
 //! - a subset without a positive margin decides the window: (41) at fewer vertices is a
 //!   relaxation, so its optimal margin bounds the whole polytope's from above;
 //! - a point that fails only at the subset's own vertices, or a round whose added vertices
-//!   lower the margin by less than 1 %, ends the search with the subset's point: the margin is
-//!   then the whole polytope's to within the solver's accuracy, and undecided by the test;
+//!   lower the margin by less than 1 %, ends the search with the subset's point: its margin,
+//!   an upper bound of the whole polytope's, is taken as that margin, undecided by the test;
 //! - a subset that grows past half of the vertices is given up for a solve at every vertex.
 //!
 //! What can differ from a solve at every vertex is only the point returned at an undecided
