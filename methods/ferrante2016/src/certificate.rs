@@ -149,7 +149,7 @@ pub(crate) fn strictly_negative(
     first: &mut usize,
 ) -> bool {
     let count = set.vertices.len();
-    VertexTest::new(plant, set, p, f, j).is_some_and(|test| {
+    VertexTest::new(plant, set, (p, f, j)).is_some_and(|test| {
         let start = *first % count.max(1);
         (start..count).chain(0..start).all(|i| {
             let passes = test.largest_eigenvalue(set.vertices[i].as_ref()) < -test.tau;
@@ -185,9 +185,7 @@ impl<'a> VertexTest<'a> {
     pub fn new(
         plant: &Plant,
         set: &VertexSet<'_>,
-        p: MatRef<'a, f64>,
-        f: MatRef<'a, f64>,
-        j: MatRef<'a, f64>,
+        (p, f, j): (MatRef<'a, f64>, MatRef<'a, f64>, MatRef<'a, f64>),
     ) -> Option<Self> {
         let (n, u) = (plant.n(), f64::EPSILON);
         let coupling = f - j * plant.c();

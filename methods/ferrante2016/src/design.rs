@@ -75,8 +75,8 @@ use sporadic_embed::{
 };
 use sporadic_sdp::lmi::{FeasibilityOptions, Outcome};
 
-use crate::active::{ACTIVE_FROM, ActiveSet};
-use crate::certificate::{CertificateCoordinates, VertexSet, VertexTest, strictly_negative};
+use crate::active::{ACTIVE_FROM, solve_binding};
+use crate::certificate::{CertificateCoordinates, VertexSet, strictly_negative};
 use crate::detectability::{DetectabilityOptions, DetectabilityReport, check_detectability};
 use crate::error::Error;
 use crate::lmi::{GainTerm, Lmi41, LmiForm, LmiResult, LmiSize, Objective, Point41, gain_from};
@@ -255,10 +255,10 @@ pub struct Analysis {
 }
 
 /// Solves the margin problem of LMI (41) at `vertices` with remainder `delta`; with
-/// `certifies`, the returned flag says whether the returned point passes `strictly_negative` on
-/// that set. A window search's probe on many vertices ([`ACTIVE_FROM`]) solves it on the
-/// vertices found to bind (module [`crate::active`]): a certificate is still tested at every
-/// vertex, and a subset without a positive margin bounds the whole polytope's from above.
+/// `certifies` (the same vertices, with their error bound), the returned flag says whether the
+/// returned point passes `strictly_negative` on that set. A window search's probe on many
+/// vertices ([`ACTIVE_FROM`]) solves it on the vertices found to bind
+/// ([`crate::active::solve_binding`]).
 fn solve_on(
     plant: &Plant,
     (vertices, delta): (&[Mat<f64>], f64),
@@ -267,66 +267,17 @@ fn solve_on(
     cache: &mut LmiCache,
     certifies: Option<&VertexSet<'_>>,
 ) -> Result<(LmiResult, bool), Error> {
-    let at = |imposed: &[Mat<f64>], cache: &mut LmiCache| {
+    let mut at = |imposed: &[Mat<f64>]| {
         let (options, gain) = ((options, form), gain.clone());
         solve_at(plant, (imposed, delta), gain, options, cache, certifies)
     };
-    let Some(set) = certifies else {
-        return at(vertices, cache);
-    };
-    if !options.lmi.stop_when_verified || vertices.len() < ACTIVE_FROM {
-        return at(vertices, cache);
+    match certifies {
+        Some(set) if options.lmi.stop_when_verified && vertices.len() >= ACTIVE_FROM => {
+            solve_binding(plant, set, at)
+        }
+        _ => at(vertices),
     }
-    let mut active = ActiveSet::new(vertices.len());
-    let mut previous: Option<f64> = None;
-    for round in 1.. {
-        let subset = active.vertices(set);
-        let (mut r, certified) = at(&subset, cache)?;
-        r.size.lmi_count = vertices.len();
-        if certified {
-            return Ok((r, true));
-        }
-        let margin = r.margin.filter(|t| *t > 0.0);
-        let stalled = margin
-            .zip(previous)
-            .is_some_and(|(t, p)| t > (1.0 - STALL) * p);
-        let added = match (margin, stalled) {
-            (Some(_), false) => {
-                VertexTest::new(plant, set, r.p.as_ref(), r.f.as_ref(), r.j.as_ref())
-                    .map_or(0, |test| active.add_failing(set, &test))
-            }
-            _ => 0,
-        };
-        if added == 0 {
-            // The subset decides: a relaxation without a positive margin, or a point that
-            // fails the test only at the subset's own vertices, or vertices added without
-            // lowering the margin (so not binding).
-            r.feasible = false;
-            r.stats.reason = format!(
-                "{}; (41) imposed at {} of the {} vertices, those found to bind in {round} \
-                 solve(s) (constraint generation, not in the paper): a relaxation of (41) at \
-                 every vertex, whose margin bounds theirs from above",
-                r.stats.reason,
-                subset.len(),
-                vertices.len()
-            );
-            return Ok((r, false));
-        }
-        if 2 * active.len() > vertices.len() {
-            break;
-        }
-        previous = margin;
-    }
-    at(vertices, cache)
 }
-
-/// Relative decrease of the margin below which vertices added to a subset ([`ActiveSet`]) are
-/// taken not to bind: the subset's optimal margin is then taken as the whole polytope's (it is
-/// an upper bound of it), and the window as undecided by the rounding-aware test, which the
-/// subset's point fails (measured on eight-state-modal near its largest `T2`: margins 3.7e-8,
-/// 9.89e-9, 9.88e-9, 9.88e-9 in four rounds, the last two adding vertices that fail the test
-/// only within `τ`).
-const STALL: f64 = 1e-2;
 
 /// Builds (or re-uses, when one of the cached instances fits the vertex count and the sign of
 /// the remainder) the margin-problem instance of LMI (41) and solves it.

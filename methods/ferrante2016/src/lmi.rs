@@ -94,7 +94,7 @@ pub struct LmiSize {
     pub lmi_count: usize,
     /// Number of them imposed in the solve that returned the point: `ν`, or fewer when a
     /// window search's probe imposed only those found to bind (every vertex is then tested at
-    /// the returned point by more than rounding; constraint generation, `crate::design`).
+    /// the returned point by more than rounding; constraint generation, `crate::active`).
     pub imposed: usize,
     /// Order of each vertex LMI (`3n`; `2n` in the reduced form; `4n` with a remainder).
     pub block_size: usize,

@@ -92,6 +92,25 @@ fn assert_condition12(
     }
 }
 
+/// [`assert_condition12`] for the gain `L` and certificate `P` of a design report on the plant
+/// `(A, C)`, with the library's `expm`.
+fn assert_report_condition12(
+    r: &sporadic_ferrante2016::DesignReport,
+    (a, c): (&Mat<f64>, &Mat<f64>),
+    window: (f64, f64),
+    points: u32,
+) {
+    let rows = |r: &[Vec<f64>]| Mat::from_fn(r.len(), r[0].len(), |i, j| r[i][j]);
+    let l = rows(&r.gains[0].rows);
+    let p = rows(&r.certificate.iter().find(|m| m.name == "P").unwrap().rows);
+    assert_condition12(
+        |v| sporadic_linalg::expm((a * faer::Scale(v)).as_ref()).unwrap(),
+        (&l, c, &p),
+        window,
+        points,
+    );
+}
+
 fn cart_pole() -> ModelPlant {
     plant(
         mat![
@@ -382,15 +401,7 @@ fn a_design_keeps_an_iterate_that_certifies_when_its_optimal_point_does_not() {
         "{}",
         margin.definition
     );
-    let rows = |r: &[Vec<f64>]| Mat::from_fn(r.len(), r[0].len(), |i, j| r[i][j]);
-    let l = rows(&r.gains[0].rows);
-    let p = rows(&r.certificate.iter().find(|m| m.name == "P").unwrap().rows);
-    assert_condition12(
-        |v| sporadic_linalg::expm((&a * faer::Scale(v)).as_ref()).unwrap(),
-        (&l, &c, &p),
-        (t1, t2),
-        200,
-    );
+    assert_report_condition12(&r, (&a, &c), (t1, t2), 200);
 }
 
 /// A plant written for a fuzzing run (order 6, one output, badly scaled coordinates), sampled
@@ -924,15 +935,7 @@ fn a_probe_solves_on_the_vertices_that_bind_and_decides_as_a_solve_at_every_vert
         .unwrap();
     let (imposed, count) = imposed_of(&lmi.how);
     assert!(count >= 256 && 2 * imposed <= count, "{}", lmi.how);
-    let rows = |r: &[Vec<f64>]| Mat::from_fn(r.len(), r[0].len(), |i, j| r[i][j]);
-    let l = rows(&d.gains[0].rows);
-    let pm = rows(&d.certificate.iter().find(|m| m.name == "P").unwrap().rows);
-    assert_condition12(
-        |v| sporadic_linalg::expm((&a * faer::Scale(v)).as_ref()).unwrap(),
-        (&l, &c, &pm),
-        (0.2, best),
-        400,
-    );
+    assert_report_condition12(d, (&a, &c), (0.2, best), 400);
     let full = design(&p, 0.2, fail);
     assert!(!full.status.is_certified(), "{:?}", full.margin);
 }
