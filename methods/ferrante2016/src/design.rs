@@ -177,9 +177,10 @@ impl Default for DesignOptions {
 /// The tail tolerance of the residue expansion in a design (relative to the largest
 /// `‖e^{Av}‖_F` on the window; the embedding's own default is `1e-13`): only expansions that do
 /// not end (clusters of distinct eigenvalues, e.g. the power series of the whole spectrum on a
-/// short window) are truncated, each dropped moment halving the vertex count. The remainder
-/// `δ` it leaves is covered by the margin when LMI (41) holds at the vertices by more than
-/// `2‖P‖₂δ` (`strictly_negative`; with `‖P‖₂ ≤ 1` and `δ ≈ 10⁻⁹‖e^{Av}‖_F` far below the
+/// short window, whose powers are chosen for this tolerance in coordinates in which `A` is normal,
+/// see `sporadic_embed::residue`) are truncated, each dropped moment halving the vertex count. The
+/// remainder `δ` it leaves is covered by the margin when LMI (41) holds at the vertices by more
+/// than `2‖P‖₂δ` (`strictly_negative`; with `‖P‖₂ ≤ 1` and `δ ≈ 10⁻⁹‖e^{Av}‖_F` far below the
 /// margins of a certified window), and by the robust form of (41) otherwise.
 pub const TAIL_TOLERANCE: f64 = 1e-9;
 

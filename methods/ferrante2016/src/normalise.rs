@@ -34,8 +34,8 @@
 //!   coordinates: its cluster merging on `‖E_c‖_F` there decides the same in the forms of
 //!   equivalent problems unless a projector norm is near the merge limit `10⁴` (on
 //!   `eight-state-modal` they are below 30 in the Gramian form, below 2 in the diagonal one),
-//!   and its choice of the power series on a short window depends on eigenvalues and the window
-//!   only. Under `y → cy` the Gramian is multiplied by `c²` and `G` by `c`: `C₁G⁻¹` does not
+//!   and its power series on a short window (whether it is taken, its pieces and its powers)
+//!   depends on the eigenvalues, the window and the clusters' indices only. Under `y → cy` the Gramian is multiplied by `c²` and `G` by `c`: `C₁G⁻¹` does not
 //!   change;
 //! * **outputs** (several outputs, Gramian form): `S = diag(s_k)` such that every output carries
 //!   the same share `tr(s_k²W_k W⁻¹) = n/q` of the Gramian `W = Σ s_k²W_k` (the minimiser of a
