@@ -1257,9 +1257,9 @@ impl ResidueExpansion {
     /// with the same `K`, so the budget is spent on a smaller remainder: on `eight-state-modal`
     /// (corpus) in random coordinates `x = Tz` on `[0.01, 0.282]`, 8 pieces of 2⁶ corners had
     /// remainders up to `5.8·10⁻⁶` in the Gramian normal form of `sporadic-ferrante2016` and no
-    /// form certified the window by its own solve (66 s); 16 pieces (`2.7·10⁻¹⁰` as given)
-    /// certified it in 12 s. Every choice depends on the free terms, not on norms, so it is the
-    /// same in every coordinate system.
+    /// form certified the window by its own solve (66 s); on 16 pieces LMI (41) in those
+    /// coordinates certified it in 11 s. Every choice depends on the free terms, not on norms,
+    /// so it is the same in every coordinate system.
     fn fill_budget(
         &self,
         iv: Interval,
