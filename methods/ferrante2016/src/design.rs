@@ -604,6 +604,29 @@ pub(crate) fn design_cached(
             }
         }
     }
+    // A window search's probe solves (41) on the vertices that bind (module `active`) and stops
+    // at the first point that passes the vertex test; such a point can exist where every
+    // margin-maximising solve above ends at an undecided or slightly negative margin (the
+    // margin of the reduced form under its normalisation is not the vertex test):
+    // `eight-state-modal` (corpus) was certified up to `T2 = 0.5959` by its window search, and
+    // refused by a design at 0.59 with `t* = −7.8e-9`. A design whose forms all failed solves
+    // them once more as a probe does, so that it certifies every window a probe certifies.
+    if let Err(e) = &result
+        && e.reason().is_some()
+        && !options.lmi.stop_when_verified
+    {
+        let mut probe = options.clone();
+        probe.lmi.stop_when_verified = true;
+        for scaling in std::iter::once(&given).chain(&forms) {
+            if budget_left().is_err() {
+                break;
+            }
+            if let Ok(d) = attempt(plant, window, &probe, cache, scaling, context) {
+                result = Ok(d);
+                break;
+            }
+        }
+    }
     if let (Err(e), Some(taylor)) = (&result, &taylor)
         && e.reason().is_some()
     {

@@ -366,17 +366,9 @@ fn an_unstable_double_pole_is_certified_by_a_refined_embedding() {
     assert_eq!(scaled.status, Status::Certified, "{:?}", scaled.reason);
 }
 
-/// The design keeps the last interior-point iterate that certifies when the optimal point of the
-/// margin problem does not, so that it certifies every window its window search certifies.
-/// `eight-state-modal` (corpus, order 8) on `[0.01, 0.54564]` (1024 vertices): the optimal
-/// margin of the vertex LMIs is `~1e-8`, too little to absorb the residue box's remainder, and
-/// the robust form is infeasible, while an earlier iterate holds (41) at every vertex by more
-/// than rounding and the remainder (the design's own test). Before the iterates were tested,
-/// `design` and the search's probe both refused this window (the search stopped at 0.5439).
-/// The returned `(P, L)` is checked here against (12) with the matrix exponential on 201
-/// points.
-#[test]
-fn a_design_keeps_an_iterate_that_certifies_when_its_optimal_point_does_not() {
+/// `eight-state-modal` of the corpus: four lightly damped modes at 1, 2, 3 and 5 rad/s with a
+/// weak coupling 0.1, the first and fourth positions measured.
+fn eight_state_modal() -> (Mat<f64>, Mat<f64>) {
     let mut a = Mat::<f64>::zeros(8, 8);
     for (k, (w2, damping)) in [(1.0, 0.02), (4.0, 0.04), (9.0, 0.06), (25.0, 0.1)]
         .into_iter()
@@ -392,6 +384,36 @@ fn a_design_keeps_an_iterate_that_certifies_when_its_optimal_point_does_not() {
     let mut c = Mat::<f64>::zeros(2, 8);
     c[(0, 0)] = 1.0;
     c[(1, 6)] = 1.0;
+    (a, c)
+}
+
+/// A design whose margin-maximising solves all fail solves its forms once more as a window
+/// search's probe does (on the vertices that bind, stopping at the first point that passes the
+/// vertex test), so that it certifies every window the search certifies: `eight-state-modal`
+/// was certified up to `T2 = 0.5959` by its window search, while `design` on `[0.01, 0.59]`
+/// ended every form at a margin within rounding of zero (`t* = −7.8e-9`) and refused it. The
+/// returned `(P, L)` is checked against (12) with the matrix exponential on 201 points.
+#[test]
+fn a_design_certifies_a_window_its_window_search_certifies() {
+    let (a, c) = eight_state_modal();
+    let (t1, t2) = (0.01, 0.59);
+    let r = design(&plant(a.clone(), c.clone()), t1, t2);
+    assert_eq!(r.status, Status::Certified, "{:?}", r.reason);
+    assert_report_condition12(&r, (&a, &c), (t1, t2), 200);
+}
+
+/// The design keeps the last interior-point iterate that certifies when the optimal point of the
+/// margin problem does not, so that it certifies every window its window search certifies.
+/// `eight-state-modal` (corpus, order 8) on `[0.01, 0.54564]` (1024 vertices): the optimal
+/// margin of the vertex LMIs is `~1e-8`, too little to absorb the residue box's remainder, and
+/// the robust form is infeasible, while an earlier iterate holds (41) at every vertex by more
+/// than rounding and the remainder (the design's own test). Before the iterates were tested,
+/// `design` and the search's probe both refused this window (the search stopped at 0.5439).
+/// The returned `(P, L)` is checked here against (12) with the matrix exponential on 201
+/// points.
+#[test]
+fn a_design_keeps_an_iterate_that_certifies_when_its_optimal_point_does_not() {
+    let (a, c) = eight_state_modal();
     let (t1, t2) = (0.01, 0.54564);
     let r = design(&plant(a.clone(), c.clone()), t1, t2);
     assert_eq!(r.status, Status::Certified, "{:?}", r.reason);
