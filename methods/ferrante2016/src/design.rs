@@ -26,7 +26,8 @@
 //! point in between is solved again in the robust form.
 //! A probe whose embedding has many vertices solves each form on the vertices found to bind
 //! (constraint generation, module `active`, not in the paper), every vertex being tested at
-//! the returned point.
+//! the returned point; a design whose forms all failed solves them once more that way, so that
+//! it certifies every window a probe certifies.
 //! When no form certifies, the solves whose margin was undecided (within the solver's
 //! verification threshold of zero) are repeated, the largest margin first and until one gives a
 //! certificate, in the coordinates in which their own `P` is the identity (module
