@@ -4,7 +4,7 @@
 //! same expansion; and a well-conditioned similarity `S A S⁻¹` keeps the clusters of integrator
 //! chains and Jordan blocks (whose spectral projectors are far beyond the merge limit in any
 //! such coordinates). On a short window, the power series of the whole spectrum keeps a number
-//! of powers set by the eigenvalues and the window, so its pieces and vertices do not change
+//! of powers set by the eigenvalues and the window, so its pieces and powers do not change
 //! under a similarity or a change of time unit either.
 
 mod common;

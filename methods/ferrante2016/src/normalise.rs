@@ -35,8 +35,8 @@
 //!   equivalent problems unless a projector norm is near the merge limit `10⁴` (on
 //!   `eight-state-modal` they are below 30 in the Gramian form, below 2 in the diagonal one),
 //!   and its power series on a short window (whether it is taken, its pieces and its powers)
-//!   depends on the eigenvalues, the window and the clusters' indices only. Under `y → cy` the Gramian is multiplied by `c²` and `G` by `c`: `C₁G⁻¹` does not
-//!   change;
+//!   depends on the eigenvalues, the window and the clusters' indices only. Under `y → cy` the
+//!   Gramian is multiplied by `c²` and `G` by `c`: `C₁G⁻¹` does not change;
 //! * **outputs** (several outputs, Gramian form): `S = diag(s_k)` such that every output carries
 //!   the same share `tr(s_k²W_k W⁻¹) = n/q` of the Gramian `W = Σ s_k²W_k` (the minimiser of a
 //!   convex function, reached by Newton's method with a budget, `sporadic_linalg::gramian_form`;
