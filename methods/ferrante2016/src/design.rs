@@ -26,8 +26,7 @@
 //! point in between is solved again in the robust form.
 //! A probe whose embedding has many vertices solves each form on the vertices found to bind
 //! (constraint generation, module `active`, not in the paper), every vertex being tested at
-//! the returned point; a design whose forms all failed solves them once more that way, so that
-//! it certifies every window a probe certifies.
+//! the returned point.
 //! When no form certifies, the solves whose margin was undecided (within the solver's
 //! verification threshold of zero) are repeated, the largest margin first and until one gives a
 //! certificate, in the coordinates in which their own `P` is the identity (module
@@ -602,29 +601,6 @@ pub(crate) fn design_cached(
                     }
                     Err(_) => {}
                 }
-            }
-        }
-    }
-    // A window search's probe solves (41) on the vertices that bind (module `active`) and stops
-    // at the first point that passes the vertex test; such a point can exist where every
-    // margin-maximising solve above ends at an undecided or slightly negative margin (the
-    // margin of the reduced form under its normalisation is not the vertex test):
-    // `eight-state-modal` (corpus) was certified up to `T2 = 0.5959` by its window search, and
-    // refused by a design at 0.59 with `t* = −7.8e-9`. A design whose forms all failed solves
-    // them once more as a probe does, so that it certifies every window a probe certifies.
-    if let Err(e) = &result
-        && e.reason().is_some()
-        && !options.lmi.stop_when_verified
-    {
-        let mut probe = options.clone();
-        probe.lmi.stop_when_verified = true;
-        for scaling in std::iter::once(&given).chain(&forms) {
-            if budget_left().is_err() {
-                break;
-            }
-            if let Ok(d) = attempt(plant, window, &probe, cache, scaling, context) {
-                result = Ok(d);
-                break;
             }
         }
     }
