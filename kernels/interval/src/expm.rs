@@ -293,6 +293,23 @@ impl Eigenbasis {
         }))
     }
 
+    /// Whether the enclosure of `e^{Aτ1}` (`τ1` the end of the window, where both ways widen
+    /// most) is narrower in the basis than directly (`‖A‖_∞ ≤ a_norm` for every member of
+    /// `ai`), both tried. Neither way is narrower in general: the squarings saved by the basis
+    /// decide on a long window (a rotorcraft's `e^{−Aτ}` with `‖A‖_∞τ ≈ 35`, a basis of
+    /// condition `9·10⁵`: only the basis proved its bound), the widening by `S` and `X` on a
+    /// short one (a random 4×4 `A` with `‖A‖_∞τ ≈ 8.8`, a basis of condition 92 and
+    /// `‖B‖_∞ ≈ ‖A‖_∞/4`: relative width `2.7·10⁻¹¹` in the basis, `3.4·10⁻¹⁴` directly), and
+    /// bounds on the two widenings did not tell these apart.
+    fn pays(&self, ai: &IntervalMatrix, a_norm: f64, tau1: f64) -> bool {
+        let direct = piece_enclosure(ai, a_norm, tau1, tau1);
+        let basis = piece_enclosure(&self.b, self.b_norm, tau1, tau1).and_then(|e| self.back(&e));
+        match (direct, basis) {
+            (Ok(d), Ok(b)) => b.max_width() < d.max_width(),
+            (direct, basis) => direct.is_err() && basis.is_ok(),
+        }
+    }
+
     /// [`Eigenbasis::of`], remembered for the last (interval) matrix of the thread: a proof
     /// calls [`expm_enclosure`] with the same `A` at hundreds of `τ`.
     fn cached(ai: &IntervalMatrix, a_norm: f64) -> Result<Option<Self>, IntervalError> {
@@ -379,8 +396,9 @@ fn validate(a: MatRef<'_, f64>, tau0: f64, tau1: f64) -> Result<(), IntervalErro
 /// 2. e^{Aτ} = e^{Aτm}·e^{As}, |s| ≤ r, is expanded as Σ_{j≤N} e^{Aτm}(Aʲ/j!)sʲ + e^{Aτm}R_N(s).
 ///
 /// When `A` has a real eigenbasis `S` with `‖S‖_∞‖S⁻¹‖_∞ ≤` [`MAX_BASIS_CONDITION`] in which
-/// it is at least four times smaller (`‖S⁻¹AS‖_∞ ≤ ‖A‖_∞/4`, a non-normal `A`), steps 1–2
-/// are made for every member of the enclosure `B = X·A·S` of `S⁻¹AS` instead (`X` a verified
+/// it is at least four times smaller (`‖S⁻¹AS‖_∞ ≤ ‖A‖_∞/4`, a non-normal `A`), and which
+/// encloses `e^{Aτ1}` more narrowly than `A` itself does (`Eigenbasis::pays`), steps 1–2 are
+/// made for every member of the enclosure `B = X·A·S` of `S⁻¹AS` instead (`X` a verified
 /// enclosure of `S⁻¹`, the pieces cut by `‖B‖_∞`), and each piece's enclosure `E` of `e^{Bτ}`
 /// is mapped back as `S·E·X ∋ S e^{Bτ} S⁻¹ = e^{Aτ}`: fewer squarings of a matrix whose
 /// entries do not dwarf its eigenvalues (see `Eigenbasis`).
@@ -453,7 +471,10 @@ fn enclose(
     if !a_norm.is_finite() || !mul_up(a_norm, tau1).is_finite() {
         return Err(IntervalError::Overflow("‖A‖·τ1 overflows"));
     }
-    let basis = Eigenbasis::cached(ai, a_norm)?;
+    let basis = match Eigenbasis::cached(ai, a_norm)? {
+        Some(b) => b.pays(ai, a_norm, tau1).then_some(b),
+        None => None,
+    };
     let (ai, a_norm) = match &basis {
         Some(e) => (e.b.clone(), e.b_norm),
         None => (ai.clone(), a_norm),
