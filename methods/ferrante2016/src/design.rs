@@ -580,7 +580,7 @@ pub(crate) fn design_cached(
                 .then(b.margin.partial_cmp(&a.margin).unwrap_or(Ordering::Equal))
         });
         for u in &undecided {
-            if budget_left().is_err() {
+            if sporadic_sdp::budget::exhausted() {
                 break;
             }
             // The first certificate that passes the check of (12) ends the passes; one at the
@@ -620,7 +620,22 @@ pub(crate) fn design_cached(
     if let Ok(d) = &result {
         cache.preferred = Some((d.scaling.coordinates, by_taylor(d)));
     }
-    result
+    unless_cut(result)
+}
+
+/// `result`, or [`Error::Inconclusive`] when it is an infeasible LMI (41) and the time budget
+/// has run out: a form, the certificate pass or a refinement it cut short might have certified
+/// the window (the design is certified when any of them is), so the others' infeasibility is
+/// no verdict on it.
+pub(crate) fn unless_cut(result: Result<Design, Error>) -> Result<Design, Error> {
+    match result {
+        Err(Error::Infeasible { .. }) if sporadic_sdp::budget::exhausted() => {
+            Err(Error::Inconclusive {
+                reason: "the time budget ran out before every form of LMI (41) was decided".into(),
+            })
+        }
+        r => r,
+    }
 }
 
 /// `e` (an infeasible or inconclusive solve of LMI (41) in the Gramian normal form) with its
@@ -1247,4 +1262,28 @@ pub fn analyse(
         stats: r.stats,
         size: r.size,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use sporadic_sdp::budget::{self, Budget};
+
+    /// A form's infeasibility is the verdict while the budget lasts, and no verdict once it has
+    /// run out (a form, the certificate pass or a refinement it cut might have certified).
+    #[test]
+    fn an_infeasibility_is_no_verdict_once_the_budget_has_run_out() {
+        let infeasible = || {
+            Err(Error::Infeasible {
+                margin: Some(-8.6e-10),
+                reason: "no verifiable margin".into(),
+            })
+        };
+        assert!(matches!(
+            unless_cut(infeasible()),
+            Err(Error::Infeasible { .. })
+        ));
+        let cut = budget::within(Budget::until(Instant::now()), || unless_cut(infeasible()));
+        assert!(matches!(cut, Err(Error::Inconclusive { .. })), "{cut:?}");
+    }
 }

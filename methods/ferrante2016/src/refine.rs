@@ -19,7 +19,9 @@
 //! The pieces are equal in `v`, so a refined design is the same for the plant in other units of
 //! time or in other state coordinates (given that the embedding of each piece is).
 
-use crate::design::{Analysis, Design, DesignOptions, LmiCache, analyse, design_cached};
+use crate::design::{
+    Analysis, Design, DesignOptions, LmiCache, analyse, design_cached, unless_cut,
+};
 use crate::error::Error;
 use crate::system::Plant;
 use faer::MatRef;
@@ -99,7 +101,7 @@ pub(crate) fn refined(
         return Err(first);
     };
     if sporadic_sdp::budget::exhausted() {
-        return Err(first);
+        return unless_cut(Err(first));
     }
     let pieces = finer.pieces;
     let boxes = match &finer.embedding {
@@ -123,7 +125,7 @@ pub(crate) fn refined(
                 ),
             })
         }
-        Err(_) => Err(first),
+        Err(_) => unless_cut(Err(first)),
     }
 }
 
