@@ -611,22 +611,8 @@ impl ResidueExpansion {
             }
         }
         let b = balanced.as_ref().map_or(a, |b| b.as_ref());
-        // Never nilpotent: there is more than one cluster, so `A − λ̄I` has a nonzero eigenvalue.
-        // (The relative test of `trim_nilpotent`, `‖N^j‖_F ≤ tol·‖N‖_F^j`, passes spuriously in
-        // coordinates where `‖N‖_F` is far above the spectral radius, e.g. 9 states with three
-        // modes and a Jordan block under a diagonal scaling by 0.1–10, and would have dropped
-        // the series' tail without a remainder.)
-        let mut whole = (clusters.len() > 1).then(|| {
-            let (moments, centre) = Self::shifted_powers(b, n + options.extra_moments + 1);
-            EigenCluster {
-                eigenvalues: lambdas.clone(),
-                centre,
-                pair: false,
-                moments,
-                nilpotent: false,
-                contour: None,
-            }
-        });
+        let mut whole =
+            (clusters.len() > 1).then(|| Self::whole_spectrum(b, &lambdas, &options, false));
         for c in clusters.iter_mut().chain(whole.iter_mut()) {
             for m in c.moments.iter_mut() {
                 *m = Mat::from_fn(n, n, |i, j| m[(i, j)] * (d[i] / d[j]));
@@ -696,7 +682,7 @@ impl ResidueExpansion {
         let clusters = 'outer: loop {
             let comps = uf.components();
             if comps.len() == 1 {
-                break vec![Self::whole_spectrum(a, &lambdas, options)];
+                break vec![Self::whole_spectrum(a, &lambdas, options, true)];
             }
             let mut clusters = Vec::new();
             for comp in &comps {
@@ -757,15 +743,21 @@ impl ResidueExpansion {
         Ok((clusters, lambdas))
     }
 
-    /// The single cluster containing the whole spectrum: `E = I`, `R_j = (A − λ̄I)^{j−1}`,
-    /// truncated at numerical nilpotency.
+    /// The cluster containing the whole spectrum: `E = I`, `R_j = (A − λ̄I)^{j−1}`, truncated at
+    /// numerical nilpotency when it is the `only` cluster. With more than one, `A − λ̄I` has a
+    /// nonzero eigenvalue and is never nilpotent (the relative test of `trim_nilpotent`,
+    /// `‖N^j‖_F ≤ tol·‖N‖_F^j`, passes spuriously in coordinates where `‖N‖_F` is far above the
+    /// spectral radius, e.g. 9 states with three modes and a Jordan block under a diagonal
+    /// scaling by 0.1–10, and would drop the series' tail without a remainder).
     fn whole_spectrum(
         a: MatRef<'_, f64>,
         lambdas: &[c64],
         options: &ResidueOptions,
+        only: bool,
     ) -> EigenCluster {
         let (mut moments, centre) = Self::shifted_powers(a, a.nrows() + options.extra_moments + 1);
-        let nilpotent = trim_nilpotent(&mut moments, a, centre, options.nilpotency_tolerance);
+        let nilpotent =
+            only && trim_nilpotent(&mut moments, a, centre, options.nilpotency_tolerance);
         EigenCluster {
             eigenvalues: lambdas.to_vec(),
             centre,
