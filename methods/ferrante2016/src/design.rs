@@ -382,11 +382,27 @@ pub(crate) struct LmiCache {
     undecided: Vec<Undecided>,
 }
 
+impl LmiCache {
+    /// The cache of a window search: its first probe tries the modal form first
+    /// ([`normalise::modal`], where there is one), which is canonical and normal, so that
+    /// the search does not solve the problem as given at every probe before it where the data
+    /// are far from normal (`eight-state-modal` in coordinates `x = Tz`: each probe near the end
+    /// of the window failed as given before the modal form certified it). The verdicts do not
+    /// depend on the order; `design` keeps the problem as given first (the paper's
+    /// construction).
+    pub(crate) fn for_search() -> Self {
+        Self {
+            preferred: Some((normalise::Coordinates::Modal, false)),
+            ..Self::default()
+        }
+    }
+}
+
 /// Compiled instances of LMI (41) kept by a window search: one per form of the problem tried
-/// at every probe (the data as given, the Gramian and the diagonal normal forms of
-/// [`crate::normalise`], and the latter two with the Taylor fallback), whose embeddings have in
+/// at every probe (the data as given, the modal, Gramian and diagonal normal forms of
+/// [`crate::normalise`], and the three with the Taylor fallback), whose embeddings have in
 /// general different vertex counts.
-const CACHED_INSTANCES: usize = 5;
+const CACHED_INSTANCES: usize = 7;
 
 /// The options of the Taylor fallback (see the module docs) for `plant` on `window`, whose
 /// normal forms are `forms`: `None` unless it is asked for and the embedding of `options` is
@@ -491,10 +507,10 @@ pub(crate) fn design_cached(
     )?;
     // The problem as given (the paper's embedding, outputs in units of their largest
     // coefficient: `normalise::Scaling::given`, the vertex LMI in the options' form), then the
-    // normal forms of `crate::normalise`: the Gramian form is the same for every change of units
-    // or coordinates of the user's data, the diagonal form for every change of units. The verdict
-    // (certified when any of them is) does not depend on the order, only which certificate is
-    // returned.
+    // normal forms of `crate::normalise`: the modal and Gramian forms are the same for every
+    // change of units or coordinates of the user's data, the diagonal form for every change of
+    // units. The verdict (certified when any of them is) does not depend on the order, only
+    // which certificate is returned.
     let context = (start, &detectability);
     // In a window search the normal form that certified the previous probe is tried first: a
     // nearby window is most often certified by the same form, and the others are then not
@@ -617,7 +633,12 @@ pub(crate) fn design_cached(
             }
         }
     }
-    if let Ok(d) = &result {
+    // The problem as given, tried before the normal forms anyway, replaces a preferred form
+    // only where that form was tried (a window search's modal form is kept over the short
+    // windows that have none).
+    if let Ok(d) = &result
+        && (d.scaling.coordinates != normalise::Coordinates::Given || preferred.is_some())
+    {
         cache.preferred = Some((d.scaling.coordinates, by_taylor(d)));
     }
     unless_cut(result)

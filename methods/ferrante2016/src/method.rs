@@ -169,6 +169,7 @@ impl Ferrante2016 {
                     Coordinates::Given => "given",
                     Coordinates::Gramian => "Gramian",
                     Coordinates::Diagonal => "diagonal",
+                    Coordinates::Modal => "modal",
                 },
                 significant(d.scaling.time),
             )),
@@ -189,6 +190,16 @@ impl Ferrante2016 {
                  x' = Tx in which the observability Gramian over one time unit is the identity, output scaling y' = Sy with S = diag{}; L, P, F, J mapped back \
                  (L = T^-1 L' S, P = T'P'T, F = T'F'T, J = T'J'S) and (12) re-verified on the \
                  user's data",
+                significant(d.scaling.time),
+                power_words(&d.scaling.output),
+            )),
+            Coordinates::Modal => r.notes.push(format!(
+                "LMI (41) solved on the normalised problem in modal coordinates: time unit k = \
+                 {} in the plant's time unit (as for the Gramian form), state coordinates \
+                 x' = Tx in which A is block diagonal with normal blocks [[s, w], [-w, s]] (the \
+                 real eigenbasis of the Gramian normal form, one unit vector per mode), output \
+                 scaling y' = Sy with S = diag{}; L, P, F, J mapped back (L = T^-1 L' S, \
+                 P = T'P'T, F = T'F'T, J = T'J'S) and (12) re-verified on the user's data",
                 significant(d.scaling.time),
                 power_words(&d.scaling.output),
             )),
@@ -536,7 +547,7 @@ impl ObserverMethod for Ferrante2016 {
         let p = self.plant_of(plant)?;
         self.design.validate().map_err(invalid)?;
         let options_of_probes = probe_options(&self.design);
-        let mut cache = LmiCache::default();
+        let mut cache = LmiCache::for_search();
         let mut run = |s: &Sampling| -> Result<DesignReport, MethodError> {
             let probe_start = Instant::now();
             let Sampling::Synchronous(window) = s else {

@@ -48,7 +48,7 @@ pub fn largest_t2(
 ) -> Result<WindowSearch, Error> {
     design.validate()?;
     let design = &probe_options(design);
-    let mut cache = LmiCache::default();
+    let mut cache = LmiCache::for_search();
     let mut run = |t2: f64| -> Result<Verdict, Error> {
         let window = SamplingWindow::new(t1, t2)?;
         Ok(probe(plant, &window, design, &mut cache, &Refinement::none())?.0)
@@ -67,7 +67,7 @@ pub fn smallest_t1(
 ) -> Result<WindowSearch, Error> {
     design.validate()?;
     let design = &probe_options(design);
-    let mut cache = LmiCache::default();
+    let mut cache = LmiCache::for_search();
     let mut run = |t1: f64| -> Result<Verdict, Error> {
         let window = SamplingWindow::new(t1, t2)?;
         Ok(probe(plant, &window, design, &mut cache, &Refinement::none())?.0)
