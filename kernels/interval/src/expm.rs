@@ -2,7 +2,7 @@
 
 use crate::round::{UNIT_ROUNDOFF, div_up, mul_up, sub_down, sub_up};
 use crate::{Interval, IntervalError, IntervalMatrix};
-use faer::{Mat, MatRef};
+use faer::MatRef;
 
 /// Options of [`expm_enclosure`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -247,36 +247,10 @@ impl Eigenbasis {
     /// inverse is not proven, e.g. a non-finite one), and then [`expm_enclosure`] works on `A`
     /// itself.
     fn of(ai: &IntervalMatrix, a_norm: f64) -> Result<Option<Self>, IntervalError> {
-        let a = ai.mid();
-        let n = a.nrows();
-        let Ok(eigen) = a.eigen() else {
+        let Ok(Some(eigen)) = sporadic_linalg::real_eigenbasis(ai.mid()) else {
             return Ok(None);
         };
-        let (u, lambda) = (eigen.U(), eigen.S().column_vector());
-        let mut columns: Vec<Vec<f64>> = Vec::with_capacity(n);
-        for j in 0..n {
-            let l = lambda[j];
-            if l.im < 0.0 {
-                continue;
-            }
-            // The real and imaginary parts of a complex pair's eigenvector share one scale, so
-            // that `S⁻¹AS` holds the block `[[Re λ, Im λ], [−Im λ, Re λ]]`.
-            let norm = (0..n)
-                .map(|i| u[(i, j)].re.powi(2) + u[(i, j)].im.powi(2))
-                .sum::<f64>()
-                .sqrt();
-            if !(norm > 0.0 && norm.is_finite()) {
-                return Ok(None);
-            }
-            columns.push((0..n).map(|i| u[(i, j)].re / norm).collect());
-            if l.im > 0.0 {
-                columns.push((0..n).map(|i| u[(i, j)].im / norm).collect());
-            }
-        }
-        if columns.len() != n {
-            return Ok(None);
-        }
-        let s = IntervalMatrix::from_point(Mat::from_fn(n, n, |i, j| columns[j][i]).as_ref())?;
+        let s = IntervalMatrix::from_point(eigen.basis.as_ref())?;
         let Ok(Some(s_inv)) = s.verified_inverse() else {
             return Ok(None);
         };

@@ -38,7 +38,7 @@ pub use input::InputError;
 pub use kronecker::kron;
 pub use lyapunov::{lyap_continuous, lyap_discrete};
 pub use minimize::{Minimum, golden_section};
-pub use spectral::spectral_radius;
+pub use spectral::{RealEigenbasis, real_eigenbasis, spectral_radius};
 pub use stepper::{DEFAULT_REANCHOR, ExpmStepper, expm_stepper};
 pub use subspace::null_space;
 pub use symmetric::{

@@ -282,33 +282,14 @@ pub fn modal(plant: &Plant, gramian: &Scaling) -> Option<Scaling> {
         return None;
     }
     let a = &gramian.state * plant.a() * &gramian.state_inverse;
-    let n = a.nrows();
-    let eigen = a.eigen().ok()?;
-    let (u, lambda) = (eigen.U(), eigen.S().column_vector());
-    let spectrum: f64 = (0..n).map(|j| lambda[j].norm().powi(2)).sum();
+    let eigen = sporadic_linalg::real_eigenbasis(a.as_ref()).ok()??;
+    let spectrum: f64 = eigen.eigenvalues.iter().map(|l| l.norm().powi(2)).sum();
     let frobenius = a.norm_l2();
     let departure = (frobenius.powi(2) - spectrum).max(0.0).sqrt() / frobenius;
     if !(departure > MODAL_DEPARTURE) {
         return None;
     }
-    let mut columns: Vec<Vec<f64>> = Vec::with_capacity(n);
-    for j in 0..n {
-        if lambda[j].im < 0.0 {
-            continue;
-        }
-        let norm = (0..n).map(|i| u[(i, j)].norm().powi(2)).sum::<f64>().sqrt();
-        if !(norm > 0.0 && norm.is_finite()) {
-            return None;
-        }
-        columns.push((0..n).map(|i| u[(i, j)].re / norm).collect());
-        if lambda[j].im > 0.0 {
-            columns.push((0..n).map(|i| u[(i, j)].im / norm).collect());
-        }
-    }
-    if columns.len() != n {
-        return None;
-    }
-    let basis = Mat::from_fn(n, n, |i, j| columns[j][i]);
+    let basis = eigen.basis;
     let sigma = basis.singular_values().ok()?;
     let (largest, smallest) = (sigma.first().copied()?, sigma.last().copied()?);
     if !(largest <= MAX_MODAL_CONDITION * smallest) {
