@@ -275,12 +275,18 @@ impl Eigenbasis {
     /// short one (a random 4×4 `A` with `‖A‖_∞τ ≈ 8.8`, a basis of condition 92 and
     /// `‖B‖_∞ ≈ ‖A‖_∞/4`: relative width `2.7·10⁻¹¹` in the basis, `3.4·10⁻¹⁴` directly), and
     /// bounds on the two widenings did not tell these apart.
-    fn pays(&self, ai: &IntervalMatrix, a_norm: f64, tau1: f64) -> bool {
+    ///
+    /// Returns the verdict and the narrower of the two enclosures of `e^{Aτ1}` (`None` when
+    /// both failed): it is the piece of a point window `[τ1, τ1]`, which is then not enclosed
+    /// a third time.
+    fn pays(&self, ai: &IntervalMatrix, a_norm: f64, tau1: f64) -> (bool, Option<IntervalMatrix>) {
         let direct = piece_enclosure(ai, a_norm, tau1, tau1);
         let basis = piece_enclosure(&self.b, self.b_norm, tau1, tau1).and_then(|e| self.back(&e));
         match (direct, basis) {
-            (Ok(d), Ok(b)) => b.max_width() < d.max_width(),
-            (direct, basis) => direct.is_err() && basis.is_ok(),
+            (Ok(d), Ok(b)) if b.max_width() < d.max_width() => (true, Some(b)),
+            (Ok(d), _) => (false, Some(d)),
+            (Err(_), Ok(b)) => (true, Some(b)),
+            (Err(_), Err(_)) => (false, None),
         }
     }
 
@@ -445,9 +451,12 @@ fn enclose(
     if !a_norm.is_finite() || !mul_up(a_norm, tau1).is_finite() {
         return Err(IntervalError::Overflow("‖A‖·τ1 overflows"));
     }
-    let basis = match Eigenbasis::cached(ai, a_norm)? {
-        Some(b) => b.pays(ai, a_norm, tau1).then_some(b),
-        None => None,
+    let (basis, at_end) = match Eigenbasis::cached(ai, a_norm)? {
+        Some(b) => {
+            let (pays, at_end) = b.pays(ai, a_norm, tau1);
+            (pays.then_some(b), at_end)
+        }
+        None => (None, None),
     };
     let (ai, a_norm) = match &basis {
         Some(e) => (e.b.clone(), e.b_norm),
@@ -485,7 +494,11 @@ fn enclose(
     }
     let mut pieces: Vec<(EnclosurePiece, f64)> = Vec::with_capacity(options.max_pieces);
     for w in cuts.windows(2) {
-        let e = piece_enclosure(w[0], w[1])?;
+        let e = match &at_end {
+            // A point window: the trial of `Eigenbasis::pays` is its piece.
+            Some(e) if w[0] == tau1 => e.clone(),
+            _ => piece_enclosure(w[0], w[1])?,
+        };
         let rw = e.rel_width();
         pieces.push((
             EnclosurePiece {
