@@ -82,7 +82,7 @@ pub use exponential_bound::{BoundOptions, CertifiedBound};
 pub use gain::GainSchedule;
 pub use iss::{IssConstants, IssOptions};
 pub use jitter_free::JitterFreeDesign;
-pub use method::Sferlazza2021;
+pub use method::{Sferlazza2021, output_map};
 pub use plant::{RoundRobinPlant, Sensor};
 pub use simulation::{ErrorTrajectory, JumpSample, SimulationOptions};
 pub use synthesis::{Synthesis, SynthesisResult};

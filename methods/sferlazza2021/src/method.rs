@@ -79,14 +79,121 @@ impl Sferlazza2021 {
     /// round-robin output with its window, or the (stacked) outputs as a single sensor for
     /// synchronous sampling.
     ///
+    /// A sensor whose outputs are linearly dependent (`C_σ` of rank `0 < r < p_σ`) is read
+    /// through its `r` independent outputs `W_σy_σ` ([`output_map`]).
+    ///
     /// # Errors
     /// A number of windows that does not match the number of sensors, or the crate's plant
     /// checks ([`RoundRobinPlant::new`]).
     pub fn round_robin_plant(plant: &Plant, sampling: &Sampling) -> Result<RoundRobinPlant, Error> {
-        let sensors = sensor_list(plant, sampling)?;
+        let (sensors, _) = independent_sensors(plant, sampling)?;
         let refs: Vec<_> = sensors.iter().map(|(c, w)| (c.as_ref(), *w)).collect();
         RoundRobinPlant::new(plant.a(), &refs)
     }
+
+    /// The output map [`output_map`] of every sensor of
+    /// [`Sferlazza2021::round_robin_plant`] (`None` for a sensor read as given).
+    ///
+    /// # Errors
+    /// As [`Sferlazza2021::round_robin_plant`].
+    pub fn output_maps(plant: &Plant, sampling: &Sampling) -> Result<Vec<Option<Mat<f64>>>, Error> {
+        Ok(independent_sensors(plant, sampling)?.1)
+    }
+}
+
+/// The independent outputs of a sensor whose `C_σ` (`p_σ` rows) has numerical rank
+/// `0 < r < p_σ` (the rank rule of [`sporadic_linalg::null_space`]): `W_σ = U_rᵀ`, the left
+/// singular vectors of its `r` nonzero singular values as rows, orthonormal and spanning the
+/// range of `C_σ` (`W_σᵀW_σC_σ = C_σ`). Two sensors reading one quantity, or a row that
+/// combines others, make such a `C_σ`, which Assumption 1 (full row rank) excludes.
+///
+/// The design reads the outputs `W_σy_σ` of `C̃_σ = W_σC_σ`, which has full row rank and the
+/// same kernel as `C_σ`: (44), (47) and their certificates `P_σ` depend on `C_σ` only through
+/// its kernel, so they are unchanged. A gain `K̃_σ` of `C̃_σ` acts on `y_σ` as
+/// `K_σ = K̃_σW_σ` (`K_σC_σ = K̃_σC̃_σ`: the same error dynamics (53)); conversely a gain
+/// `K_σ` of `y_σ` acts on noise-free outputs, which lie in the range of `C_σ`, as the gain
+/// `K_σW_σᵀ` of `C̃_σ`. `None` for a `C_σ` of full row rank, and for `C_σ = 0`, which
+/// [`RoundRobinPlant::new`] refuses.
+///
+/// # Errors
+/// [`Error::Linalg`] for non-finite entries or a failing SVD.
+pub fn output_map(c: faer::MatRef<'_, f64>) -> Result<Option<Mat<f64>>, Error> {
+    let rank = c.ncols() - sporadic_linalg::null_space(c)?.ncols();
+    if rank == 0 || rank >= c.nrows() {
+        return Ok(None);
+    }
+    let svd = c.thin_svd().map_err(|_| LinalgError::NoConvergence {
+        what: "SVD of an output matrix C_σ".into(),
+    })?;
+    Ok(Some(svd.U().subcols(0, rank).transpose().to_owned()))
+}
+
+/// The given gains `K_σ` of the outputs `y_σ` as the gains `K_σW_σᵀ` of the independent outputs
+/// of [`output_map`] (as given for a sensor read as given), to be compared with (45) for
+/// [`Sferlazza2021::round_robin_plant`].
+///
+/// # Errors
+/// [`Error::InvalidArgument`] for a gain row whose length is not the sensor's number of outputs.
+fn on_independent_outputs(gains: &[Gain], maps: &[Option<Mat<f64>>]) -> Result<Vec<Gain>, Error> {
+    gains
+        .iter()
+        .map(|g| {
+            let map = g
+                .name
+                .strip_prefix("K_")
+                .and_then(|s| s.parse::<usize>().ok())
+                .and_then(|s| maps.get(s.checked_sub(1)?))
+                .and_then(Option::as_ref);
+            let Some(w) = map else {
+                return Ok(g.clone());
+            };
+            let on = |rows: &Vec<Vec<f64>>| -> Result<Vec<Vec<f64>>, Error> {
+                rows.iter()
+                    .map(|row| {
+                        if row.len() != w.ncols() {
+                            return Err(Error::invalid(format!(
+                                "gain {}: a row of {} entries, but the sensor has {} outputs",
+                                g.name,
+                                row.len(),
+                                w.ncols()
+                            )));
+                        }
+                        Ok((0..w.nrows())
+                            .map(|j| row.iter().enumerate().map(|(l, k)| k * w[(j, l)]).sum())
+                            .collect())
+                    })
+                    .collect()
+            };
+            let mut out = g.clone();
+            out.rows = on(&g.rows)?;
+            if let Some(schedule) = &mut out.schedule {
+                schedule.samples = schedule.samples.iter().map(on).collect::<Result<_, _>>()?;
+            }
+            Ok(out)
+        })
+        .collect()
+}
+
+/// [`sensor_list`] with every `C_σ` of [`output_map`] `W_σ` replaced by `W_σC_σ`, and the maps.
+#[allow(clippy::type_complexity)]
+fn independent_sensors(
+    plant: &Plant,
+    sampling: &Sampling,
+) -> Result<(Vec<(Mat<f64>, SamplingWindow)>, Vec<Option<Mat<f64>>>), Error> {
+    let mut maps = Vec::new();
+    let sensors = sensor_list(plant, sampling)?
+        .into_iter()
+        .map(|(c, w)| {
+            let map = output_map(c.as_ref())?;
+            let c = match &map {
+                Some(m) => m * &c,
+                None => c,
+            };
+            maps.push(map);
+            Ok((c, w))
+        })
+        .collect::<Result<_, Error>>()?;
+    Ok((sensors, maps))
 }
 
 /// The sensors `(C_σ, window_σ)` of `plant` under `sampling` (see
@@ -243,18 +350,16 @@ impl ObserverMethod for Sferlazza2021 {
         let Ok(sensors) = sensor_list(plant, sampling) else {
             return Ok(());
         };
+        // Dependent outputs are read through their independent combinations (output_map);
+        // a sensor that measures nothing cannot be.
         for (k, (c, _)) in sensors.iter().enumerate() {
-            let rank = sporadic_linalg::null_space(c.as_ref())
-                .map(|k| c.ncols() - k.ncols())
-                .unwrap_or(c.nrows());
-            if rank < c.nrows() {
+            if c.nrows() > 0 && c.norm_max() == 0.0 {
                 return Err(NotApplicable::unsupported(
                     ID,
                     format!(
-                        "sensor {}: C_σ has rank {rank} but {} rows; Assumption 1 needs full row \
-                         rank (remove the redundant rows)",
-                        k + 1,
-                        c.nrows()
+                        "sensor {}: C_σ = 0, the sensor measures nothing (Assumption 1 needs \
+                         C_σ of full row rank)",
+                        k + 1
                     ),
                 ));
             }
@@ -324,7 +429,9 @@ impl ObserverMethod for Sferlazza2021 {
         options: &ProofOptions,
     ) -> Result<Proof, MethodError> {
         let (rr, ps) = design_data(plant, design)?;
-        prove_design(&rr, &ps, &design.gains, options).map_err(crate_error)
+        let maps = Self::output_maps(plant, &report_sampling(design)?).map_err(invalid_input)?;
+        let gains = on_independent_outputs(&design.gains, &maps).map_err(invalid_input)?;
+        prove_design(&rr, &ps, &gains, options).map_err(crate_error)
     }
 
     /// Checks given gains and Lyapunov matrices: the certificate `P_1, …, P_N` (scaled so that
@@ -783,7 +890,8 @@ impl Sferlazza2021 {
                 ),
             ));
         }
-        if let Some((s, tau, _, dev)) = gain_mismatch(rr, ps, gains)? {
+        let on_rr = on_independent_outputs(gains, &Self::output_maps(plant, sampling)?)?;
+        if let Some((s, tau, _, dev)) = gain_mismatch(rr, ps, &on_rr)? {
             return Ok(failed(
                 Some(tau),
                 format!(
@@ -1056,16 +1164,21 @@ impl Sferlazza2021 {
         let rr = d.plant();
         let mu = d.mu;
         let mut report = DesignReport::certified(self, plant.name(), sampling);
-        // Gains: one schedule per sensor over its window.
+        let maps = Self::output_maps(plant, sampling)?;
+        // Gains: one schedule per sensor over its window, on all of its outputs.
         let mut spot: Vec<(usize, f64, f64, bool)> = Vec::new();
         for (s, sensor) in rr.sensors().iter().enumerate() {
             let taus = window_grid(sensor.window(), self.schedule_points)?;
             let ks = taus
                 .iter()
                 .map(|&t| {
-                    d.gains()
-                        .gain(s, t)
-                        .map(|k| coordinates.gain_back(k.as_ref()))
+                    d.gains().gain(s, t).map(|k| {
+                        let k = coordinates.gain_back(k.as_ref());
+                        match &maps[s] {
+                            Some(w) => &k * w,
+                            None => k,
+                        }
+                    })
                 })
                 .collect::<Result<Vec<_>, _>>()?;
             let fam = XiFamily::new(rr, &d.p, s)?;
@@ -1087,6 +1200,24 @@ impl Sferlazza2021 {
                 spot.push((s, t, lambda, refuted));
             }
             let mut ks = ks.into_iter();
+            let law = match &maps[s] {
+                None => format!(
+                    "(45) from P_{0}: K_{0}(τ) = (C_{0}ᵀ − C_{0}^⊥ W(τ)⁻¹ C_{0}^⊥ᵀ Φ(τ) C_{0}ᵀ)\
+                     (C_{0}C_{0}ᵀ)⁻¹ with Φ(τ) = e^(−Aᵀτ) P_{0} e^(−Aτ), W(τ) = C_{0}^⊥ᵀ Φ(τ) \
+                     C_{0}^⊥ (equivalently Φ⁻¹C_{0}ᵀ(C_{0}Φ⁻¹C_{0}ᵀ)⁻¹, so C_{0}K_{0} = I)",
+                    s + 1
+                ),
+                Some(w) => format!(
+                    "K_{0}(τ) = K̃_{0}(τ)W_{0} with K̃_{0}(τ) = Φ⁻¹C̃_{0}ᵀ(C̃_{0}Φ⁻¹C̃_{0}ᵀ)⁻¹, \
+                     (45) from P_{0} for the {1} independent outputs W_{0}y_{0} of C̃_{0} = \
+                     W_{0}C_{0} (W_{0}: orthonormal rows spanning the range of C_{0}, which has \
+                     rank {1} for {2} outputs), Φ(τ) = e^(−Aᵀτ) P_{0} e^(−Aτ); K_{0}C_{0} = \
+                     K̃_{0}C̃_{0}, C̃_{0}K̃_{0} = I",
+                    s + 1,
+                    w.nrows(),
+                    w.ncols()
+                ),
+            };
             report.gains.push(Gain::scheduled(
                 format!("K_{}", s + 1),
                 format!(
@@ -1095,12 +1226,7 @@ impl Sferlazza2021 {
                     s + 1,
                     sensor.window()
                 ),
-                format!(
-                    "(45) from P_{0}: K_{0}(τ) = (C_{0}ᵀ − C_{0}^⊥ W(τ)⁻¹ C_{0}^⊥ᵀ Φ(τ) C_{0}ᵀ)\
-                     (C_{0}C_{0}ᵀ)⁻¹ with Φ(τ) = e^(−Aᵀτ) P_{0} e^(−Aτ), W(τ) = C_{0}^⊥ᵀ Φ(τ) \
-                     C_{0}^⊥ (equivalently Φ⁻¹C_{0}ᵀ(C_{0}Φ⁻¹C_{0}ᵀ)⁻¹, so C_{0}K_{0} = I)",
-                    s + 1
-                ),
+                law,
                 taus.clone(),
                 move |_| ks.next().unwrap_or_else(|| Mat::zeros(0, 0)),
             ));
@@ -1313,6 +1439,19 @@ impl Sferlazza2021 {
             )),
             // A design is never made in a certificate's coordinates (only `verify` checks there).
             Coordinates::Certificate { .. } => {}
+        }
+        for (s, w) in maps.iter().enumerate() {
+            if let Some(w) = w {
+                report.notes.push(format!(
+                    "sensor {0}: its {1} outputs are linearly dependent (C_{0} has rank {2}); the \
+                     design reads the {2} independent outputs W_{0}y_{0} (W_{0}: orthonormal rows \
+                     spanning the range of C_{0}, from its SVD), which change neither the kernel \
+                     of C_{0} nor (44), and K_{0} = K̃_{0}W_{0} acts on all {1} outputs",
+                    s + 1,
+                    w.ncols(),
+                    w.nrows()
+                ));
+            }
         }
         report.notes.push(format!(
             "the gain K_σ(τ) of (45) depends on the time τ since the previous sample; each schedule \
