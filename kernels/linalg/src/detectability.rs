@@ -7,14 +7,20 @@
 //! stays exact when distinct `λ_i` alias onto the same `z` (eigenvalues computed from a rounded
 //! `e^{AT}` split such a multiple eigenvalue by up to `√ε`).
 //!
-//! The rank test is numerical. The two block rows are normalised separately,
+//! The rank test is numerical. The two block rows are normalised separately, the first by the
+//! modulus of the tested eigenvalue,
 //!
 //! ```text
-//! H(z) = [ (zI − Φ)/‖Φ‖_F ;  C/‖C‖_F ]
+//! H(z) = [ (zI − Φ)/|z| ;  C/‖C‖_F ]
 //! ```
 //!
 //! and the *PBH margin* `σ_min(H(z))` is compared with a tolerance. The margin does not change when
-//! `C` is scaled (a change of output units) or when `Φ` and `z` are scaled together.
+//! `C` is scaled (a change of output units) or when `Φ` and `z` are scaled together, and it is at
+//! most `‖Cv‖/(‖C‖_F‖v‖)` for an eigenvector `v` of `z`: how well the output sees that mode.
+//! Dividing by `‖Φ‖_F` instead made a mode with `|z| ≪ ‖Φ‖` look unobservable: beside the
+//! unstable mode of an inverted pendulum (`‖e^{AT}‖ ≈ 3·10⁸`), the cart's position (`z = 1`,
+//! measured directly, margin 0.32 relative to `|z|`) had the margin `7·10⁻⁹` relative to `‖Φ‖_F`,
+//! below the tolerance.
 
 use faer::{Mat, MatRef, c64};
 
@@ -180,7 +186,6 @@ pub fn pbh_detectability(
     options.validate()?;
 
     let m = c.nrows();
-    let phi_scale = phi.norm_l2().max(f64::MIN_POSITIVE);
     let c_scale = c.norm_l2().max(f64::MIN_POSITIVE);
     let mut spectral_radius = 0.0f64;
     let mut worst: Option<PbhMode> = None;
@@ -193,7 +198,7 @@ pub fn pbh_detectability(
         let h = Mat::<c64>::from_fn(n + m, n, |i, j| {
             if i < n {
                 let diag = if i == j { z } else { c64::new(0.0, 0.0) };
-                (diag - c64::new(phi[(i, j)], 0.0)) / phi_scale
+                (diag - c64::new(phi[(i, j)], 0.0)) / modulus
             } else {
                 c64::new(c[(i - n, j)] / c_scale, 0.0)
             }
@@ -230,7 +235,7 @@ mod tests {
 
     /// `Φ = diag(2, 1/2)`: the unstable mode `e₁` is invisible through `C = [0 1]` (margin exactly 0)
     /// and visible through `C = [1 0]`, where `H(2)` has orthogonal columns of norms `1` and
-    /// `1.5/‖Φ‖_F = 1.5/√4.25`.
+    /// `1.5/|z| = 0.75`.
     #[test]
     fn diagonal_pair_closed_form() {
         let phi = mat![[2.0, 0.0], [0.0, 0.5]];
@@ -248,8 +253,38 @@ mod tests {
         let seen =
             pbh_detectability(phi.as_ref(), mat![[-7.0, 0.0]].as_ref(), &eig(&phi), &o).unwrap();
         assert!(seen.detectable);
-        let expected = 1.5 / 4.25f64.sqrt();
-        assert!((seen.worst.unwrap().margin - expected).abs() < 1e-15);
+        assert!((seen.worst.unwrap().margin - 0.75).abs() < 1e-15);
+    }
+
+    /// A linearised inverted pendulum on a cart (states: position, velocity, angle, angular
+    /// velocity), position and angle measured, sampled every `T = 2.66765`: `e^{AT}` has norm
+    /// `≈ 3·10⁸` from the unstable pendulum mode, while the cart's position (`z = 1`) is
+    /// measured directly. Its margin relative to `|z|` is that of a visible mode; relative to
+    /// `‖Φ‖_F` it was `7·10⁻⁹` and the pair was reported undetectable.
+    #[test]
+    fn a_measured_slow_mode_beside_a_fast_unstable_one_is_detectable() {
+        let a = mat![
+            [0.0, 1.0, 0.0, 0.0],
+            [0.0, -0.2, -3.924, 0.0],
+            [0.0, 0.0, 0.0, 1.0],
+            [0.0, 2.0 / 3.0, 45.78, 0.0]
+        ];
+        let c = mat![[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]];
+        let t = 2.66765;
+        let at = Mat::from_fn(4, 4, |i, j| a[(i, j)] * t);
+        let phi = crate::expm(at.as_ref()).unwrap();
+        assert!(phi.norm_l2() > 1e8);
+        let z: Vec<c64> = eig(&a).iter().map(|l| (*l * t).exp()).collect();
+        let test = pbh_detectability(phi.as_ref(), c.as_ref(), &z, &PbhOptions::default()).unwrap();
+        assert!(test.detectable);
+        let worst = test.worst.unwrap();
+        assert!(worst.margin > 0.1, "{worst:?}");
+        // Without the angle sensor the unstable mode is still seen through the cart's position,
+        // and without the position sensor the cart's position is not seen at all.
+        let angle = mat![[0.0, 0.0, 1.0, 0.0]];
+        let blind =
+            pbh_detectability(phi.as_ref(), angle.as_ref(), &z, &PbhOptions::default()).unwrap();
+        assert!(!blind.detectable, "{blind:?}");
     }
 
     /// The harmonic oscillator `ẋ = [0 ω; −ω 0]x` read through `C = [1 0]` every `T = π/ω`:
