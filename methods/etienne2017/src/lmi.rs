@@ -4,13 +4,16 @@
 //!
 //! ```text
 //! maximise t   over (P1, P2, L0, L1, t)
-//! s.t.  −M¹_p ⪰ tI,  −M²_p ⪰ tI                                   p = 1..2^k    (20a), (20b)
+//! s.t.  −τ̄M¹_p ⪰ tI,  −τ̄M²_p ⪰ tI                                 p = 1..2^k    (20a), (20b)
 //!       [He(L0C) − (τ_low/τ̄)(P1 − P2), C'L0'; ⋆, P1] ⪰ tI                          (20c)
 //!       [He(L1C) − (P1 − P2),          C'L1'; ⋆, P1] ⪰ tI                          (20d)
 //!       P1 ⪰ tI,  P2 ⪰ tI,   ‖P1‖₂ ≤ 1,  ‖P2‖₂ ≤ 1   (normalisation; L0, L1 free)
 //! ```
 //!
-//! with `M^i_p = He(P_i R_p) + (P2 − P1)/τ̄`. All LMIs are positively homogeneous in
+//! with `M^i_p = He(P_i R_p) + (P2 − P1)/τ̄`, imposed as `τ̄M^i_p = He(P_i R_pτ̄) + P2 − P1`
+//! (same LMI, `τ̄ > 0`): every block is then on the scale of `P` and depends on the data only
+//! through `R_pτ̄`, `τ_low/τ̄`, `LC`, so `t*` and the verification threshold do not depend on
+//! the time unit. All LMIs are positively homogeneous in
 //! `(P1, P2, L0, L1)` (any positive multiple of a solution is one, with the same `K0, K1`), so
 //! the normalisation loses no generality: (20) is strictly feasible iff `t* > 0`. Since `P ⪰ tI` with `t ≥ 0` makes `−I ⪯ P` redundant, the
 //! bound `‖P‖₂ ≤ 1` of the layer is exactly the `P ⪯ I` of formulation F.
@@ -20,7 +23,7 @@
 //! * **Fixed gain** (analysis of a given schedule `K0, K1`): `L0 = P1K0`, `L1 = P1K1` are linear
 //!   in `P1`, so (20) is an LMI in `(P1, P2)` only ("fixed-gain analysis").
 //!
-//! `1/τ̄` and `τ_low/τ̄` enter as parameters, so a compiled model is re-solved for a new window
+//! `τ̄` and `τ_low/τ̄` enter as parameters, so a compiled model is re-solved for a new window
 //! without rebuilding it or re-analysing the solver structure (used by the bisection of
 //! [`crate::bisection`]).
 
@@ -152,7 +155,7 @@ pub(crate) struct LmiResult {
 pub(crate) struct Lmi20 {
     compiled: Compiled,
     condition: Condition,
-    inv_tau_bar: Param,
+    tau_bar: Param,
     ratio: Option<Param>,
     p1: Var,
     p2: Var,
@@ -180,7 +183,7 @@ impl Lmi20 {
         let mut m = Model::new();
         let p1 = m.symmetric("P1", n);
         let p2 = m.symmetric("P2", n);
-        let inv_tau_bar = m.param("1/τ̄", scalar(1.0 / window.tau_bar).as_ref())?;
+        let tau_bar = m.param("τ̄", scalar(window.tau_bar).as_ref())?;
         let ratio = if condition.has_low_jump() {
             Some(m.param("τ_low/τ̄", scalar(window.tau_low / window.tau_bar).as_ref())?)
         } else {
@@ -210,10 +213,10 @@ impl Lmi20 {
                 (None, None, e0, e1, Some((k0, k1)))
             }
         };
-        let derivative = (&p2 - &p1) * &inv_tau_bar;
+        let derivative = &p2 - &p1;
         for (i, r) in plant.vertices().iter().enumerate() {
-            let m1 = (&p1 * r).he() + &derivative;
-            let m2 = (&p2 * r).he() + &derivative;
+            let m1 = (&p1 * r).he() * &tau_bar + &derivative;
+            let m2 = (&p2 * r).he() * &tau_bar + &derivative;
             m.constrain(m1.lt(0.0).named(format!("(20a) p={}", i + 1)))?;
             m.constrain(m2.lt(0.0).named(format!("(20b) p={}", i + 1)))?;
         }
@@ -239,7 +242,7 @@ impl Lmi20 {
         Ok(Self {
             compiled,
             condition,
-            inv_tau_bar,
+            tau_bar,
             ratio,
             p1,
             p2,
@@ -253,7 +256,7 @@ impl Lmi20 {
     pub fn set_window(&mut self, window: &Bounds) -> Result<(), Error> {
         self.condition.check_bounds(window)?;
         self.compiled
-            .set_param(&self.inv_tau_bar, scalar(1.0 / window.tau_bar).as_ref())?;
+            .set_param(&self.tau_bar, scalar(window.tau_bar).as_ref())?;
         if let Some(ratio) = &self.ratio {
             self.compiled
                 .set_param(ratio, scalar(window.tau_low / window.tau_bar).as_ref())?;

@@ -510,8 +510,9 @@ fn margin_definition(condition: Condition) -> String {
         "the jump blocks (20c) and (20d) ⪰ t·I"
     };
     format!(
-        "optimal margin t* of LMIs (20) ({}): the largest t with M¹_p ⪯ −t·I and M²_p ⪯ −t·I at \
-         every vertex R_p of Lemma 1 ((20a), (20b)), {jumps}, and P1, P2 ⪰ t·I, under the \
+        "optimal margin t* of LMIs (20) ({}): the largest t with T2·M¹_p ⪯ −t·I and T2·M²_p ⪯ \
+         −t·I (T2·M^i_p = He(P_i R_p T2) + P2 − P1, free of the time unit) at every vertex R_p of \
+         Lemma 1 ((20a), (20b)), {jumps}, and P1, P2 ⪰ t·I, under the \
          normalisation ‖P1‖₂ ≤ 1, ‖P2‖₂ ≤ 1 (spectral norms; L0, L1 free); (20) is homogeneous, \
          so t* > 0 iff it is strictly feasible, and t* is the slack of the certificate relative \
          to that scale",

@@ -130,6 +130,34 @@ fn time_scaling_scales_the_largest_window() {
     }
 }
 
+/// A motor-driven pendulum in s and in units 1000 times shorter (and 10⁴ times longer):
+/// before (20a)/(20b) were scaled by τ̄, `t*` stayed at the jump blocks' `1.19e-5` in the short
+/// unit while the threshold grew with `‖R_p‖`, `1/τ̄` to `8.7e-4` (refused), and in the long
+/// unit `t* = 9.4e-8` fell below `2.1e-7` (refused).
+#[test]
+fn the_margin_does_not_depend_on_the_time_unit() {
+    let d = Data {
+        a: mat![[0.0, 1.0, 0.0], [0.0, -0.2, 4.0], [0.0, -0.5, -10.0]],
+        g: mat![[0.0], [-20.0], [0.0]],
+        h: mat![[1.0, 0.0, 0.0]],
+        c: mat![[1.0, 0.0, 0.0]],
+        gamma: 1.0,
+    };
+    let margin = |k: f64| {
+        let s = Sampling::Synchronous(SamplingWindow::new(0.005 / k, 0.1 / k).unwrap());
+        let r = Etienne2017::default()
+            .design(&plant(&scaled(&d, k)), &s, &MethodOptions::default())
+            .unwrap();
+        assert!(r.status.is_certified(), "k = {k}: {:?}", r.reason);
+        r.margin.unwrap().value
+    };
+    let base = margin(1.0);
+    for k in [1e-4, 1e3] {
+        let m = margin(k);
+        assert!(close(base, m), "k = {k}: {base} vs {m}");
+    }
+}
+
 #[test]
 fn output_scaling_changes_nothing_but_the_gain() {
     let d = flexible_joint();
