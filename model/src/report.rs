@@ -468,9 +468,12 @@ impl CompareEntry {
             .and_then(|r| r.largest_certified_t2)
     }
 
-    /// Whether the file's sampling or some searched window was certified.
-    pub fn certifies_anything(&self) -> bool {
-        self.design.status.is_certified() || self.largest_certified_t2().is_some()
+    /// Whether the file's sampling or some searched window was certified for sampling that the
+    /// method does not choose: a method that picks its own sampling instants
+    /// ([`CompareEntry::chooses_its_sampling`]) certifies its own rule, not the file's sampling.
+    pub fn certifies_the_files_sampling(&self) -> bool {
+        !self.chooses_its_sampling
+            && (self.design.status.is_certified() || self.largest_certified_t2().is_some())
     }
 }
 

@@ -204,7 +204,8 @@ impl ProofArgs {
 pub struct VerifyArgs {
     /// The plant file (TOML).
     pub plant: PathBuf,
-    /// The method whose condition the gains are checked against.
+    /// The method whose condition the gains are checked against (ferrante2016, sferlazza2021,
+    /// andrieu2014, etienne2017, rabehi2021).
     #[arg(long, value_parser = method_arg)]
     pub method: String,
     /// The gains: a design report (`sporadic design --json`; its `gains` and, when present,
@@ -228,7 +229,8 @@ pub struct VerifyArgs {
 pub struct MaxIntervalArgs {
     /// The plant file (TOML).
     pub plant: PathBuf,
-    /// The observer design method.
+    /// The observer design method (ferrante2016, sferlazza2021, andrieu2014, etienne2017,
+    /// rabehi2021).
     #[arg(long, value_parser = method_arg)]
     pub method: String,
     /// Largest upper end searched (default: 10 × the file's largest T2).
@@ -570,7 +572,7 @@ fn progress_printer() -> impl FnMut(&str, &Probe) {
             (false, Some(reason)) => format!("not certified ({})", reason.kind()),
             (false, None) => "not certified".to_string(),
         };
-        let line = format!("{prefix}T2 = {:.6}: {verdict}", p.t2);
+        let line = format!("{prefix}T2 = {}: {verdict}", significant(p.t2));
         let mut err = std::io::stderr();
         if tty {
             let _ = write!(err, "\r\x1b[2K{line}");
@@ -587,44 +589,58 @@ fn print_max_interval(r: &MaxIntervalReport) {
     let budget = r.search_end == Some(SearchEnd::BudgetExhausted);
     match (r.largest_certified_t2, r.first_failing_t2) {
         (Some(b), Some(f)) if r.search_end == Some(SearchEnd::Undecided) => println!(
-            "result   largest certified T2 = {b:.6}, a lower bound: T2 = {f:.6} was not decided \
-             ({}), T1 = {}",
+            "result   largest certified T2 = {}, a lower bound: T2 = {} was not decided ({}), \
+             T1 = {}",
+            significant(b),
+            significant(f),
             r.first_failure_reason().map_or("?", |why| why.kind()),
-            r.t1.unwrap_or(f64::NAN)
+            significant(r.t1.unwrap_or(f64::NAN))
         ),
         (Some(b), f) if budget => println!(
-            "result   largest certified T2 = {b:.6}, a lower bound: a budget ran out ({}), T1 = {}",
+            "result   largest certified T2 = {}, a lower bound: a budget ran out ({}), T1 = {}",
+            significant(b),
             f.map_or_else(
                 || "no failing T2 found yet".to_string(),
-                |f| format!("not certified at {f:.6}")
+                |f| format!("not certified at {}", significant(f))
             ),
-            r.t1.unwrap_or(f64::NAN)
+            significant(r.t1.unwrap_or(f64::NAN))
         ),
         (Some(b), None) => println!(
-            "result   certified up to the search limit: T2 = {b} (raise --limit to search further)"
+            "result   certified up to the search limit: T2 = {} (raise --limit to search further)",
+            significant(b)
         ),
         (Some(b), Some(f)) => println!(
-            "result   largest certified T2 = {b:.6} (fails at {f:.6}), T1 = {}",
-            r.t1.unwrap_or(f64::NAN)
+            "result   largest certified T2 = {} (fails at {}), T1 = {}",
+            significant(b),
+            significant(f),
+            significant(r.t1.unwrap_or(f64::NAN))
         ),
         (None, _) if r.status.is_not_applicable() => {}
         (None, _) => println!(
             "result   not certified even for the shortest window (T1 = {})",
-            r.t1.unwrap_or(f64::NAN)
+            significant(r.t1.unwrap_or(f64::NAN))
         ),
     }
-    if let Some(reason) = &r.reason {
-        println!(
+    match &r.reason {
+        // A search that certified windows: the reason is why it stopped.
+        Some(reason) if r.status.is_certified() => println!(
+            "status   {}, search stopped by {}: {}",
+            r.status,
+            reason.kind(),
+            reason.message()
+        ),
+        Some(reason) => println!(
             "status   {} ({}): {}",
             r.status,
             reason.kind(),
             reason.message()
-        );
+        ),
+        None => {}
     }
     if let Some(reason) = r.first_failure_reason() {
         println!(
-            "failure  T2 = {:.6} not certified ({}): {}",
-            r.first_failing_t2.unwrap_or(f64::NAN),
+            "failure  T2 = {} not certified ({}): {}",
+            significant(r.first_failing_t2.unwrap_or(f64::NAN)),
             reason.kind(),
             reason.message()
         );
@@ -685,7 +701,11 @@ pub fn compare(args: &CompareArgs) -> Result<Outcome, Failure> {
     if std::io::stderr().is_terminal() && limit.is_some() {
         eprintln!();
     }
-    let outcome = if report.results.iter().any(|e| e.certifies_anything()) {
+    let outcome = if report
+        .results
+        .iter()
+        .any(|e| e.certifies_the_files_sampling())
+    {
         Outcome::Certified
     } else {
         Outcome::NothingCertified

@@ -13,7 +13,8 @@ use std::process::ExitCode;
 ///
 /// Exit status, for every subcommand: 0 = ran and certified (design/verify with --prove: and
 /// proved; compare: at least one method
-/// certified; reproduce: the reproductions ran, whatever their claims' statuses; sdp solve: an
+/// certified the file's sampling or a searched window, andrieu2014's own sampling rule aside;
+/// reproduce: the reproductions ran, whatever their claims' statuses; sdp solve: an
 /// optimal status); 1 = ran, but nothing was certified or the method does not apply (sdp solve:
 /// any non-optimal status); 2 = invalid or unreadable input, or a usage error.
 #[derive(Debug, Parser)]

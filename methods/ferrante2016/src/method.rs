@@ -784,7 +784,7 @@ impl ObserverMethod for Ferrante2016 {
         });
         r.checks = verification_checks(&v, tol);
         r.notes.push(
-            "gain checked as given (sporadic verify): no design was run; the checks are those of              a design's re-verification"
+            "gain checked as given (sporadic verify): no design was run; the checks are those of a design's re-verification"
                 .into(),
         );
         r.seconds = start.elapsed().as_secs_f64();
