@@ -103,7 +103,10 @@ fn compare_answers_every_corpus_plant_in_time_with_the_expected_verdicts() {
                 continue;
             }
         };
-        let any = report.results.iter().any(|e| e.certifies_the_files_sampling());
+        let any = report
+            .results
+            .iter()
+            .any(|e| e.certifies_the_files_sampling());
         if code != if any { 0 } else { 1 } {
             failures.push(format!("{stem}: exit {code} with certified = {any}"));
         }

@@ -177,6 +177,8 @@ pub(crate) struct VertexTest<'a> {
     n: usize,
     /// The bound `τ`.
     pub tau: f64,
+    /// The scale `s` of the blocks of `Φ_i` in `τ`.
+    pub scale: f64,
 }
 
 impl<'a> VertexTest<'a> {
@@ -200,7 +202,14 @@ impl<'a> VertexTest<'a> {
             coupling,
             n,
             tau,
+            scale,
         })
+    }
+
+    /// `max_i λmax(Φ(X_i))` over `vertices`.
+    pub fn largest_over(&self, vertices: &[Mat<f64>]) -> f64 {
+        let each = vertices.iter().map(|x| self.largest_eigenvalue(x.as_ref()));
+        each.fold(f64::NEG_INFINITY, f64::max)
     }
 
     /// `λmax(Φ(X))` of (41) at the vertex `x` (`+∞` when it cannot be computed).

@@ -76,7 +76,7 @@ use sporadic_embed::{
 use sporadic_sdp::lmi::{FeasibilityOptions, Outcome};
 
 use crate::active::{ACTIVE_FROM, solve_binding};
-use crate::certificate::{CertificateCoordinates, VertexSet, strictly_negative};
+use crate::certificate::{CertificateCoordinates, VertexSet, VertexTest, strictly_negative};
 use crate::detectability::{DetectabilityOptions, DetectabilityReport, check_detectability};
 use crate::error::Error;
 use crate::lmi::{GainTerm, Lmi41, LmiForm, LmiResult, LmiSize, Objective, Point41, gain_from};
@@ -939,6 +939,7 @@ fn attempt(
         r.feasible |= negative;
     }
     if !r.feasible {
+        let rounding = set.as_ref().and_then(|set| rounding_reason(&np, set, &r));
         if set.is_some()
             && undecided(&r)
             && let Some(coordinates) = CertificateCoordinates::of(r.p.as_ref())
@@ -957,7 +958,7 @@ fn attempt(
             },
             _ => Error::Infeasible {
                 margin: r.margin,
-                reason: r.stats.reason,
+                reason: rounding.unwrap_or(r.stats.reason),
             },
         });
     }
@@ -1041,6 +1042,33 @@ fn budget_left() -> Result<(), Error> {
         });
     }
     Ok(())
+}
+
+/// Why a margin solve on a residue box gave no certificate, against the rounding level of what
+/// decides one (`strictly_negative`): `τ` of [`VertexTest`] at the returned point, relative to
+/// the scale `s` of the blocks of (41) there. (The LMI layer's threshold `safety·tol·(1 + s')` is
+/// relative to the summands `s'` of the form solved, `‖P‖‖X_i‖²` in the reduced one: with the
+/// large vertices of a degenerate residue box it exceeds every margin the normalisation admits,
+/// `t ≤ λmin(P) ≤ 1`, e.g. 1.357 for a free-free beam on `[0.05, 0.4]`.)
+fn rounding_reason(plant: &Plant, set: &VertexSet<'_>, r: &LmiResult) -> Option<String> {
+    use sporadic_sdp::Status::{DualInfeasible, PrimalInfeasible};
+    if matches!(r.stats.status, DualInfeasible | PrimalInfeasible) {
+        return None; // the solver's certificate, not a threshold, decided
+    }
+    let t = r.margin?;
+    let test = VertexTest::new(plant, set, (r.p.as_ref(), r.f.as_ref(), r.j.as_ref()))?;
+    let (tau, s) = (test.tau, test.scale);
+    Some(format!(
+        "no verifiable margin: the maximal common margin t* = {t:.3e} is {} the verification \
+         threshold {tau:.3e}, the rounding level of LMI (41) at the returned point (τ = \
+         2‖P‖₂e + 64u·3n·s = {:.1e}·s, s = {s:.3e} the largest block norm of (41), e = {:.1e} \
+         the embedding's error), where the largest vertex eigenvalue is {:.3e}, not below −τ; \
+         a strictly feasible point with a smaller margin is not excluded",
+        if t <= tau { "at or below" } else { "above" },
+        tau / s,
+        set.error,
+        test.largest_over(set.vertices),
+    ))
 }
 
 /// Whether the margin `t*` of a solve that did not certify is within the solver's verification

@@ -407,7 +407,7 @@ fn checks(options: &DesignOptions, d: &Design) -> Vec<Check> {
         ),
         Some(t) if d.certificate.margin <= t => format!(
             "the margin is below the solver's verification threshold {t:.2e} (relative to the \
-             normalisation ‖P‖₂ ≤ 1); accepted because every vertex LMI's largest eigenvalue at \
+             summands of the LMI solved); accepted because every vertex LMI's largest eigenvalue at \
              the returned point is below −τ, τ bounding rounding and the embedding's \
              reconstruction error and remainder"
         ),

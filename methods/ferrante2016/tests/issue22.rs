@@ -1162,3 +1162,36 @@ fn the_modal_form_is_the_same_in_any_coordinates_and_nearly_normal() {
         "{given} {other}"
     );
 }
+
+/// A free-free beam of order 8 (two outputs) on `[0.05, 0.4]`: refused in the Gramian normal
+/// form, whose residue box has vertices with entries `~4e3`; the LMI layer's threshold, relative
+/// to the summands `‖P‖‖X_i‖²` of the reduced form, was `1.357`, above every margin the
+/// normalisation admits (`t ≤ λmin(P) ≤ 1`). The verdict states the rounding level of (41),
+/// what `strictly_negative` decides a certificate by.
+#[test]
+fn a_refusal_states_a_threshold_below_the_margins_cap() {
+    let mut a = Mat::<f64>::zeros(8, 8);
+    for (k, (w2, d)) in [(0.0, 0.0), (9.0, 0.06), (81.0, 0.18), (400.0, 0.8)]
+        .into_iter()
+        .enumerate()
+    {
+        a[(2 * k, 2 * k + 1)] = 1.0;
+        a[(2 * k + 1, 2 * k)] = -w2;
+        a[(2 * k + 1, 2 * k + 1)] = -d;
+    }
+    let c = mat![
+        [1.0, 0.0, 0.8, 0.0, -0.5, 0.0, 0.3, 0.0],
+        [0.0, 1.0, 0.0, 0.8, 0.0, -0.5, 0.0, 0.3]
+    ];
+    let r = design(&plant(a, c), 0.05, 0.4);
+    assert_eq!(r.status, Status::NotCertified);
+    let message = r.reason.expect("a reason").message().to_string();
+    let threshold: f64 = message
+        .split("verification threshold ")
+        .nth(1)
+        .and_then(|rest| rest.split([',', ' ']).next())
+        .and_then(|v| v.parse().ok())
+        .expect("a threshold");
+    assert!(message.contains("rounding level of LMI (41)"), "{message}");
+    assert!(threshold > 0.0 && threshold < 1e-3, "{message}");
+}
