@@ -837,3 +837,38 @@ fn an_undetectable_plant_in_other_coordinates_stays_undetectable() {
         r.reason
     );
 }
+
+/// A linearised inverted pendulum on a cart, position and angle measured (written for this
+/// check). At `T = 3.08` the lifted output `C e^{AT}` of (8) has entries `~4·10⁹` from the
+/// unstable pendulum mode, and with the output block normalised as a whole the cart's position
+/// (`z = 1`, measured directly) had PBH margin `9.7·10⁻⁹`: Proposition 1 reported the plant
+/// undetectable there, and at other `T` depending on the coordinates. Referred to the end of
+/// the round the rows are `C`, and the margin is that of a visible mode.
+#[test]
+fn a_measured_slow_mode_beside_a_fast_unstable_one_passes_proposition_1() {
+    use sporadic_sferlazza2021::detectability::{DetectabilityOptions, pbh};
+    let a = mat![
+        [0.0, 1.0, 0.0, 0.0],
+        [0.0, -0.2, -3.924, 0.0],
+        [0.0, 0.0, 0.0, 1.0],
+        [0.0, 2.0 / 3.0, 45.78, 0.0]
+    ];
+    let c = mat![[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]];
+    let plant = RoundRobinPlant::new(a.as_ref(), &[(c.as_ref(), win(3.08325, 3.08325))]).unwrap();
+    let check = pbh(&plant, &[3.08325], &DetectabilityOptions::default()).unwrap();
+    assert!(check.test.detectable, "{check:?}");
+    assert!(check.test.worst.unwrap().margin > 0.1, "{check:?}");
+    // Two sensors in round-robin order, the cart then the angle: still detectable.
+    let (c1, c2) = (mat![[1.0, 0.0, 0.0, 0.0]], mat![[0.0, 0.0, 1.0, 0.0]]);
+    let rr = RoundRobinPlant::new(
+        a.as_ref(),
+        &[(c1.as_ref(), win(1.5, 1.5)), (c2.as_ref(), win(1.5, 1.5))],
+    )
+    .unwrap();
+    let check = pbh(&rr, &[1.5, 1.5], &DetectabilityOptions::default()).unwrap();
+    assert!(check.test.detectable, "{check:?}");
+    // Without the cart's position its mode is not seen at all.
+    let blind = RoundRobinPlant::new(a.as_ref(), &[(c2.as_ref(), win(3.0, 3.0))]).unwrap();
+    let check = pbh(&blind, &[3.0], &DetectabilityOptions::default()).unwrap();
+    assert!(!check.test.detectable, "{check:?}");
+}
