@@ -366,18 +366,22 @@ fn an_unstable_double_pole_is_certified_by_a_refined_embedding() {
     assert_eq!(scaled.status, Status::Certified, "{:?}", scaled.reason);
 }
 
-/// `eight-state-modal` of the corpus: four lightly damped modes at 1, 2, 3 and 5 rad/s with a
-/// weak coupling 0.1, the first and fourth positions measured.
-fn eight_state_modal() -> (Mat<f64>, Mat<f64>) {
-    let mut a = Mat::<f64>::zeros(8, 8);
-    for (k, (w2, damping)) in [(1.0, 0.02), (4.0, 0.04), (9.0, 0.06), (25.0, 0.1)]
-        .into_iter()
-        .enumerate()
-    {
+/// Block-diagonal `A` of second-order modes `ẍ = −ω²x − dẋ`, one `(ω², d)` per mode, states
+/// (position, velocity) of each mode in turn.
+fn uncoupled_modes(modes: &[(f64, f64)]) -> Mat<f64> {
+    let mut a = Mat::<f64>::zeros(2 * modes.len(), 2 * modes.len());
+    for (k, &(w2, damping)) in modes.iter().enumerate() {
         a[(2 * k, 2 * k + 1)] = 1.0;
         a[(2 * k + 1, 2 * k)] = -w2;
         a[(2 * k + 1, 2 * k + 1)] = -damping;
     }
+    a
+}
+
+/// `eight-state-modal` of the corpus: four lightly damped modes at 1, 2, 3 and 5 rad/s with a
+/// weak coupling 0.1, the first and fourth positions measured.
+fn eight_state_modal() -> (Mat<f64>, Mat<f64>) {
+    let mut a = uncoupled_modes(&[(1.0, 0.02), (4.0, 0.04), (9.0, 0.06), (25.0, 0.1)]);
     for (i, j) in [(1, 2), (3, 0), (3, 4), (5, 2), (5, 6), (7, 4)] {
         a[(i, j)] = 0.1;
     }
@@ -1170,15 +1174,7 @@ fn the_modal_form_is_the_same_in_any_coordinates_and_nearly_normal() {
 /// what `strictly_negative` decides a certificate by.
 #[test]
 fn a_refusal_states_a_threshold_below_the_margins_cap() {
-    let mut a = Mat::<f64>::zeros(8, 8);
-    for (k, (w2, d)) in [(0.0, 0.0), (9.0, 0.06), (81.0, 0.18), (400.0, 0.8)]
-        .into_iter()
-        .enumerate()
-    {
-        a[(2 * k, 2 * k + 1)] = 1.0;
-        a[(2 * k + 1, 2 * k)] = -w2;
-        a[(2 * k + 1, 2 * k + 1)] = -d;
-    }
+    let a = uncoupled_modes(&[(0.0, 0.0), (9.0, 0.06), (81.0, 0.18), (400.0, 0.8)]);
     let c = mat![
         [1.0, 0.0, 0.8, 0.0, -0.5, 0.0, 0.3, 0.0],
         [0.0, 1.0, 0.0, 0.8, 0.0, -0.5, 0.0, 0.3]
