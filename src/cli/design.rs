@@ -789,7 +789,12 @@ fn print_compare(file: &PlantFile, report: &CompareReport) {
                 "its own sampling rule takes intervals in {}",
                 windows_words(d)
             ),
-            (Some(r), _) | (None, Some(r)) => format!("{}: {}", r.kind(), r.message()),
+            (Some(r), _) if d.status.is_not_applicable() => {
+                format!("{}: {}", r.kind(), r.message())
+            }
+            // The time column adds the design and the search: say which one the reason ends.
+            (Some(r), _) => format!("file's window: {}: {}", r.kind(), r.message()),
+            (None, Some(r)) => format!("search: {}: {}", r.kind(), r.message()),
             (None, None) => String::new(),
         };
         println!(
