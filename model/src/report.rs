@@ -212,7 +212,7 @@ pub struct SimulationReport {
     pub final_error: f64,
     /// The main results in words.
     pub result: String,
-    /// The 2% settling time: the first time after which the norm stays within 2% of its
+    /// The 2% settling time: the first time after which the norm stays below 2% of its
     /// initial value to the end of the run (`None`: it did not settle within the horizon,
     /// or was not computed). See [`crate::Trajectory::settling_time`].
     #[serde(default)]

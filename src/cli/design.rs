@@ -449,12 +449,12 @@ pub fn design(args: &DesignArgs) -> Result<Outcome, Failure> {
             println!("simulation: {}", s.result);
             match s.settling_time {
                 Some(t) => println!(
-                    "simulation: settled: the norm stays within {}% of its initial value from t = {} s",
+                    "simulation: settled: the norm stays below {}% of its initial value from t = {} s",
                     100.0 * methods::SETTLING_BAND,
                     significant(t)
                 ),
                 None => println!(
-                    "simulation: not settled: the norm is not within {}% of its initial value at the end of the run (raise --horizon)",
+                    "simulation: not settled: the norm is not below {}% of its initial value at the end of the run (raise --horizon)",
                     100.0 * methods::SETTLING_BAND
                 ),
             }

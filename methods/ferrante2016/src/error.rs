@@ -16,13 +16,15 @@ pub enum Error {
     Input(#[from] InputError),
     /// The necessary condition of Remark 3 fails: the sampled pair `(e^{Av}, M)` is not detectable at
     /// the inter-sample time `v`, so no `(P, L)` can satisfy (12). The eigenvalue `μ` of `e^{Av}` with
-    /// `|μ| ≥ 1` has an (almost) unobservable eigenvector: the smallest singular value of
-    /// `[(μI − e^{Av})/‖e^{Av}‖_F; M/‖M‖_F]` is `margin` (see [`sporadic_linalg::pbh_detectability`]).
+    /// `|μ| ≥ 1` (up to the tolerance) has an (almost) unobservable eigenvector: the smallest
+    /// singular value of `[(μI − e^{Av})/|μ|; M/‖M‖_F]` is `margin` (see
+    /// [`sporadic_linalg::pbh_detectability`]). A mode with `|μ|` below one but within the
+    /// tolerance is said to decay too slowly to certify, not to make (12) impossible.
     #[error(
         "(e^(Av), M) is not detectable at v = {}: eigenvalue {mu_re:.3e} + {mu_im:.3e}i (|mu| = \
-         {modulus:.3e}) is unobservable (relative PBH margin {margin:.3e}); condition (12) cannot \
-         hold (Remark 3)",
-        significant(*v)
+         {modulus:.3e}) is unobservable (relative PBH margin {margin:.3e}); {}",
+        significant(*v),
+        consequence(*modulus)
     )]
     NotDetectable {
         /// The inter-sample time where detectability is lost.
@@ -240,5 +242,46 @@ impl Error {
             },
             _ => false,
         }
+    }
+}
+
+/// What an unobservable mode of modulus `modulus` means for (12): impossible when it does not
+/// decay, too slow to certify when it decays within the tolerance of the unit circle.
+fn consequence(modulus: f64) -> String {
+    if modulus >= 1.0 {
+        "condition (12) cannot hold (Remark 3)".to_string()
+    } else {
+        format!(
+            "the mode decays, but by a factor 1 − |mu| = {:.3e} per sample, within the tolerance \
+             that counts it as non-decaying: a certificate of (12) would rest on a decrease that \
+             small, which the design does not attempt to verify in double precision",
+            1.0 - modulus
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An unobservable mode on the unit circle makes (12) impossible; one that decays within the
+    /// tolerance (an unmeasured reservoir with a time constant of 10⁷ s sampled every ms) only
+    /// too slowly to certify.
+    #[test]
+    fn an_undetectable_mode_is_impossible_only_when_it_does_not_decay() {
+        let at = |modulus: f64| {
+            Error::NotDetectable {
+                v: 0.001,
+                mu_re: modulus,
+                mu_im: 0.0,
+                modulus,
+                margin: 0.0,
+            }
+            .to_string()
+        };
+        assert!(at(1.0).ends_with("condition (12) cannot hold (Remark 3)"));
+        let slow = at(1.0 - 1e-10);
+        assert!(!slow.contains("cannot hold"), "{slow}");
+        assert!(slow.contains("1 − |mu| = 1.000e-10"), "{slow}");
     }
 }

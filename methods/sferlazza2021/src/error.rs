@@ -71,10 +71,11 @@ pub enum Error {
     #[error(
         "not detectable (Prop. 1): at intervals T = {} the eigenvalue {} of e^(AT) (modulus \
          {}) has PBH margin {sigma_min:.3e} (σ_min of the block-normalised [λI − e^(AT); C]), \
-         at or below the rank tolerance {rank_tol:e}",
+         at or below the rank tolerance {rank_tol:e}{}",
         sig4_list(intervals),
         sig4_complex(*eig_re, *eig_im),
-        sig4(*modulus)
+        sig4(*modulus),
+        slow_decay(*modulus)
     )]
     NotDetectable {
         /// The inter-sample intervals `(T_1, …, T_N)` of the failing tuple.
@@ -85,7 +86,7 @@ pub enum Error {
         eig_im: f64,
         /// Its modulus (≥ 1 up to the tolerance).
         modulus: f64,
-        /// PBH margin: smallest singular value of `[(λI − e^{AT})/‖e^{AT}‖_F; C/‖C‖_F]`
+        /// PBH margin: smallest singular value of `[(λI − e^{AT})/|λ|; C/‖C‖_F]`
         /// ([`sporadic_linalg::pbh_detectability`]).
         sigma_min: f64,
         /// The rank tolerance the margin was decided with
@@ -232,6 +233,20 @@ impl Error {
     }
 }
 
+/// For an undetectable eigenvalue inside the unit circle (counted as non-decaying by the
+/// tolerance): that its mode decays, too slowly to certify, rather than not at all.
+fn slow_decay(modulus: f64) -> String {
+    if modulus >= 1.0 {
+        String::new()
+    } else {
+        format!(
+            "; the mode decays, but by a factor 1 − |λ| = {:.3e} per round, within the tolerance \
+             that counts it as non-decaying, too slowly to certify",
+            1.0 - modulus
+        )
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -261,6 +276,22 @@ mod tests {
             "not detectable (Prop. 1): at intervals T = [1.047, 0.3] the eigenvalue -1+333.3i of \
              e^(AT) (modulus 1) has PBH margin 1.235e-12 (σ_min of the block-normalised \
              [λI − e^(AT); C]), at or below the rank tolerance 1e-8"
+        );
+        // A mode inside the unit circle, counted as non-decaying by the tolerance.
+        let slow = Error::NotDetectable {
+            intervals: vec![0.001],
+            eig_re: 1.0 - 1e-10,
+            eig_im: 0.0,
+            modulus: 1.0 - 1e-10,
+            sigma_min: 0.0,
+            rank_tol: 1e-8,
+        };
+        assert!(
+            slow.to_string().ends_with(
+                "1 − |λ| = 1.000e-10 per round, within the tolerance that counts it as \
+                            non-decaying, too slowly to certify"
+            ),
+            "{slow}"
         );
         let e = Error::Stalled {
             sigma: 2,
