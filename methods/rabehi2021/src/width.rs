@@ -20,7 +20,7 @@
 use faer::{Mat, MatRef};
 use sporadic_linalg::InputError;
 use sporadic_linalg::input::check_finite_slice;
-use sporadic_linalg::{expm_scaled, zoh};
+use sporadic_linalg::{LinalgError, expm_scaled, zoh};
 
 use crate::error::Error;
 use crate::ipr::{MetzlerDecomposition, abs, reset_matrix};
@@ -221,8 +221,9 @@ impl WidthDynamics {
     /// width `initial` (module docs). `points` grid points per max over `μ`.
     ///
     /// # Errors
-    /// Wrong length or negative/non-finite `initial`, `points < 2`, or no invariant bound within
-    /// the iteration budget (the width dynamics is not contractive on the window).
+    /// Wrong length or negative/non-finite `initial`, `points < 2`; [`Error::Linalg`]
+    /// (`NoConvergence`) when no invariant bound is found within the iteration budget (the width
+    /// dynamics contracts too slowly on the window, or not at all).
     pub fn guaranteed_bound(
         &self,
         window: &SamplingWindow,
@@ -299,11 +300,12 @@ impl WidthDynamics {
                 iterations: iteration,
             });
         }
-        Err(InputError::parameter(
-            "width bound iterations",
-            MAX_ITERATIONS as f64,
-            "no invariant width bound found: the width dynamics is not contractive on the window",
-        )
+        Err(LinalgError::NoConvergence {
+            what: format!(
+                "no invariant width bound after {MAX_ITERATIONS} steps of the width map: the \
+                 width dynamics contracts too slowly on the window, or not at all"
+            ),
+        }
         .into())
     }
 }

@@ -369,3 +369,29 @@ fn simulation_of_a_certified_design_shrinks_the_interval() {
         Err(MethodError::SimulationUnavailable { .. })
     ));
 }
+
+/// An inverted pendulum (written for this check) whose width map contracts only by `≈ 4·10⁻⁵`
+/// per sample near the method's limit: certified, with a note that no width bound was found in
+/// the iteration budget, in words (it read "invalid parameter width bound iterations = 100000").
+#[test]
+fn a_slowly_contracting_width_map_says_so() {
+    let plant = ModelPlant::linear(
+        mat![[0.0, 1.0], [9.81, -0.1]].as_ref(),
+        None,
+        mat![[1.0, 0.0]].as_ref(),
+    )
+    .unwrap()
+    .with_bounds(ModelBounds::new(vec![0.0, 0.5], vec![0.002]).unwrap())
+    .unwrap();
+    let r = Rabehi2021::default()
+        .design(&plant, &synchronous(0.002, 0.02), &MethodOptions::default())
+        .unwrap();
+    assert_eq!(r.status, Status::Certified, "{:?}", r.reason);
+    let note = r
+        .notes
+        .iter()
+        .find(|n| n.starts_with("no guaranteed width bound"))
+        .expect("a note on the width bound");
+    assert!(note.contains("contracts too slowly"), "{note}");
+    assert!(!note.contains("invalid parameter"), "{note}");
+}
