@@ -233,7 +233,8 @@ pub struct MaxIntervalArgs {
     /// rabehi2021).
     #[arg(long, value_parser = method_arg)]
     pub method: String,
-    /// Largest upper end searched (default: 10 × the file's largest T2).
+    /// Largest upper end searched (default: 10 × the file's largest T2). With round-robin
+    /// sensors, T2 is every sensor's upper end, at least that sensor's T1.
     #[arg(long, allow_negative_numbers = true)]
     pub limit: Option<f64>,
     #[command(flatten)]
@@ -248,6 +249,7 @@ pub struct CompareArgs {
     /// The plant file (TOML).
     pub plant: PathBuf,
     /// Largest upper end T2 searched for each method (default: 10 × the file's largest T2).
+    /// With round-robin sensors, T2 is every sensor's upper end, at least that sensor's T1.
     #[arg(long, allow_negative_numbers = true)]
     pub limit: Option<f64>,
     /// Only certify the file's own sampling; do not search the largest T2.

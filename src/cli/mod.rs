@@ -35,6 +35,10 @@ enum Command {
     /// plant file, optionally with a rigorous proof (`--prove`).
     Verify(design::VerifyArgs),
     /// Find the largest certified sampling window of a plant file with one method.
+    ///
+    /// The search keeps the file's T1 and moves T2. With round-robin sensors, T2 is the upper
+    /// end of every sensor's window, raised to a sensor's own T1 where it is below it (the
+    /// certified windows are printed with the certificate).
     MaxInterval(design::MaxIntervalArgs),
     /// Run every method on a plant file and compare the certified windows.
     Compare(design::CompareArgs),
