@@ -17,7 +17,7 @@ use sporadic_model::{
     Check, DesignReport, Gain, Margin, MaxIntervalReport, MethodError, MethodOptions, NamedMatrix,
     NotApplicable, ObserverMethod, Outputs, Plant as ModelPlant, Probe, Proof, ProofOptions,
     Reason, Sampling, SamplingScenario, SamplingWindow, Scenario, SimulationReport, Trajectory,
-    check_simulatable, default_largest_window,
+    check_simulatable, default_largest_window, significant,
 };
 
 use crate::analysis::{Analysis, analyse};
@@ -788,10 +788,20 @@ impl ObserverMethod for Rabehi2021 {
                 source: Box::new(e),
             },
         })?;
+        // Only the part of the run whose widths double precision resolves is returned
+        // (`Inclusion::unresolved_from`).
+        let inc = run.inclusion;
+        let len = match inc.unresolved_from {
+            Some(t0) => run.times().iter().take_while(|&&t| t < t0).count().max(1),
+            None => run.times().len(),
+        };
         let signals: Vec<(String, Vec<f64>)> = (0..n)
-            .map(|k| (format!("width of x{}", k + 1), run.width(k)))
+            .map(|k| {
+                let mut w = run.width(k);
+                w.truncate(len);
+                (format!("width of x{}", k + 1), w)
+            })
             .collect();
-        let len = run.times().len();
         let norm: Vec<f64> = (0..len)
             .map(|i| signals.iter().map(|(_, y)| y[i] * y[i]).sum::<f64>().sqrt())
             .collect();
@@ -800,10 +810,9 @@ impl ObserverMethod for Rabehi2021 {
             .map(|(_, y)| y.last().copied().unwrap_or(f64::NAN))
             .collect();
         let samples = run.sim.arc.num_jumps();
-        let inc = run.inclusion;
-        let result = format!(
+        let mut result = format!(
             "{samples} samples, final widths {}, enclosure x̲ ≤ x ≤ x̄ {} ({} violations of {} \
-             checks at tolerance 1e-9, worst excess {:.2e})",
+             checks at tolerance 1e-9 relative to the state, worst excess {:.2e})",
             vector_words(&last),
             if inc.violations == 0 {
                 "held at every recorded point"
@@ -814,10 +823,22 @@ impl ObserverMethod for Rabehi2021 {
             inc.checked,
             inc.worst
         );
+        if let Some(t) = inc.unresolved_from {
+            let largest = (0..run.times().len())
+                .flat_map(|i| run.sim.arc.state(i)[..n].to_vec())
+                .fold(0.0f64, |m, v| m.max(v.abs()));
+            result.push_str(&format!(
+                "; from t = {} a width is below the double-precision resolution of the state \
+                 (|x| reaches {:.1e}), so the widths are returned, and the final widths given, \
+                 up to that time only",
+                significant(t),
+                largest
+            ));
+        }
         Ok(Trajectory {
             quantity: "interval width x̄ − x̲".into(),
-            t: run.times().to_vec(),
-            j: run.jumps().to_vec(),
+            t: run.times()[..len].to_vec(),
+            j: run.jumps()[..len].to_vec(),
             signals,
             norm: norm.clone(),
             report: SimulationReport {

@@ -82,10 +82,16 @@ pub struct Scenario {
 pub struct Inclusion {
     /// Number of (point, component) pairs checked.
     pub checked: usize,
-    /// Pairs with `x̲_i − x_i > tol` or `x_i − x̄_i > tol`.
+    /// Pairs with `x̲_i − x_i > tol` or `x_i − x̄_i > tol`, `tol` = [`INCLUSION_TOLERANCE`] times
+    /// `max(|x_i|, |x̲_i|, |x̄_i|)` (the round-off of the propagation is relative to the state).
     pub violations: usize,
     /// `max(x̲_i − x_i, x_i − x̄_i)` over everything checked (negative: strictly inside).
     pub worst: f64,
+    /// The first recorded time at which a width `x̄_i − x̲_i` is below [`RESOLUTION`] times
+    /// `max(|x_i|, |x̲_i|, |x̄_i|)`: from there the bounds differ by little more than the
+    /// rounding of the state (an unstable plant's state grows without bound while the width
+    /// stays bounded), and widths and inclusion are not resolved in double precision.
+    pub unresolved_from: Option<f64>,
 }
 
 /// A simulated run: the joint arc `(x, x̲, x̄)` and the inclusion check.
@@ -99,8 +105,13 @@ pub struct IntervalRun {
     pub inclusion: Inclusion,
 }
 
-/// Absolute tolerance of the inclusion check `x̲ ≤ x ≤ x̄` (round-off of the exact propagation).
+/// Tolerance of the inclusion check `x̲ ≤ x ≤ x̄` relative to the magnitude of the state and
+/// its bounds (round-off of the exact propagation).
 pub const INCLUSION_TOLERANCE: f64 = 1e-9;
+
+/// Relative width below which the bounds are not resolved (see [`Inclusion::unresolved_from`]):
+/// `2¹⁰` units of round-off of the state.
+pub const RESOLUTION: f64 = 1024.0 * f64::EPSILON;
 
 impl IntervalRun {
     /// Ordinary times of the recorded points.
@@ -169,14 +180,20 @@ fn check_inclusion(sim: &Simulation, n: usize) -> Inclusion {
         checked: 0,
         violations: 0,
         worst: f64::NEG_INFINITY,
+        unresolved_from: None,
     };
-    for (_, z) in sim.arc.iter() {
+    for (t, z) in sim.arc.iter() {
         for k in 0..n {
-            let gap = (z[n + k] - z[k]).max(z[k] - z[2 * n + k]);
+            let (x, lo, hi) = (z[k], z[n + k], z[2 * n + k]);
+            let scale = x.abs().max(lo.abs()).max(hi.abs());
+            let gap = (lo - x).max(x - hi);
             out.checked += 1;
             out.worst = out.worst.max(gap);
-            if gap > INCLUSION_TOLERANCE {
+            if gap > INCLUSION_TOLERANCE * scale {
                 out.violations += 1;
+            }
+            if out.unresolved_from.is_none() && hi - lo < RESOLUTION * scale {
+                out.unresolved_from = Some(t.t);
             }
         }
     }
