@@ -451,7 +451,7 @@ fn enclose(
     if !a_norm.is_finite() || !mul_up(a_norm, tau1).is_finite() {
         return Err(IntervalError::Overflow("‖A‖·τ1 overflows"));
     }
-    let (basis, at_end) = match Eigenbasis::cached(ai, a_norm)? {
+    let (basis, mut at_end) = match Eigenbasis::cached(ai, a_norm)? {
         Some(b) => {
             let (pays, at_end) = b.pays(ai, a_norm, tau1);
             (pays.then_some(b), at_end)
@@ -494,10 +494,11 @@ fn enclose(
     }
     let mut pieces: Vec<(EnclosurePiece, f64)> = Vec::with_capacity(options.max_pieces);
     for w in cuts.windows(2) {
-        let e = match &at_end {
-            // A point window: the trial of `Eigenbasis::pays` is its piece.
-            Some(e) if w[0] == tau1 => e.clone(),
-            _ => piece_enclosure(w[0], w[1])?,
+        // A point window: the trial of `Eigenbasis::pays` is its piece.
+        let trial = if w[0] == tau1 { at_end.take() } else { None };
+        let e = match trial {
+            Some(e) => e,
+            None => piece_enclosure(w[0], w[1])?,
         };
         let rw = e.rel_width();
         pieces.push((

@@ -939,7 +939,12 @@ fn attempt(
         r.feasible |= negative;
     }
     if !r.feasible {
-        let rounding = set.as_ref().and_then(|set| rounding_reason(&np, set, &r));
+        // The vertex test is set up (and every vertex's eigenvalues computed) only for the
+        // message of a refusal, before `np` moves into the undecided list.
+        let rounding = match r.stats.outcome {
+            Outcome::Inconclusive => None,
+            _ => set.as_ref().and_then(|set| rounding_reason(&np, set, &r)),
+        };
         if set.is_some()
             && undecided(&r)
             && let Some(coordinates) = CertificateCoordinates::of(r.p.as_ref())

@@ -825,8 +825,8 @@ impl ObserverMethod for Rabehi2021 {
         );
         if let Some(t) = inc.unresolved_from {
             let largest = (0..run.times().len())
-                .flat_map(|i| run.sim.arc.state(i)[..n].to_vec())
-                .fold(0.0f64, |m, v| m.max(v.abs()));
+                .flat_map(|i| run.sim.arc.state(i)[..n].iter().map(|v| v.abs()))
+                .fold(0.0, f64::max);
             result.push_str(&format!(
                 "; from t = {} a width is below the double-precision resolution of the state \
                  (|x| reaches {:.1e}), so the widths are returned, and the final widths given, \

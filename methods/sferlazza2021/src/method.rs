@@ -174,12 +174,14 @@ fn on_independent_outputs(gains: &[Gain], maps: &[Option<Mat<f64>>]) -> Result<V
         .collect()
 }
 
+/// Sensors `(C_σ, window_σ)` in round-robin order.
+type Sensors = Vec<(Mat<f64>, SamplingWindow)>;
+
 /// [`sensor_list`] with every `C_σ` of [`output_map`] `W_σ` replaced by `W_σC_σ`, and the maps.
-#[allow(clippy::type_complexity)]
 fn independent_sensors(
     plant: &Plant,
     sampling: &Sampling,
-) -> Result<(Vec<(Mat<f64>, SamplingWindow)>, Vec<Option<Mat<f64>>>), Error> {
+) -> Result<(Sensors, Vec<Option<Mat<f64>>>), Error> {
     let mut maps = Vec::new();
     let sensors = sensor_list(plant, sampling)?
         .into_iter()
@@ -198,10 +200,7 @@ fn independent_sensors(
 
 /// The sensors `(C_σ, window_σ)` of `plant` under `sampling` (see
 /// [`Sferlazza2021::round_robin_plant`]).
-fn sensor_list(
-    plant: &Plant,
-    sampling: &Sampling,
-) -> Result<Vec<(Mat<f64>, SamplingWindow)>, Error> {
+fn sensor_list(plant: &Plant, sampling: &Sampling) -> Result<Sensors, Error> {
     let windows = sampling.windows();
     Ok(match (plant.output_structure(), sampling) {
         (Outputs::Synchronous(_), _) | (Outputs::RoundRobin(_), Sampling::Synchronous(_))
