@@ -731,8 +731,9 @@ fn compare_lists_the_interval_observer() {
         .unwrap_or_else(|_| panic!("{row}"));
     assert!(t2 >= 0.3 && fails > t2 && fails <= 1.005 * t2, "{row}");
     // … and names why that T2 was refused: the necessary condition of (19) (no gain contracts
-    // the width of the unmeasured state over an interval that long), reported as undetectable.
-    assert_eq!(cells[6], "undetectable)", "{row}");
+    // the width of the unmeasured state over an interval that long): no design exists there, though
+    // the plant is detectable, so the reason is `infeasible_lmi`, not `undetectable`.
+    assert_eq!(cells[6], "infeasible_lmi)", "{row}");
 }
 
 #[test]
@@ -1266,6 +1267,7 @@ fn simulation_flags_steer_the_run_and_write_the_time_series() {
     let d: DesignReport = serde_json::from_str(stdout(&o).trim()).unwrap();
     let sim = d.simulation.expect("simulation summary");
     assert!(sim.figure.is_some());
+    assert_eq!(sim.ends_early_at, None, "{}", sim.result);
     let text = std::fs::read_to_string(&csv).unwrap();
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();

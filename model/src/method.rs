@@ -664,6 +664,7 @@ mod tests {
                 final_error: *norm.last().unwrap(),
                 result: String::new(),
                 settling_time: None,
+                ends_early_at: None,
                 figure: None,
             },
         }

@@ -217,6 +217,11 @@ pub struct SimulationReport {
     /// or was not computed). See [`crate::Trajectory::settling_time`].
     #[serde(default)]
     pub settling_time: Option<f64>,
+    /// The time at which the returned run ends before its horizon (`None`: it reaches the
+    /// horizon). [`result`](Self::result) says why, e.g. widths below the resolution of double
+    /// precision; a run cut short is not evidence that the error fails to settle.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ends_early_at: Option<f64>,
     /// The SVG figure, if one was written.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub figure: Option<String>,

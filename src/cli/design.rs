@@ -455,10 +455,16 @@ pub fn design(args: &DesignArgs) -> Result<Outcome, Failure> {
                     100.0 * methods::SETTLING_BAND,
                     significant(t)
                 ),
-                None => println!(
-                    "simulation: not settled: the norm is not below {}% of its initial value at the end of the run (raise --horizon)",
-                    100.0 * methods::SETTLING_BAND
-                ),
+                None => match s.ends_early_at {
+                    Some(t) => println!(
+                        "simulation: not settled by t = {} s, where the run ends before its horizon (see above)",
+                        significant(t)
+                    ),
+                    None => println!(
+                        "simulation: not settled: the norm is not below {}% of its initial value at the end of the run (raise --horizon)",
+                        100.0 * methods::SETTLING_BAND
+                    ),
+                },
             }
             if let Some(f) = &s.figure {
                 println!("figure: {f}");

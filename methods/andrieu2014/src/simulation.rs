@@ -182,6 +182,7 @@ pub fn simulate_linear(
                 sig4(last)
             ),
             settling_time: None,
+            ends_early_at: None,
             figure: None,
         },
     })

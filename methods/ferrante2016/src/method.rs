@@ -570,7 +570,7 @@ impl ObserverMethod for Ferrante2016 {
                 ),
             })
         };
-        largest_window_with(
+        let mut report = largest_window_with(
             self,
             plant,
             sampling,
@@ -579,7 +579,22 @@ impl ObserverMethod for Ferrante2016 {
             options,
             progress,
             &mut run,
-        )
+        )?;
+        let embedding_limit = matches!(
+            report.first_failure_reason(),
+            Some(Reason::InfeasibleLmi { .. })
+        );
+        if let (true, Some(fail), Some(d)) = (
+            embedding_limit,
+            report.first_failing_t2,
+            report.design.as_mut(),
+        ) {
+            d.notes.push(format!(
+                "the search ends where LMI (41) on the polytopic embedding of e^(Av) stops being feasible (T2 = {}): that is the limit of Corollary 1's sufficient condition on this embedding, not a property of the plant; condition (12) of Theorem 1 may hold on longer windows (an embedding box can contain non-contracting matrices, e.g. for a lightly damped mode that no output sees); check a gain on a longer window with `verify --prove`",
+                significant(fail)
+            ));
+        }
+        Ok(report)
     }
 
     /// Proves Theorem 1's hypotheses for the report's `(P, L)` on its window in interval
@@ -923,6 +938,7 @@ impl ObserverMethod for Ferrante2016 {
                     final_error / initial_error
                 ),
                 settling_time: None,
+                ends_early_at: None,
                 figure: None,
             },
         })

@@ -1191,3 +1191,38 @@ fn a_refusal_states_a_threshold_below_the_margins_cap() {
     assert!(message.contains("rounding level of LMI (41)"), "{message}");
     assert!(threshold > 0.0 && threshold < 1e-3, "{message}");
 }
+
+/// Two identical lightly damped oscillators (`−0.05 ± 2i` twice) seen through the sum of their
+/// positions: their difference is unobservable and decays only like `e^{−0.05v}`. The residue box
+/// of that rotation has corners of modulus above 1 once the window spans about 0.3 rad, so LMI
+/// (41) fails there (T2 ≈ 0.15) while condition (12) holds much further. The search says that its
+/// limit is the embedding's, not the plant's.
+#[test]
+fn a_search_stopped_by_the_embedding_says_so() {
+    let mut c = Mat::<f64>::zeros(1, 4);
+    c[(0, 0)] = 1.0;
+    c[(0, 2)] = 1.0;
+    let p = plant(uncoupled_modes(&[(4.0, 0.1), (4.0, 0.1)]), c);
+    let r = Ferrante2016::default()
+        .largest_window(
+            &p,
+            &sync(0.01, 0.01),
+            0.6,
+            &MethodOptions::default(),
+            &mut |_| {},
+        )
+        .unwrap();
+    let fail = r.first_failing_t2.expect("a failing T2");
+    assert!(fail < 0.3, "{r:?}");
+    assert!(
+        matches!(r.first_failure_reason(), Some(Reason::InfeasibleLmi { .. })),
+        "{r:?}"
+    );
+    let notes = &r.design.as_ref().expect("a design").notes;
+    assert!(
+        notes
+            .iter()
+            .any(|n| n.contains("not a property of the plant") && n.contains("verify --prove")),
+        "{notes:?}"
+    );
+}

@@ -606,7 +606,7 @@ impl ObserverMethod for Rabehi2021 {
     /// The shared search ([`default_largest_window`], i.e. [`sporadic_model::search_upper`] with
     /// [`design`](Self::design) as the probe) with the limit capped by the necessary condition of
     /// [`crate::window::necessary_tau_max`] (scanned with at most 20 000 steps): a probe at or
-    /// beyond the cap fails at once with [`Reason::Undetectable`] at the cap (no Proposition 1
+    /// beyond the cap fails at once with [`Reason::InfeasibleLmi`] stating the cap (no Proposition 1
     /// run), and the design at the largest certified window gets a note with the cap.
     fn largest_window(
         &self,
@@ -854,6 +854,7 @@ impl ObserverMethod for Rabehi2021 {
                 final_error: norm.last().copied().unwrap_or(f64::NAN),
                 result,
                 settling_time: None,
+                ends_early_at: inc.unresolved_from,
                 figure: None,
             },
         })
@@ -889,12 +890,7 @@ impl ObserverMethod for Capped<'_> {
         options: &MethodOptions,
     ) -> Result<DesignReport, MethodError> {
         if sampling.t2() >= self.cap {
-            let reason = beyond_cap(self.cap, "the necessary condition of (19)")
-                .reason
-                .unwrap_or(Reason::Undetectable {
-                    tau: self.cap,
-                    message: String::new(),
-                });
+            let reason = beyond_cap(self.cap, "the necessary condition of (19)");
             return Ok(DesignReport::without_design(
                 self.method,
                 plant.name(),

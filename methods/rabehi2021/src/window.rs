@@ -246,14 +246,16 @@ fn bisection(resolution: f64, max_probes: usize) -> WindowSearchOptions {
     }
 }
 
-/// The failed verdict of a `τmax` at or beyond the necessary limit `cap` (no probe is run).
-pub(crate) fn beyond_cap(cap: f64, what: &str) -> Verdict {
-    Verdict::failed(Reason::Undetectable {
-        tau: cap,
+/// Why a `τmax` at or beyond the necessary limit `cap` is not certified (no probe is run): a
+/// necessary condition of the design inequalities fails there, so they have no feasible point.
+/// The plant may well be detectable at `cap`; it is the interval-width contraction that no gain
+/// achieves.
+pub(crate) fn beyond_cap(cap: f64, what: &str) -> Reason {
+    Reason::InfeasibleLmi {
         message: format!(
             "{what} fails at mu = {cap:.6}: no gain makes the interval width of an unmeasured state contract over a sampling interval of that length (e^(S mu) |I + LC| has a diagonal entry >= 1 whatever L), so no window reaching it is certifiable"
         ),
-    })
+    }
 }
 
 /// The search errors of this crate.
@@ -330,7 +332,10 @@ pub fn largest_tau_max(
             if let Some(c) = cap
                 && tau_max >= c
             {
-                return Ok(beyond_cap(c, "the necessary condition of (19)/(44)"));
+                return Ok(Verdict::failed(beyond_cap(
+                    c,
+                    "the necessary condition of (19)/(44)",
+                )));
             }
             let window = SamplingWindow::new(tau_min, tau_max)?;
             let d = synthesise_from(plant, &window, None, &options.synthesis)?;
@@ -384,7 +389,7 @@ pub fn largest_tau_max_for_gain(
             if let Some(c) = cap
                 && tau_max >= c
             {
-                return Ok(beyond_cap(c, "the necessary condition of (19)"));
+                return Ok(Verdict::failed(beyond_cap(c, "the necessary condition of (19)")));
             }
             let a = analyse_gain(plant, &SamplingWindow::new(tau_min, tau_max)?, l, options)?;
             Ok(if a.certified {

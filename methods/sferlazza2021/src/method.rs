@@ -857,6 +857,7 @@ impl Sferlazza2021 {
                     sig4(worst_ratio)
                 ),
                 settling_time: None,
+                ends_early_at: None,
                 figure: None,
             },
         })
