@@ -666,9 +666,14 @@ fn in_gramian_form(e: Error) -> Error {
     const FORM: &str = "(LMI (41) in the Gramian normal form of the problem, the form that does \
                         not depend on units or coordinates)";
     match e {
-        Error::Infeasible { margin, reason } => Error::Infeasible {
+        Error::Infeasible {
+            margin,
+            reason,
+            unverified,
+        } => Error::Infeasible {
             margin,
             reason: format!("{reason} {FORM}"),
+            unverified,
         },
         Error::Inconclusive { reason } => Error::Inconclusive {
             reason: format!("{reason} {FORM}"),
@@ -879,6 +884,7 @@ fn attempt(
             Error::Infeasible {
                 margin: None,
                 reason,
+                unverified: false,
             }
         } else {
             Error::Embed(EmbedError::Numerical(format!(
@@ -945,6 +951,7 @@ fn attempt(
             Outcome::Inconclusive => None,
             _ => set.as_ref().and_then(|set| rounding_reason(&np, set, &r)),
         };
+        let unverified = rounding.as_ref().is_some_and(|(_, above)| *above);
         if set.is_some()
             && undecided(&r)
             && let Some(coordinates) = CertificateCoordinates::of(r.p.as_ref())
@@ -963,7 +970,8 @@ fn attempt(
             },
             _ => Error::Infeasible {
                 margin: r.margin,
-                reason: rounding.unwrap_or(r.stats.reason),
+                reason: rounding.map_or(r.stats.reason, |(why, _)| why),
+                unverified,
             },
         });
     }
@@ -1054,8 +1062,11 @@ fn budget_left() -> Result<(), Error> {
 /// the scale `s` of the blocks of (41) there. (The LMI layer's threshold `safety·tol·(1 + s')` is
 /// relative to the summands `s'` of the form solved, `‖P‖‖X_i‖²` in the reduced one: with the
 /// large vertices of a degenerate residue box it exceeds every margin the normalisation admits,
-/// `t ≤ λmin(P) ≤ 1`, e.g. 1.357 for a free-free beam on `[0.05, 0.4]`.)
-fn rounding_reason(plant: &Plant, set: &VertexSet<'_>, r: &LmiResult) -> Option<String> {
+/// `t ≤ λmin(P) ≤ 1`, e.g. 1.357 for a free-free beam on `[0.05, 0.4]`.) The flag is `true`
+/// when `t*` is above `τ` but the point fails the test: the solve, not the window, is what
+/// failed (an unstable pitch short period on `[0.01, 13.5]` s: `t* = 1.2e-8`, `τ = 9.4e-10`,
+/// largest vertex eigenvalue `−5.6e-12`).
+fn rounding_reason(plant: &Plant, set: &VertexSet<'_>, r: &LmiResult) -> Option<(String, bool)> {
     use sporadic_sdp::Status::{DualInfeasible, PrimalInfeasible};
     if matches!(r.stats.status, DualInfeasible | PrimalInfeasible) {
         return None; // the solver's certificate, not a threshold, decided
@@ -1063,16 +1074,35 @@ fn rounding_reason(plant: &Plant, set: &VertexSet<'_>, r: &LmiResult) -> Option<
     let t = r.margin?;
     let test = VertexTest::new(plant, set, (r.p.as_ref(), r.f.as_ref(), r.j.as_ref()))?;
     let (tau, s) = (test.tau, test.scale);
-    Some(format!(
-        "no verifiable margin: the maximal common margin t* = {t:.3e} is {} the verification \
+    let largest = test.largest_over(set.vertices);
+    if t > tau {
+        // The solver claims a margin it cannot show at its own point.
+        return Some((
+            format!(
+                "double-precision limit: the solver's maximal common margin t* = {t:.3e} is \
+                 above the verification threshold {tau:.3e}, the rounding level of LMI (41) at \
+                 the returned point (τ = 2‖P‖₂e + 64u·3n·s = {:.1e}·s, s = {s:.3e} the largest \
+                 block norm of (41), e = {:.1e} the embedding's error), but the largest vertex \
+                 eigenvalue there is {largest:.3e}, not below −τ: the solve is not accurate \
+                 enough to decide the window, which says nothing of its feasibility",
+                tau / s,
+                set.error,
+            ),
+            true,
+        ));
+    }
+    Some((
+        format!(
+            "no verifiable margin: the maximal common margin t* = {t:.3e} is at or below the verification \
          threshold {tau:.3e}, the rounding level of LMI (41) at the returned point (τ = \
          2‖P‖₂e + 64u·3n·s = {:.1e}·s, s = {s:.3e} the largest block norm of (41), e = {:.1e} \
          the embedding's error), where the largest vertex eigenvalue is {:.3e}, not below −τ; \
          a strictly feasible point with a smaller margin is not excluded",
-        if t <= tau { "at or below" } else { "above" },
-        tau / s,
-        set.error,
-        test.largest_over(set.vertices),
+            tau / s,
+            set.error,
+            largest,
+        ),
+        false,
     ))
 }
 
@@ -1234,6 +1264,7 @@ pub fn min_trace_certificate(
             Outcome::Infeasible => Error::Infeasible {
                 margin: None,
                 reason: r.stats.reason,
+                unverified: false,
             },
             _ => Error::Inconclusive {
                 reason: r.stats.reason,
@@ -1331,6 +1362,7 @@ mod tests {
             Err(Error::Infeasible {
                 margin: Some(-8.6e-10),
                 reason: "no verifiable margin".into(),
+                unverified: false,
             })
         };
         assert!(matches!(

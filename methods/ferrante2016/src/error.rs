@@ -57,7 +57,9 @@ pub enum Error {
     /// set: the optimal margin is at or below the verification threshold (then a strictly
     /// feasible point with a smaller margin is not excluded: a weakly detectable sampled pair,
     /// e.g. a window short against the plant's time constants, can have one whose margin is far
-    /// below rounding), or the solver certified infeasibility; `reason` says which. Corollary 1
+    /// below rounding), or the solver certified infeasibility, or the solver's margin is above
+    /// the threshold but its point does not verify (`unverified`: a numerical failure, not an
+    /// infeasibility); `reason` says which. Corollary 1
     /// is only sufficient, so this does not prove that no gain exists (try interval splitting).
     #[error(
         "LMI (41) has no verifiable strictly feasible point: {}; {reason}",
@@ -68,6 +70,11 @@ pub enum Error {
         margin: Option<f64>,
         /// The LMI layer's explanation.
         reason: String,
+        /// The solver's margin `t*` is above the verification threshold, but its returned point
+        /// does not pass the vertex test: the solve is not accurate enough to decide the window
+        /// (the limit of double precision), which is no evidence of infeasibility
+        /// ([`Error::reason`] maps it to [`Reason::NumericalFailure`]).
+        unverified: bool,
     },
     /// The solver could establish neither feasibility nor infeasibility of the LMI.
     #[error("LMI solve inconclusive: {reason}")]
@@ -186,6 +193,9 @@ impl Error {
         let message = self.to_string();
         Some(match self {
             Error::NotDetectable { v, .. } => Reason::Undetectable { tau: *v, message },
+            Error::Infeasible {
+                unverified: true, ..
+            } => Reason::NumericalFailure { message },
             Error::Infeasible { .. } => Reason::InfeasibleLmi { message },
             Error::Inconclusive { .. } => Reason::SolverInconclusive { message },
             Error::VerificationFailed { tau, .. } => Reason::VerificationFailed {

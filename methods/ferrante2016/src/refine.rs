@@ -116,15 +116,18 @@ pub(crate) fn refined(
         Err(e @ Error::PrecisionLimit { .. }) if matches!(first, Error::Infeasible { .. }) => {
             Err(e)
         }
-        Err(Error::Infeasible { margin, reason }) if matches!(first, Error::Infeasible { .. }) => {
-            Err(Error::Infeasible {
-                margin,
-                reason: format!(
-                    "{reason} (also with the embedding refined to {pieces} pieces, {vertices} \
+        Err(Error::Infeasible {
+            margin,
+            reason,
+            unverified,
+        }) if matches!(first, Error::Infeasible { .. }) => Err(Error::Infeasible {
+            margin,
+            unverified,
+            reason: format!(
+                "{reason} (also with the embedding refined to {pieces} pieces, {vertices} \
                      vertices{boxes})"
-                ),
-            })
-        }
+            ),
+        }),
         Err(_) => unless_cut(Err(first)),
     }
 }

@@ -1226,3 +1226,26 @@ fn a_search_stopped_by_the_embedding_says_so() {
         "{notes:?}"
     );
 }
+
+/// An unstable pitch short period (`α, q, θ`, eigenvalues 0.594, 0, −2.594) with an attitude
+/// sensor, at `T2 = 13.5` where `e^{0.594·T2} ≈ 3000`: the solver's margin `t* = 1.2e-8` was above
+/// the verification threshold `9.4e-10` while its point's largest vertex eigenvalue was only
+/// `−5.6e-12`, and the window was refused as `infeasible_lmi` in seconds (certified in
+/// milliseconds and degrees). A solve that cannot show its own margin is a numerical failure.
+#[test]
+fn a_margin_the_solver_cannot_show_is_no_infeasibility() {
+    let a = mat![[-0.8, 1.0, 0.0], [2.5, -1.2, 0.0], [0.0, 1.0, 0.0]];
+    // Milliseconds and degrees: x' = Dx, D = diag(d, d/1000, d), A' = DAD⁻¹/1000.
+    let d = 180.0 / std::f64::consts::PI;
+    let scale = [d, d / 1000.0, d];
+    let milliseconds = Mat::<f64>::from_fn(3, 3, |i, j| scale[i] * a[(i, j)] / scale[j] / 1000.0);
+    for (a, unit) in [(a, 1.0), (milliseconds, 1000.0)] {
+        let r = design(&plant(a, mat![[0.0, 0.0, 1.0]]), 0.01 * unit, 13.5 * unit);
+        match (&r.status, &r.reason) {
+            (Status::Certified, _) => {}
+            (Status::NotCertified, Some(Reason::NumericalFailure { message }))
+                if message.contains("double-precision limit") => {}
+            other => panic!("unit {unit}: {other:?}"),
+        }
+    }
+}
