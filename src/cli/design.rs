@@ -601,7 +601,10 @@ fn print_max_interval(r: &MaxIntervalReport) {
              T1 = {}",
             significant(b),
             significant(f),
-            r.first_failure_reason().map_or("?", |why| why.kind()),
+            r.reason
+                .as_ref()
+                .or(r.first_failure_reason())
+                .map_or("?", |why| why.kind()),
             significant(r.t1.unwrap_or(f64::NAN))
         ),
         (Some(b), f) if budget => println!(

@@ -670,10 +670,12 @@ fn in_gramian_form(e: Error) -> Error {
             margin,
             reason,
             unverified,
+            threshold,
         } => Error::Infeasible {
             margin,
             reason: format!("{reason} {FORM}"),
             unverified,
+            threshold,
         },
         Error::Inconclusive { reason } => Error::Inconclusive {
             reason: format!("{reason} {FORM}"),
@@ -885,6 +887,7 @@ fn attempt(
                 margin: None,
                 reason,
                 unverified: false,
+                threshold: None,
             }
         } else {
             Error::Embed(EmbedError::Numerical(format!(
@@ -951,7 +954,9 @@ fn attempt(
             Outcome::Inconclusive => None,
             _ => set.as_ref().and_then(|set| rounding_reason(&np, set, &r)),
         };
-        let unverified = rounding.as_ref().is_some_and(|(_, above)| *above);
+        let (unverified, threshold) = rounding
+            .as_ref()
+            .map_or((false, None), |&(_, above, tau)| (above, Some(tau)));
         if set.is_some()
             && undecided(&r)
             && let Some(coordinates) = CertificateCoordinates::of(r.p.as_ref())
@@ -970,8 +975,9 @@ fn attempt(
             },
             _ => Error::Infeasible {
                 margin: r.margin,
-                reason: rounding.map_or(r.stats.reason, |(why, _)| why),
+                reason: rounding.map_or(r.stats.reason, |(why, _, _)| why),
                 unverified,
+                threshold,
             },
         });
     }
@@ -1066,7 +1072,11 @@ fn budget_left() -> Result<(), Error> {
 /// when `t*` is above `τ` but the point fails the test: the solve, not the window, is what
 /// failed (an unstable pitch short period on `[0.01, 13.5]` s: `t* = 1.2e-8`, `τ = 9.4e-10`,
 /// largest vertex eigenvalue `−5.6e-12`).
-fn rounding_reason(plant: &Plant, set: &VertexSet<'_>, r: &LmiResult) -> Option<(String, bool)> {
+fn rounding_reason(
+    plant: &Plant,
+    set: &VertexSet<'_>,
+    r: &LmiResult,
+) -> Option<(String, bool, f64)> {
     use sporadic_sdp::Status::{DualInfeasible, PrimalInfeasible};
     if matches!(r.stats.status, DualInfeasible | PrimalInfeasible) {
         return None; // the solver's certificate, not a threshold, decided
@@ -1089,20 +1099,23 @@ fn rounding_reason(plant: &Plant, set: &VertexSet<'_>, r: &LmiResult) -> Option<
                 set.error,
             ),
             true,
+            tau,
         ));
     }
     Some((
         format!(
-            "no verifiable margin: the maximal common margin t* = {t:.3e} is at or below the verification \
-         threshold {tau:.3e}, the rounding level of LMI (41) at the returned point (τ = \
-         2‖P‖₂e + 64u·3n·s = {:.1e}·s, s = {s:.3e} the largest block norm of (41), e = {:.1e} \
-         the embedding's error), where the largest vertex eigenvalue is {:.3e}, not below −τ; \
-         a strictly feasible point with a smaller margin is not excluded",
+            "no verifiable margin: the maximal common margin t* = {t:.3e} is at or below the \
+             verification threshold {tau:.3e}, the rounding level of LMI (41) at the returned \
+             point (τ = 2‖P‖₂e + 64u·3n·s = {:.1e}·s, s = {s:.3e} the largest block norm of \
+             (41), e = {:.1e} the embedding's error), where the largest vertex eigenvalue is \
+             {:.3e}, not below −τ; a strictly feasible point with a smaller margin is not \
+             excluded",
             tau / s,
             set.error,
             largest,
         ),
         false,
+        tau,
     ))
 }
 
@@ -1265,6 +1278,7 @@ pub fn min_trace_certificate(
                 margin: None,
                 reason: r.stats.reason,
                 unverified: false,
+                threshold: None,
             },
             _ => Error::Inconclusive {
                 reason: r.stats.reason,
@@ -1363,6 +1377,7 @@ mod tests {
                 margin: Some(-8.6e-10),
                 reason: "no verifiable margin".into(),
                 unverified: false,
+                threshold: None,
             })
         };
         assert!(matches!(

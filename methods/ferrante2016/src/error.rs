@@ -75,6 +75,9 @@ pub enum Error {
         /// (the limit of double precision), which is no evidence of infeasibility
         /// ([`Error::reason`] maps it to [`Reason::NumericalFailure`]).
         unverified: bool,
+        /// The rounding level `τ` of LMI (41) at the solver's point against which the margin
+        /// was tested, when one was computed: the refusal does not resolve margins below it.
+        threshold: Option<f64>,
     },
     /// The solver could establish neither feasibility nor infeasibility of the LMI.
     #[error("LMI solve inconclusive: {reason}")]

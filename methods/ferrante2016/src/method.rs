@@ -9,8 +9,8 @@ use faer::Mat;
 use sporadic_model::{
     Check, DesignReport, Gain, Margin, MaxIntervalReport, MethodError, MethodOptions, NamedMatrix,
     NotApplicable, ObserverMethod, Outputs, Plant as ModelPlant, Probe, Proof, ProofOptions,
-    Reason, Sampling, SamplingScenario, SamplingWindow, Scenario, SimulationReport, Trajectory,
-    check_simulatable, largest_window_with, power_of_two, significant,
+    Reason, Sampling, SamplingScenario, SamplingWindow, Scenario, SearchEnd, SimulationReport,
+    Trajectory, check_simulatable, largest_window_with, power_of_two, significant,
 };
 use sporadic_sdp::lmi::Normalisation;
 use sporadic_sim::{Adversarial, JumpMap, Periodic, SamplingRule, SimOptions, UniformRandom};
@@ -256,6 +256,52 @@ fn invalid(e: Error) -> MethodError {
     MethodError::InvalidInput {
         method: ID,
         source: Box::new(e),
+    }
+}
+
+/// A converged search whose first failing `T2` is a refusal of LMI (41) with a rounding level
+/// `τ` above the margin of the design at the largest certified `T2` (`thresholds`: `(T2, τ)` of
+/// every refusal) did not resolve its bracket: a margin of the size that certified the window
+/// below would not have been seen at that level, so the refusal is no evidence that the
+/// window above is not certifiable. The search is then undecided (its largest certified `T2` a
+/// lower bound). At such a bracket the margins of (41) are at the limit of double precision and
+/// the verdicts near it need not be monotone in `T2` (an unstable pitch short period in
+/// milliseconds and degrees: certified at 13 395 ms with margin `2.2e-9`, refused at 13 428 ms
+/// at `τ = 4.1e-6`, certified again at 14 000 ms).
+fn resolve_bracket(report: &mut MaxIntervalReport, thresholds: &[(f64, f64)]) {
+    if report.search_end != Some(SearchEnd::Converged)
+        || !matches!(
+            report.first_failure_reason(),
+            Some(Reason::InfeasibleLmi { .. })
+        )
+    {
+        return;
+    }
+    let (Some(fail), Some(margin)) = (
+        report.first_failing_t2,
+        report
+            .design
+            .as_ref()
+            .and_then(|d| d.margin.as_ref())
+            .map(|m| m.value),
+    ) else {
+        return;
+    };
+    let Some(&(_, tau)) = thresholds.iter().rev().find(|(t2, _)| *t2 == fail) else {
+        return;
+    };
+    if margin <= tau {
+        report.search_end = Some(SearchEnd::Undecided);
+        report.reason = Some(Reason::NumericalFailure {
+            message: format!(
+                "the probe at T2 = {} was not decided: it was refused with no verifiable margin \
+                 at the rounding level {tau:.3e} of LMI (41), above the margin {margin:.3e} that \
+                 certified the window below it, so a margin of that size would not have been \
+                 seen there (the limit of double precision); the largest certified T2 is a \
+                 lower bound",
+                significant(fail)
+            ),
+        });
     }
 }
 
@@ -548,6 +594,8 @@ impl ObserverMethod for Ferrante2016 {
         self.design.validate().map_err(invalid)?;
         let options_of_probes = probe_options(&self.design);
         let mut cache = LmiCache::for_search();
+        // The rounding level of every refusal of LMI (41), by its T2.
+        let mut thresholds: Vec<(f64, f64)> = Vec::new();
         let mut run = |s: &Sampling| -> Result<DesignReport, MethodError> {
             let probe_start = Instant::now();
             let Sampling::Synchronous(window) = s else {
@@ -555,12 +603,15 @@ impl ObserverMethod for Ferrante2016 {
             };
             let (v, d) = probe(&p, window, &options_of_probes, &mut cache, &self.refinement)
                 .map_err(not_a_verdict)?;
+            if let Err(Some(tau)) = d {
+                thresholds.push((window.t2(), tau));
+            }
             Ok(match (d, v.reason) {
-                (Some(d), _) => self.report(plant, s, &d, probe_start.elapsed().as_secs_f64()),
-                (None, Some(reason)) => {
+                (Ok(d), _) => self.report(plant, s, &d, probe_start.elapsed().as_secs_f64()),
+                (Err(_), Some(reason)) => {
                     DesignReport::without_design(self, plant.name(), Some(s), reason)
                 }
-                (None, None) => DesignReport::without_design(
+                (Err(_), None) => DesignReport::without_design(
                     self,
                     plant.name(),
                     Some(s),
@@ -580,10 +631,12 @@ impl ObserverMethod for Ferrante2016 {
             progress,
             &mut run,
         )?;
-        let embedding_limit = matches!(
-            report.first_failure_reason(),
-            Some(Reason::InfeasibleLmi { .. })
-        );
+        resolve_bracket(&mut report, &thresholds);
+        let embedding_limit = report.search_end == Some(SearchEnd::Converged)
+            && matches!(
+                report.first_failure_reason(),
+                Some(Reason::InfeasibleLmi { .. })
+            );
         if let (true, Some(fail), Some(d)) = (
             embedding_limit,
             report.first_failing_t2,

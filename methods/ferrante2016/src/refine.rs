@@ -120,9 +120,11 @@ pub(crate) fn refined(
             margin,
             reason,
             unverified,
+            threshold,
         }) if matches!(first, Error::Infeasible { .. }) => Err(Error::Infeasible {
             margin,
             unverified,
+            threshold,
             reason: format!(
                 "{reason} (also with the embedding refined to {pieces} pieces, {vertices} \
                      vertices{boxes})"

@@ -88,19 +88,26 @@ pub(crate) fn probe_options(design: &DesignOptions) -> DesignOptions {
 
 /// One probe of a window search: the design at `window` with the compiled LMI kept in `cache`
 /// (and the embedding refined as `refinement` allows, [`crate::refine`]), as a verdict (and the
-/// design, when certified); errors that are not verdicts on the plant ([`Error::reason`] is
-/// `None`) are passed on.
+/// design, when certified, or the rounding level below which a refusal of LMI (41) does not
+/// resolve margins, [`Error::Infeasible`]'s `threshold`); errors that are not verdicts on the
+/// plant ([`Error::reason`] is `None`) are passed on.
 pub(crate) fn probe(
     plant: &Plant,
     window: &SamplingWindow,
     design: &DesignOptions,
     cache: &mut LmiCache,
     refinement: &Refinement,
-) -> Result<(Verdict, Option<Design>), Error> {
+) -> Result<(Verdict, Result<Design, Option<f64>>), Error> {
     match refined(plant, window, design, cache, refinement) {
-        Ok(d) => Ok((Verdict::certified(Some(d.certificate.margin)), Some(d))),
+        Ok(d) => Ok((Verdict::certified(Some(d.certificate.margin)), Ok(d))),
         Err(e) => match e.reason() {
-            Some(r) => Ok((Verdict::failed(r), None)),
+            Some(r) => {
+                let threshold = match e {
+                    Error::Infeasible { threshold, .. } => threshold,
+                    _ => None,
+                };
+                Ok((Verdict::failed(r), Err(threshold)))
+            }
             None => Err(e),
         },
     }

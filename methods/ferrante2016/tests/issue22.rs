@@ -1249,3 +1249,45 @@ fn a_margin_the_solver_cannot_show_is_no_infeasibility() {
         }
     }
 }
+
+/// The same pitch short period in milliseconds and degrees, searched from `T1 = 10` ms: the
+/// bracket ended `converged` at 13 395 / 13 428 ms although a design certifies 14 000 ms. The
+/// refusal at 13 428 ms had no verifiable margin at the rounding level `4.1e-6`, while the
+/// window below it was certified with the margin `2.6e-10`: a converged bracket must not be
+/// contradicted by a certified window above it, so such a search is undecided.
+#[test]
+fn a_bracket_below_the_rounding_level_is_not_converged() {
+    let a = mat![[-0.8, 1.0, 0.0], [2.5, -1.2, 0.0], [0.0, 1.0, 0.0]];
+    let d = 180.0 / std::f64::consts::PI;
+    let scale = [d, d / 1000.0, d];
+    let ms = Mat::<f64>::from_fn(3, 3, |i, j| scale[i] * a[(i, j)] / scale[j] / 1000.0);
+    let p = plant(ms, mat![[0.0, 0.0, 1.0]]);
+    let r = Ferrante2016::default()
+        .largest_window(
+            &p,
+            &sync(10.0, 10.0),
+            20000.0,
+            &MethodOptions::default(),
+            &mut |_| {},
+        )
+        .unwrap();
+    let fail = r.first_failing_t2.expect("a failing T2");
+    if r.search_end == Some(sporadic_ferrante2016::SearchEnd::Converged) {
+        let above = design(&p, 10.0, 14000.0);
+        assert!(
+            fail > 14000.0 || above.status != Status::Certified,
+            "converged with a failure at {fail} ms below the certified window [10, 14000]: {r:?}"
+        );
+    } else {
+        assert_eq!(
+            r.search_end,
+            Some(sporadic_ferrante2016::SearchEnd::Undecided),
+            "{r:?}"
+        );
+        assert!(
+            matches!(&r.reason, Some(Reason::NumericalFailure { message }) if message.contains("rounding level")),
+            "{:?}",
+            r.reason
+        );
+    }
+}
