@@ -42,7 +42,8 @@
 //! step limits; a run that does not get there is reported as **not certified**, with a typed
 //! reason ([`NotCertified`]): the value stalled where `t` plus the rounding bound of its f64
 //! evaluation is `≥ 0` ([`NotCertified::Infeasible`]), the
-//! step limits ran out while it was still decreasing ([`NotCertified::BudgetExhausted`]), or
+//! step limits or the time budget ran out while it was still decreasing
+//! ([`NotCertified::BudgetExhausted`]), or
 //! (44) holds at the vertices but the Theorem 1 re-verification for `Γ(L)` fails
 //! ([`NotCertified::VerificationFailed`]). When no step returns a finite point at all the run is
 //! [`Error::SolverInconclusive`].
@@ -240,7 +241,8 @@ pub enum NotCertified {
     },
     /// The alternation or the sequential convex iterations hit their step limit
     /// ([`SynthesisOptions::max_alternations`], [`SynthesisOptions::max_sequential`]) while `t`
-    /// was still decreasing and still `≥ 0`.
+    /// was still decreasing and still `≥ 0`, or the time budget (`sporadic_sdp::budget`) ran
+    /// out and interrupted the solves.
     BudgetExhausted {
         /// Best `max_i λmax(Ψ_i)`.
         best_t: f64,
@@ -282,7 +284,7 @@ impl std::fmt::Display for NotCertified {
                 limit,
             } => write!(
                 f,
-                "(44) not certified: best max_i lambda_max(Psi_i) = {best_t:.3e} after {steps} LMI steps ({limit} reached while still decreasing)"
+                "(44) not certified: best max_i lambda_max(Psi_i) = {best_t:.3e} after {steps} LMI steps ({limit} ran out before the value stalled)"
             ),
             NotCertified::VerificationFailed { best_t, detail, .. } => write!(
                 f,
@@ -910,10 +912,17 @@ impl Run<'_> {
             });
         };
         let steps = self.log.len();
+        // A run cut by the time budget stopped because its solves were interrupted, not because
+        // the value stalled: its best value is no verdict.
+        let stop = if !self.done && sporadic_sdp::budget::exhausted() {
+            Stop::Budget("the time budget")
+        } else {
+            self.stop
+        };
         let status = if self.done {
             DesignStatus::Certified
         } else if !(check.max_eigenvalue + check.rounding < 0.0) {
-            DesignStatus::NotCertified(match self.stop {
+            DesignStatus::NotCertified(match stop {
                 Stop::Stalled => NotCertified::Infeasible {
                     best_t: check.max_eigenvalue,
                     remainder_effect: check.remainder_effect,

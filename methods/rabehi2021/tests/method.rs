@@ -430,3 +430,33 @@ fn an_unstable_plant_is_simulated_while_its_widths_are_resolved() {
     assert!(t.report.final_error > 0.1, "{:?}", t.report);
     assert_eq!(t.norm.len(), t.t.len());
 }
+
+/// A synthesis whose solves are interrupted by the time budget ends `BudgetExhausted`: its best
+/// value is that of interrupted solves, no verdict. (It read "infeasible_lmi: best
+/// max_i lambda_max(Psi_i) = 0.000e0 … (stalled)" on a DC servo with `--time-limit 5`, and
+/// `design_within` keeps an infeasibility as decided.)
+#[test]
+fn a_synthesis_cut_by_the_time_budget_is_no_infeasibility() {
+    use sporadic_sdp::budget::{Budget, within};
+    let window = example_window();
+    let plant = spring_mass_damper(1.0).unwrap();
+    let r = within(Budget::until(std::time::Instant::now()), || {
+        synthesise(&plant, &window, &SynthesisOptions::default())
+    });
+    match r {
+        Ok(d) => assert!(
+            matches!(
+                d.status,
+                sporadic_rabehi2021::synthesis::DesignStatus::NotCertified(
+                    NotCertified::BudgetExhausted { .. }
+                )
+            ),
+            "{:?}",
+            d.status
+        ),
+        Err(e) => assert!(
+            matches!(e, sporadic_rabehi2021::Error::SolverInconclusive { .. }),
+            "{e}"
+        ),
+    }
+}
