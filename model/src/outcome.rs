@@ -54,9 +54,10 @@ impl std::fmt::Display for Status {
 pub enum Reason {
     // ---- not certified ----
     /// The design LMIs/BMIs have no (strictly) feasible point that can be verified: a solver
-    /// infeasibility certificate, or a maximal margin at or below the verification threshold
+    /// infeasibility certificate, a maximal margin at or below the verification threshold
     /// (then no point satisfies them by more than the threshold; a strictly feasible point with
-    /// a smaller margin is not excluded, and the message says which of the two it is).
+    /// a smaller margin is not excluded), or a necessary condition of the design inequalities
+    /// that fails without a solve; the message says which.
     InfeasibleLmi {
         /// The method's explanation (which constraint, which certificate).
         message: String,

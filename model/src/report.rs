@@ -213,12 +213,13 @@ pub struct SimulationReport {
     /// The main results in words.
     pub result: String,
     /// The 2% settling time: the first time after which the norm stays below 2% of its
-    /// initial value to the end of the run (`None`: it did not settle within the horizon,
-    /// or was not computed). See [`crate::Trajectory::settling_time`].
+    /// initial value to the end of the run (`None`: it did not settle within the horizon, or
+    /// within the part of the run returned when it ends early ([`Self::ends_early_at`]), or was
+    /// not computed). See [`crate::Trajectory::settling_time`].
     #[serde(default)]
     pub settling_time: Option<f64>,
-    /// The time at which the returned run ends before its horizon (`None`: it reaches the
-    /// horizon). [`result`](Self::result) says why, e.g. widths below the resolution of double
+    /// The time from which the run is not returned, before its horizon (`None`: it reaches the
+    /// horizon; the last sample returned is before this time). [`result`](Self::result) says why, e.g. widths below the resolution of double
     /// precision; a run cut short is not evidence that the error fails to settle.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ends_early_at: Option<f64>,
@@ -350,7 +351,9 @@ pub enum SearchEnd {
     BudgetExhausted,
     /// The bracket is within the tolerance, but the probe at its failing end did not decide its
     /// window: it ended at the limit of double precision or with an inconclusive solve
-    /// (`numerical_failure`, `solver_inconclusive`; the reason says which). The largest
+    /// (`numerical_failure`, `solver_inconclusive`; the search's reason says which, and can
+    /// differ from the probe's own, e.g. a refusal at a rounding level the method shows cannot
+    /// resolve the margins near the bracket). The largest
     /// certified `T2` is then a lower bound of what the method certifies, not the method's
     /// boundary.
     Undecided,

@@ -169,15 +169,12 @@ pub fn reproduce(out_dir: &Path) -> Result<Reproduction, Error> {
         0.01,
         &AnalysisOptions::default(),
     )?;
+    // Probes at or beyond the necessary limit are refused without an analysis.
+    let cap = sporadic_rabehi2021::window::necessary_tau_max(&plant, TAU_MIN, 5.0)?;
     let analyses = gw
         .probes
         .iter()
-        .filter(|p| {
-            !matches!(
-                p.reason,
-                Some(sporadic_rabehi2021::Reason::Undetectable { .. })
-            )
-        })
+        .filter(|p| cap.is_none_or(|c| p.t2 < c))
         .count();
     let design = synthesise(&plant, &window, &SynthesisOptions::default())?;
     let table = table_values(&mut rep)?;

@@ -777,14 +777,16 @@ fn print_compare(file: &PlantFile, report: &CompareReport) {
                     format!("{} (budget ran out)", significant(b))
                 }
                 (Some(b), Some(f)) => {
+                    let undecided = r.search_end == Some(SearchEnd::Undecided);
+                    // An undecided search names its own reason (a refusal it could not
+                    // resolve, see `max-interval`), else the failing probe's.
                     let why = r
-                        .first_failure_reason()
+                        .reason
+                        .as_ref()
+                        .filter(|_| undecided)
+                        .or(r.first_failure_reason())
                         .map_or(String::new(), |why| format!(": {}", why.kind()));
-                    let end = if r.search_end == Some(SearchEnd::Undecided) {
-                        "undecided"
-                    } else {
-                        "fails"
-                    };
+                    let end = if undecided { "undecided" } else { "fails" };
                     format!("{} ({end} {}{why})", significant(b), significant(f))
                 }
                 (Some(b), None) => format!("{} (= limit)", significant(b)),

@@ -20,8 +20,10 @@ use faer::{Mat, MatRef, Side};
 
 use crate::gramian_integral;
 
-/// Largest condition number `λmax(W)/λmin(W)` of the observability Gramian for which the form is
-/// usable (the change of coordinates then has a condition number up to `10⁵`).
+/// Largest condition number `λmax(W)/λmin(W)` of the observability Gramian of each pass for
+/// which the form is usable (each pass's change of coordinates then has a condition number up
+/// to `10⁵`; the product of the passes can be far worse, and a caller that designs on the
+/// rounded form bounds it itself).
 pub const MAX_GRAMIAN_CONDITION: f64 = 1e10;
 
 /// Largest number of passes of the normalisation (each recomputes the Gramian in the

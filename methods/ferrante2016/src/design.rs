@@ -1069,8 +1069,8 @@ fn budget_left() -> Result<(), Error> {
 /// relative to the summands `s'` of the form solved, `‖P‖‖X_i‖²` in the reduced one: with the
 /// large vertices of a degenerate residue box it exceeds every margin the normalisation admits,
 /// `t ≤ λmin(P) ≤ 1`, e.g. 1.357 for a free-free beam on `[0.05, 0.4]`.) The flag is `true`
-/// when `t*` is above `τ` but the point fails the test: the solve, not the window, is what
-/// failed (an unstable pitch short period on `[0.01, 13.5]` s: `t* = 1.2e-8`, `τ = 9.4e-10`,
+/// when `t*` (the margin of the form solved) is above `τ` but the point fails the test: the
+/// precision, not the window, is what failed (an unstable pitch short period on `[0.01, 13.5]` s: `t* = 1.2e-8`, `τ = 9.4e-10`,
 /// largest vertex eigenvalue `−5.6e-12`).
 fn rounding_reason(
     plant: &Plant,
@@ -1093,8 +1093,9 @@ fn rounding_reason(
                  above the verification threshold {tau:.3e}, the rounding level of LMI (41) at \
                  the returned point (τ = 2‖P‖₂e + 64u·3n·s = {:.1e}·s, s = {s:.3e} the largest \
                  block norm of (41), e = {:.1e} the embedding's error), but the largest vertex \
-                 eigenvalue there is {largest:.3e}, not below −τ: the solve is not accurate \
-                 enough to decide the window, which says nothing of its feasibility",
+                 eigenvalue there is {largest:.3e}, not below −τ: the margin of the form solved \
+                 does not carry over to a margin of (41) that rounding can resolve, which says \
+                 nothing of the window's feasibility",
                 tau / s,
                 set.error,
             ),

@@ -57,10 +57,11 @@ pub enum Error {
     /// set: the optimal margin is at or below the verification threshold (then a strictly
     /// feasible point with a smaller margin is not excluded: a weakly detectable sampled pair,
     /// e.g. a window short against the plant's time constants, can have one whose margin is far
-    /// below rounding), or the solver certified infeasibility, or the solver's margin is above
-    /// the threshold but its point does not verify (`unverified`: a numerical failure, not an
-    /// infeasibility); `reason` says which. Corollary 1
-    /// is only sufficient, so this does not prove that no gain exists (try interval splitting).
+    /// below rounding), or the solver certified infeasibility, or the margin of the form solved
+    /// is above the threshold but does not carry over to a margin of (41) that rounding can
+    /// resolve at its point (`unverified`: a numerical failure, not an infeasibility); `reason`
+    /// says which. Corollary 1 is only sufficient, so this does not prove that no gain exists
+    /// (try interval splitting).
     #[error(
         "LMI (41) has no verifiable strictly feasible point: {}; {reason}",
         margin.map_or_else(|| "no margin computed".to_string(), |m| format!("margin {m:.3e}"))
@@ -184,7 +185,8 @@ impl Error {
     /// | error | reason |
     /// | --- | --- |
     /// | [`Error::NotDetectable`] at `v` | [`Reason::Undetectable`] with `tau = v` |
-    /// | [`Error::Infeasible`] | [`Reason::InfeasibleLmi`] |
+    /// | [`Error::Infeasible`] with `unverified` | [`Reason::NumericalFailure`] |
+    /// | [`Error::Infeasible`] otherwise | [`Reason::InfeasibleLmi`] |
     /// | [`Error::Inconclusive`] | [`Reason::SolverInconclusive`] |
     /// | [`Error::VerificationFailed`] | [`Reason::VerificationFailed`] with its `tau` |
     /// | [`Error::ConditionViolated`] | [`Reason::VerificationFailed`] without `tau` |

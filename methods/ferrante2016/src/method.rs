@@ -266,7 +266,7 @@ fn invalid(e: Error) -> MethodError {
 /// window above is not certifiable. The search is then undecided (its largest certified `T2` a
 /// lower bound). At such a bracket the margins of (41) are at the limit of double precision and
 /// the verdicts near it need not be monotone in `T2` (an unstable pitch short period in
-/// milliseconds and degrees: certified at 13 395 ms with margin `2.2e-9`, refused at 13 428 ms
+/// milliseconds and degrees: certified at 13 395 ms with margin `2.6e-10`, refused at 13 428 ms
 /// at `τ = 4.1e-6`, certified again at 14 000 ms).
 fn resolve_bracket(report: &mut MaxIntervalReport, thresholds: &[(f64, f64)]) {
     if report.search_end != Some(SearchEnd::Converged)
@@ -643,7 +643,12 @@ impl ObserverMethod for Ferrante2016 {
             report.design.as_mut(),
         ) {
             d.notes.push(format!(
-                "the search ends where LMI (41) on the polytopic embedding of e^(Av) stops being feasible (T2 = {}): that is the limit of Corollary 1's sufficient condition on this embedding, not a property of the plant; condition (12) of Theorem 1 may hold on longer windows (an embedding box can contain non-contracting matrices, e.g. for a lightly damped mode that no output sees); check a gain on a longer window with `verify --prove`",
+                "the search ends where LMI (41) on the polytopic embedding of e^(Av) stops being \
+                 verifiably feasible (T2 = {}): that is the limit of Corollary 1's sufficient \
+                 condition on this embedding, not necessarily a property of the plant; \
+                 condition (12) of Theorem 1 may hold on longer windows (an embedding box can \
+                 contain non-contracting matrices, e.g. for a lightly damped mode that no output \
+                 sees); check a gain on a longer window with `verify --prove`",
                 significant(fail)
             ));
         }

@@ -606,8 +606,9 @@ impl ObserverMethod for Rabehi2021 {
     /// The shared search ([`default_largest_window`], i.e. [`sporadic_model::search_upper`] with
     /// [`design`](Self::design) as the probe) with the limit capped by the necessary condition of
     /// [`crate::window::necessary_tau_max`] (scanned with at most 20 000 steps): a probe at or
-    /// beyond the cap fails at once with [`Reason::InfeasibleLmi`] stating the cap (no Proposition 1
-    /// run), and the design at the largest certified window gets a note with the cap.
+    /// beyond the cap fails at once with [`Reason::InfeasibleLmi`] stating the cap (no
+    /// Proposition 1 run), and the design at the largest certified window gets a note with the
+    /// cap.
     fn largest_window(
         &self,
         plant: &ModelPlant,
