@@ -81,11 +81,15 @@ pub enum Error {
     },
     /// The transformation to the normal form (1) through one output row is too ill-conditioned to
     /// be computed reliably ([`crate::normal_form::CONDITION_LIMIT`]): the plant is nearly
-    /// unobservable from that output.
+    /// unobservable from that output, or its state coordinates are badly scaled in a way that
+    /// equilibration (a diagonal scaling) does not undo; the condition number is that of the
+    /// coordinates given, not a property of the plant (a triple integrator with a Padé delay,
+    /// order 5, gave 821 as written and 1.4e8 in coordinates `x = Tz` with `κ(T) < 5`).
     #[error(
         "output {output}: the transformation to observability normal form has condition number \
-         {condition:.3e} (after equilibration) above the limit {limit:.3e} = 1/sqrt(eps): nearly \
-         unobservable from this output"
+         {condition:.3e} (after equilibration) above the limit {limit:.3e} = 1/sqrt(eps) in the \
+         coordinates given: the plant is nearly unobservable from this output, or its \
+         coordinates are badly scaled"
     )]
     IllConditioned {
         /// The output row (1-based).

@@ -375,7 +375,7 @@ impl Andrieu2014 {
         } else {
             format!(
                 "the plant file's window {w} is not used by this method: the rule picks the \
-                 instants, at most every {} s{}",
+                 instants, at most every {} (time units of the plant file){}",
                 sig4(d.longest),
                 if d.longest < w.t2() {
                     " (faster than the file's T2)"
