@@ -1070,8 +1070,8 @@ fn budget_left() -> Result<(), Error> {
 /// large vertices of a degenerate residue box it exceeds every margin the normalisation admits,
 /// `t ≤ λmin(P) ≤ 1`, e.g. 1.357 for a free-free beam on `[0.05, 0.4]`.) The flag is `true`
 /// when `t*` (the margin of the form solved) is above `τ` but the point fails the test: the
-/// precision, not the window, is what failed (an unstable pitch short period on `[0.01, 13.5]` s: `t* = 1.2e-8`, `τ = 9.4e-10`,
-/// largest vertex eigenvalue `−5.6e-12`).
+/// precision, not the window, is what failed (an unstable pitch short period on
+/// `[0.01, 13.5]` s: `t* = 1.2e-8`, `τ = 9.4e-10`, largest vertex eigenvalue `−5.6e-12`).
 fn rounding_reason(
     plant: &Plant,
     set: &VertexSet<'_>,
@@ -1085,39 +1085,31 @@ fn rounding_reason(
     let test = VertexTest::new(plant, set, (r.p.as_ref(), r.f.as_ref(), r.j.as_ref()))?;
     let (tau, s) = (test.tau, test.scale);
     let largest = test.largest_over(set.vertices);
-    if t > tau {
+    let above = t > tau;
+    // The rounding level, stated alike in both refusals.
+    let level = format!(
+        "the verification threshold {tau:.3e}, the rounding level of LMI (41) at the returned \
+         point (τ = 2‖P‖₂e + 64u·3n·s = {:.1e}·s, s = {s:.3e} the largest block norm of (41), \
+         e = {:.1e} the embedding's error)",
+        tau / s,
+        set.error,
+    );
+    let message = if above {
         // The solver claims a margin it cannot show at its own point.
-        return Some((
-            format!(
-                "double-precision limit: the solver's maximal common margin t* = {t:.3e} is \
-                 above the verification threshold {tau:.3e}, the rounding level of LMI (41) at \
-                 the returned point (τ = 2‖P‖₂e + 64u·3n·s = {:.1e}·s, s = {s:.3e} the largest \
-                 block norm of (41), e = {:.1e} the embedding's error), but the largest vertex \
-                 eigenvalue there is {largest:.3e}, not below −τ: the margin of the form solved \
-                 does not carry over to a margin of (41) that rounding can resolve, which says \
-                 nothing of the window's feasibility",
-                tau / s,
-                set.error,
-            ),
-            true,
-            tau,
-        ));
-    }
-    Some((
         format!(
-            "no verifiable margin: the maximal common margin t* = {t:.3e} is at or below the \
-             verification threshold {tau:.3e}, the rounding level of LMI (41) at the returned \
-             point (τ = 2‖P‖₂e + 64u·3n·s = {:.1e}·s, s = {s:.3e} the largest block norm of \
-             (41), e = {:.1e} the embedding's error), where the largest vertex eigenvalue is \
-             {:.3e}, not below −τ; a strictly feasible point with a smaller margin is not \
-             excluded",
-            tau / s,
-            set.error,
-            largest,
-        ),
-        false,
-        tau,
-    ))
+            "double-precision limit: the solver's maximal common margin t* = {t:.3e} is above \
+             {level}, but the largest vertex eigenvalue there is {largest:.3e}, not below −τ: \
+             the margin of the form solved does not carry over to a margin of (41) that \
+             rounding can resolve, which says nothing of the window's feasibility"
+        )
+    } else {
+        format!(
+            "no verifiable margin: the maximal common margin t* = {t:.3e} is at or below \
+             {level}, where the largest vertex eigenvalue is {largest:.3e}, not below −τ; a \
+             strictly feasible point with a smaller margin is not excluded"
+        )
+    };
+    Some((message, above, tau))
 }
 
 /// Whether the margin `t*` of a solve that did not certify is within the solver's verification

@@ -71,10 +71,10 @@ pub enum Error {
         margin: Option<f64>,
         /// The LMI layer's explanation.
         reason: String,
-        /// The solver's margin `t*` is above the verification threshold, but its returned point
-        /// does not pass the vertex test: the solve is not accurate enough to decide the window
-        /// (the limit of double precision), which is no evidence of infeasibility
-        /// ([`Error::reason`] maps it to [`Reason::NumericalFailure`]).
+        /// The margin `t*` of the form solved is above the verification threshold, but the
+        /// returned point does not pass the vertex test of (41): the limit of double precision,
+        /// which is no evidence of infeasibility ([`Error::reason`] maps it to
+        /// [`Reason::NumericalFailure`]).
         unverified: bool,
         /// The rounding level `τ` of LMI (41) at the solver's point against which the margin
         /// was tested, when one was computed: the refusal does not resolve margins below it.
